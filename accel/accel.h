@@ -1,0 +1,50 @@
+#pragma once
+/// The Accel interface: one virtual call per batch of rays, static dispatch inside.
+#include "accel/build_config.h"
+#include "accel/build_stats.h"
+#include "accel/geometry.h"
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace arbor::accel {
+
+enum class AccelKind { brute, bvh_median, bvh_sah, lbvh, kdtree, automatic };
+
+/// How a batch is traced. `scalar` is the reference path of every structure; `packet` traces
+/// SIMD ray packets (coherent rays); `single` traces one ray at a time over SIMD node/leaf tests.
+/// `best` lets the structure pick.
+enum class TracePath { best, scalar, packet, single };
+
+std::string_view to_string(AccelKind k);
+std::string_view to_string(TracePath p);
+/// Parses "brute|bvh-median|bvh-sah|lbvh|kdtree|auto"; nullopt for anything else.
+std::optional<AccelKind> parse_accel_kind(std::string_view s);
+std::optional<TracePath> parse_trace_path(std::string_view s);
+/// The names accepted by parse_accel_kind, for error messages: "brute, bvh-median, ...".
+std::string accel_kind_names();
+
+class Accel {
+public:
+    virtual ~Accel() = default;
+
+    virtual AccelKind kind() const = 0;
+    virtual const BuildStats& stats() const = 0;
+    /// Whether this structure has its own implementation of `path` (others fall back to scalar).
+    virtual bool has_path(TracePath path) const { return path == TracePath::scalar || path == TracePath::best; }
+
+    /// Closest hit for each ray (hits.size() == rays.size()). Single-threaded; call from many
+    /// threads on disjoint spans (see trace.h). Untraceable rays (ray_is_traceable) miss.
+    virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const = 0;
+    /// Any hit in [tnear, tfar] for each ray: t and prim of some hit, or the miss record.
+    virtual void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const = 0;
+};
+
+/// Builds structure `kind` over `tris`. The view must outlive the Accel only for `brute`
+/// (the others copy what they need). `automatic` is resolved by the caller (auto_select.h).
+std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg = {});
+
+}  // namespace arbor::accel

@@ -1,0 +1,31 @@
+#pragma once
+/// `brute`: tests every triangle with the scalar watertight test. The oracle for every other path.
+#include "accel/accel.h"
+
+#include <vector>
+
+namespace arbor::accel {
+
+class BruteAccel final : public Accel {
+public:
+    /// Copies the corners of every finite triangle (non-finite ones are dropped and counted).
+    explicit BruteAccel(const TriangleView& tris);
+
+    AccelKind kind() const override { return AccelKind::brute; }
+    const BuildStats& stats() const override { return stats_; }
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+
+    /// One ray, the plain loop: closest hit (any_hit = false) or the first hit found.
+    Hit trace(const Ray& ray, bool any_hit) const;
+
+private:
+    struct Tri {
+        Vec3f v0, v1, v2;
+        std::uint32_t prim;
+    };
+    std::vector<Tri> tris_;
+    BuildStats stats_;
+};
+
+}  // namespace arbor::accel

@@ -1,0 +1,100 @@
+/// `arbor trace --scene MODEL.obj --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
+///  [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
+#include "accel/timer.h"
+#include "accel/trace.h"
+#include "apps/arbor/commands.h"
+#include "apps/arbor/common.h"
+#include "engine/log.h"
+#include "engine/obj_loader.h"
+#include "engine/rayfile.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+namespace arbor::app {
+
+namespace {
+
+struct TraceOptions {
+    std::string scene, rays, hits, accel = "brute", path = "best";
+    bool occluded = false, json = false;
+    int threads = 0, repeat = 1;
+};
+
+int run_trace(const TraceOptions& o) {
+    const auto limit = limit_threads(o.threads);
+    engine::Warnings warnings;
+    const engine::Mesh mesh = engine::load_obj(o.scene, warnings);
+    const std::vector<accel::Ray> rays = engine::read_rays(o.rays);
+    std::string reason;
+    const accel::AccelKind kind = resolve_accel(o.accel, mesh.view(), &reason);
+    const auto path = *accel::parse_trace_path(o.path);
+
+    const accel::Timer build_timer;
+    const auto structure = accel::make_accel(kind, mesh.view());
+    const double build_ms = build_timer.ms();
+
+    std::vector<accel::Hit> hits(rays.size());
+    std::vector<double> times;
+    const auto query = o.occluded ? accel::Query::any : accel::Query::closest;
+    for (int k = 0; k < o.repeat; ++k) {
+        const accel::Timer t;
+        accel::trace_parallel(*structure, rays, hits, query, path);
+        times.push_back(t.ms());
+    }
+    std::sort(times.begin(), times.end());
+    const double median_ms = times[times.size() / 2];
+    const auto nhit = std::size_t(std::count_if(hits.begin(), hits.end(), [](const accel::Hit& h) { return h.is_hit(); }));
+    if (!o.hits.empty()) engine::write_hits(o.hits, hits);
+
+    nlohmann::json j;
+    j["accel"] = accel::to_string(kind);
+    if (accel::parse_accel_kind(o.accel) == accel::AccelKind::automatic) j["auto_reason"] = reason;
+    j["path"] = accel::to_string(path);
+    j["query"] = o.occluded ? "any" : "closest";
+    j["triangles"] = mesh.triangle_count();
+    j["rays"] = rays.size();
+    j["hits"] = nhit;
+    j["build_ms"] = build_ms;
+    j["trace_ms"] = median_ms;
+    j["trace_ms_min"] = times.front();
+    j["trace_ms_max"] = times.back();
+    j["repeat"] = o.repeat;
+    j["mrays_per_s"] = median_ms > 0 ? double(rays.size()) / (median_ms * 1e3) : 0.0;
+    j["threads"] = active_threads();
+    put_stats(j, structure->stats());
+    if (o.json) {
+        std::cout << j.dump() << '\n';
+        return 0;
+    }
+    engine::print_warnings(warnings);
+    std::printf("%s: %zu triangles, %zu rays, %zu hits; build %.2f ms, trace %.2f ms (median of %d), "
+                "%.2f Mrays/s, %d threads\n",
+                std::string(j["accel"]).c_str(), mesh.triangle_count(), rays.size(), nhit, build_ms, median_ms,
+                o.repeat, double(j["mrays_per_s"]), int(j["threads"]));
+    return 0;
+}
+
+}  // namespace
+
+Run add_trace(CLI::App& cmd) {
+    auto o = std::make_shared<TraceOptions>();
+    cmd.add_option("--scene", o->scene, "OBJ file")->required();
+    cmd.add_option("--rays", o->rays, ".rays file (spec/rayfile.md)")->required();
+    cmd.add_option("--hits", o->hits, "write the answers to this .hits file");
+    add_accel_option(cmd, o->accel)->capture_default_str();
+    cmd.add_flag("--occluded", o->occluded, "any-hit (shadow) queries");
+    add_threads_option(cmd, o->threads);
+    cmd.add_option("--repeat", o->repeat, "trace K times, report the median")->check(CLI::Range(1, 100000));
+    cmd.add_option("--path", o->path, "traversal path: best, scalar, packet, single")
+        ->check([](const std::string& v) -> std::string {
+            return accel::parse_trace_path(v) ? std::string() : "unknown path '" + v + "' (expected best, scalar, packet or single)";
+        });
+    cmd.add_flag("--json", o->json, "one JSON object on standard output");
+    return [o] { return run_trace(*o); };
+}
+
+}  // namespace arbor::app

@@ -1,0 +1,16 @@
+#pragma once
+/// The subcommands of `arbor` (spec/cli.md). Each registers its options on the CLI11 app and
+/// returns the function that runs it; main() owns parsing and the single error boundary.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace arbor::app {
+
+using Run = std::function<int()>;
+
+Run add_info(CLI::App& app);
+Run add_trace(CLI::App& app);
+Run add_render(CLI::App& app);
+
+}  // namespace arbor::app

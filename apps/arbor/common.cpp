@@ -1,0 +1,52 @@
+#include "apps/arbor/common.h"
+
+#include "engine/error.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+namespace arbor::app {
+
+CLI::Option* add_accel_option(CLI::App& cmd, std::string& name) {
+    return cmd.add_option("--accel", name, "acceleration structure: " + accel::accel_kind_names())
+        ->check([](const std::string& v) -> std::string {
+            if (accel::parse_accel_kind(v)) return {};
+            return "unknown structure '" + v + "' (expected one of " + accel::accel_kind_names() + ")";
+        });
+}
+
+CLI::Option* add_threads_option(CLI::App& cmd, int& threads) {
+    return cmd.add_option("--threads", threads, "worker threads (default: all)")->check(CLI::Range(1, 4096));
+}
+
+std::unique_ptr<tbb::global_control> limit_threads(int threads) {
+    if (threads <= 0) return nullptr;
+    return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+}
+
+int active_threads() {
+    return int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+}
+
+accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView&, std::string* reason) {
+    const auto kind = accel::parse_accel_kind(name);
+    if (!kind) throw engine::InputError("--accel: unknown structure '" + name + "'");
+    if (*kind == accel::AccelKind::automatic)
+        throw engine::InputError("--accel: 'auto' is not available in this build yet; name a structure");
+    if (reason) reason->clear();
+    return *kind;
+}
+
+void put_stats(nlohmann::json& j, const accel::BuildStats& s) {
+    j["nodes"] = s.nodes;
+    j["leaves"] = s.leaves;
+    j["max_depth"] = s.max_depth;
+    j["mean_leaf_depth"] = s.mean_leaf_depth;
+    j["sah_cost"] = s.sah_cost;
+    j["bytes_per_triangle"] = s.bytes_per_triangle();
+    j["memory_bytes"] = s.memory_bytes;
+    j["build_peak_bytes"] = s.build_peak_bytes;
+    j["dropped_nonfinite"] = s.dropped_nonfinite;
+}
+
+}  // namespace arbor::app

@@ -1,0 +1,31 @@
+#pragma once
+/// Helpers shared by the subcommands: option validation, threads, scene loading, JSON output.
+#include "accel/accel.h"
+#include "engine/scene.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+#include <tbb/global_control.h>
+
+namespace arbor::app {
+
+/// Adds `--accel NAME` (validated against the structure names) bound to `name`.
+CLI::Option* add_accel_option(CLI::App& cmd, std::string& name);
+/// Adds `--threads N` (N >= 1; default: all hardware threads).
+CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
+
+/// Limits TBB to `threads` for the lifetime of the returned object (0 = all).
+std::unique_ptr<tbb::global_control> limit_threads(int threads);
+int active_threads();
+
+/// Resolves an --accel name to a buildable kind (`auto` picks one; `reason` says why).
+accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason);
+
+/// Build statistics as JSON fields (nodes, leaves, max_depth, sah_cost, bytes_per_triangle, ...).
+void put_stats(nlohmann::json& j, const accel::BuildStats& s);
+
+}  // namespace arbor::app

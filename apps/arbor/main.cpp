@@ -1,0 +1,43 @@
+/// `arbor`: subcommand dispatch and the single error boundary. Bad input (InputError, option
+/// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else.
+#include "apps/arbor/commands.h"
+#include "engine/error.h"
+
+#include <cstdio>
+#include <new>
+
+int main(int argc, char** argv) {
+    CLI::App app{"arbor: CPU ray tracing with comparable acceleration structures"};
+    app.require_subcommand(1);
+    app.set_help_all_flag("--help-all", "all subcommands' options");
+    std::vector<std::pair<CLI::App*, arbor::app::Run>> commands;
+    auto reg = [&](const char* name, const char* help, arbor::app::Run (*add)(CLI::App&)) {
+        CLI::App* sub = app.add_subcommand(name, help);
+        commands.emplace_back(sub, add(*sub));
+    };
+    reg("info", "load a model and describe it", arbor::app::add_info);
+    reg("trace", "trace a .rays file and write a .hits file", arbor::app::add_trace);
+    reg("render", "render a scene (the embedded default scene without SCENE)", arbor::app::add_render);
+    try {
+        app.parse(argc, argv);
+        for (auto& [sub, run] : commands)
+            if (sub->parsed()) return run();
+        return 2;
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "arbor: %s\n", e.what());
+        return 2;
+    } catch (const arbor::engine::InputError& e) {
+        std::fprintf(stderr, "arbor: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "arbor: out of memory\n");
+        return 3;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "arbor: %s\n", e.what());
+        return 4;
+    }
+}

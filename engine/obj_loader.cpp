@@ -1,0 +1,225 @@
+#include "engine/obj_loader.h"
+
+#include "engine/error.h"
+#include "engine/file_io.h"
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <sstream>
+#include <string_view>
+
+namespace arbor::engine {
+
+namespace {
+
+/// Line bookkeeping over the in-memory text, so that callbacks can find "their" line from the
+/// stream position tinyobjloader has reached (just past the line it hands us).
+class Lines {
+public:
+    explicit Lines(std::string_view text) : text_(text) {
+        starts_.push_back(0);
+        for (std::size_t i = 0; i < text.size(); ++i) {
+            if (text[i] == '\n' || (text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n')))
+                starts_.push_back(i + 1);
+        }
+    }
+    /// 1-based number of the line that ends just before stream position `pos` (-1 = end of text).
+    std::size_t line_before(std::streamoff pos) const {
+        std::size_t end = pos < 0 ? text_.size() : std::size_t(pos);
+        if (end > 0) --end;  // step back onto the line's last byte (its terminator, if any)
+        return std::size_t(std::upper_bound(starts_.begin(), starts_.end(), end) - starts_.begin());
+    }
+    /// True for the last line of a text that does not end in a line break: a cut-off file.
+    bool is_unterminated_last(std::size_t number) const {
+        return number == starts_.size() && !text_.empty() && text_.back() != '\n' && text_.back() != '\r';
+    }
+    std::string_view line(std::size_t number) const {
+        const std::size_t b = starts_[number - 1];
+        std::size_t e = number < starts_.size() ? starts_[number] : text_.size();
+        while (e > b && (text_[e - 1] == '\n' || text_[e - 1] == '\r')) --e;
+        return text_.substr(b, e - b);
+    }
+
+private:
+    std::string_view text_;
+    std::vector<std::size_t> starts_;
+};
+
+std::vector<std::string_view> split_ws(std::string_view s) {
+    std::vector<std::string_view> out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+        while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+        std::size_t j = i;
+        while (j < s.size() && s[j] != ' ' && s[j] != '\t') ++j;
+        if (j > i) out.push_back(s.substr(i, j - i));
+        i = j;
+    }
+    return out;
+}
+
+std::optional<long long> parse_int(std::string_view s) {
+    long long v = 0;
+    const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || p != s.data() + s.size()) return std::nullopt;
+    return v;
+}
+
+struct State {
+    std::string name;
+    const Lines* lines = nullptr;
+    std::istream* stream = nullptr;
+    Mesh mesh;
+    Warnings* warnings = nullptr;
+    std::uint32_t current_material = 0;
+    std::vector<std::uint32_t> face;  // scratch
+    std::optional<InputError> error;  // first error; later callbacks do nothing
+
+    std::size_t current_line() const { return lines->line_before(stream->tellg()); }
+    /// Records the first error. A malformed last line without a line break is taken for a cut-off
+    /// file instead: it is ignored with a warning.
+    void fail(std::size_t line, const std::string& problem) {
+        if (lines->is_unterminated_last(line)) {
+            warnings->add(name + ":" + std::to_string(line) + ": incomplete last line ignored (" + problem + ")");
+            return;
+        }
+        if (!error) error.emplace(name, line, problem);
+    }
+};
+
+void on_vertex(void* user, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t) {
+    auto& s = *static_cast<State*>(user);
+    if (s.error) return;
+    const std::size_t line = s.current_line();
+    const auto tokens = split_ws(s.lines->line(line));
+    // tokens[0] is "v"; x y z are required, w or r g b may follow.
+    if (tokens.size() < 4) return s.fail(line, "vertex needs 3 coordinates");
+    float p[3];
+    for (int k = 0; k < 3; ++k) {
+        const std::string_view t = tokens[1 + k];
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), p[k]);
+        if (ec == std::errc::result_out_of_range) return s.fail(line, "vertex coordinate '" + std::string(t) + "' is out of float range");
+        if (ec != std::errc() || end != t.data() + t.size())
+            return s.fail(line, "malformed vertex coordinate '" + std::string(t) + "'");
+        if (!std::isfinite(p[k])) return s.fail(line, "vertex coordinate is not finite (" + std::string(t) + ")");
+    }
+    s.mesh.add_vertex({p[0], p[1], p[2]});
+}
+
+/// Resolves an OBJ position index (1-based; negative counts back from the last vertex read).
+std::optional<std::uint32_t> resolve_index(long long idx, std::size_t vertex_count) {
+    const long long n = static_cast<long long>(vertex_count);
+    long long i = idx > 0 ? idx - 1 : n + idx;
+    if (idx == 0 || i < 0 || i >= n) return std::nullopt;
+    return std::uint32_t(i);
+}
+
+void on_face(void* user, tinyobj::index_t*, int) {
+    auto& s = *static_cast<State*>(user);
+    if (s.error) return;
+    const std::size_t line = s.current_line();
+    const auto tokens = split_ws(s.lines->line(line));
+    s.face.clear();
+    for (std::size_t k = 1; k < tokens.size(); ++k) {
+        const std::string_view tok = tokens[k];
+        // v, v/vt, v//vn or v/vt/vn: every part present must be an integer.
+        std::string_view parts[3];
+        int nparts = 0;
+        std::size_t b = 0;
+        while (nparts < 3) {
+            const std::size_t e = tok.find('/', b);
+            parts[nparts++] = tok.substr(b, e == std::string_view::npos ? std::string_view::npos : e - b);
+            if (e == std::string_view::npos) break;
+            b = e + 1;
+            if (nparts == 3) return s.fail(line, "malformed face token '" + std::string(tok) + "'");
+        }
+        const auto v = parse_int(parts[0]);
+        bool ok = v.has_value();
+        for (int p = 1; p < nparts; ++p) ok = ok && (parts[p].empty() ? p == 1 && nparts == 3 : parse_int(parts[p]).has_value());
+        if (!ok) return s.fail(line, "malformed face token '" + std::string(tok) + "'");
+        if (*v == 0) return s.fail(line, "face index 0 is invalid (OBJ indices start at 1)");
+        const auto idx = resolve_index(*v, s.mesh.vertex_count());
+        if (!idx)
+            return s.fail(line, "face index " + std::to_string(*v) + " is out of range (" +
+                                    std::to_string(s.mesh.vertex_count()) + " vertices defined so far)");
+        s.face.push_back(*idx);
+    }
+    if (s.face.size() < 3) {
+        s.warnings->add(s.name + ":" + std::to_string(line) + ": face with fewer than 3 vertices skipped");
+        return;
+    }
+    for (std::size_t k = 1; k + 1 < s.face.size(); ++k)
+        s.mesh.add_triangle(s.face[0], s.face[k], s.face[k + 1], s.current_material);
+}
+
+Vec3f to_vec(const tinyobj::real_t* c) { return {float(c[0]), float(c[1]), float(c[2])}; }
+
+void on_mtllib(void* user, const tinyobj::material_t* mats, int n) {
+    auto& s = *static_cast<State*>(user);
+    s.mesh.materials.assign(1, Material{});  // index 0: the default, for faces before any usemtl
+    for (int i = 0; i < n; ++i) {
+        Material m;
+        m.name = mats[i].name;
+        m.diffuse = to_vec(mats[i].diffuse);
+        m.emission = to_vec(mats[i].emission);
+        // illum 3..7 turn ray-traced reflection on: Ks is then the mirror reflectance.
+        if (mats[i].illum >= 3 && mats[i].illum <= 7) m.mirror = to_vec(mats[i].specular);
+        s.mesh.materials.push_back(m);
+    }
+}
+
+void on_usemtl(void* user, const char*, int material_id) {
+    auto& s = *static_cast<State*>(user);
+    // Unknown names (id -1) fall back to the default material.
+    s.current_material = material_id >= 0 && std::size_t(material_id) + 1 < s.mesh.materials.size()
+                             ? std::uint32_t(material_id + 1)
+                             : 0;
+}
+
+}  // namespace
+
+Mesh load_obj_text(const std::string& text, const std::string& name, const std::string& base_dir,
+                   Warnings& warnings) {
+    if (const auto nul = text.find('\0'); nul != std::string::npos)
+        throw InputError(name, 0, "binary data (NUL byte at offset " + std::to_string(nul) + "), not an OBJ text file");
+    const Lines lines(text);
+    std::istringstream stream(text);
+    State s;
+    s.name = name;
+    s.lines = &lines;
+    s.stream = &stream;
+    s.warnings = &warnings;
+
+    tinyobj::callback_t cb;
+    cb.vertex_cb = on_vertex;
+    cb.index_cb = on_face;
+    cb.mtllib_cb = on_mtllib;
+    cb.usemtl_cb = on_usemtl;
+    tinyobj::MaterialFileReader mtl_reader(base_dir);
+    std::string warn, err;
+    try {
+        tinyobj::LoadObjWithCallback(stream, cb, &s, &mtl_reader, &warn, &err);
+    } catch (const std::exception& e) {
+        throw InputError(name, 0, std::string("cannot parse: ") + e.what());
+    }
+    if (s.error) throw *s.error;
+    if (warn.find("Failed to load material file") != std::string::npos)
+        warnings.add(name + ": material library not found; using the default material");
+    if (s.mesh.triangle_count() == 0) throw InputError(name, 0, "no triangles");
+    if (!s.mesh.material.empty() || s.mesh.materials.size() > 1) s.mesh.material.resize(s.mesh.triangle_count(), 0);
+    s.mesh.compute_bounds();
+    return std::move(s.mesh);
+}
+
+Mesh load_obj(const std::string& path, Warnings& warnings) {
+    const std::string text = read_file(path);
+    const auto slash = path.find_last_of('/');
+    const std::string base_dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+    return load_obj_text(text, path, base_dir, warnings);
+}
+
+}  // namespace arbor::engine

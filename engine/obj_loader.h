@@ -1,0 +1,23 @@
+#pragma once
+/// Wavefront OBJ loading. tinyobjloader walks the file and reads MTL libraries; every `v` and `f`
+/// line is re-checked here, because tinyobjloader reads "nan" as 0, accepts index 0 and
+/// out-of-range indices with at most a warning, and does not report line numbers.
+#include "engine/log.h"
+#include "engine/mesh.h"
+
+#include <string>
+
+namespace arbor::engine {
+
+/// Loads `path`. Polygons are fan-triangulated in file order exactly as spec/rayfile.md numbers
+/// triangles; faces with fewer than 3 vertices are skipped with a warning. Throws InputError
+/// ("FILE:LINE: problem") for unreadable or binary files, malformed numbers or face tokens,
+/// non-finite coordinates, indices out of range (1-based, negative = relative), and files without
+/// a triangle. Non-fatal problems (missing MTL file) are added to `warnings`.
+Mesh load_obj(const std::string& path, Warnings& warnings);
+
+/// Same, from text already in memory; `name` is used in messages and `base_dir` to find MTL files.
+Mesh load_obj_text(const std::string& text, const std::string& name, const std::string& base_dir,
+                   Warnings& warnings);
+
+}  // namespace arbor::engine

@@ -1,0 +1,44 @@
+#include "engine/scene.h"
+
+#include "engine/procedural.h"
+
+namespace arbor::engine {
+
+Scene make_default_scene() {
+    Scene s;
+    s.name = "default";
+    Material ground{"ground", {0.75f, 0.75f, 0.72f}, {}, {}};
+    Material red{"red", {0.8f, 0.15f, 0.1f}, {}, {}};
+    Material mirror{"mirror", {0.05f, 0.05f, 0.05f}, {0.9f, 0.9f, 0.9f}, {}};
+    Material blue{"blue", {0.15f, 0.3f, 0.8f}, {}, {}};
+    s.mesh = with_material(make_ground(0.0f, 0.0f, 0.0f, 6.0f), ground);
+    s.mesh.append(with_material(make_icosphere({-1.2f, 1.0f, 0.0f}, 1.0f, 5, 0.0f), red));
+    s.mesh.append(with_material(make_torus({1.3f, 0.45f, 0.6f}, 0.8f, 0.35f, 96, 32), mirror));
+    s.mesh.append(with_material(make_box({0.4f, 0.0f, -1.8f}, {1.6f, 1.4f, -0.9f}), blue));
+    s.mesh.compute_bounds();
+    s.camera.eye = {0.0f, 2.6f, 6.5f};
+    s.camera.look_at = {0.0f, 0.7f, 0.0f};
+    s.camera.vfov_degrees = 40.0f;
+    s.lights.push_back({{3.0f, 6.0f, 4.0f}, {60.0f, 58.0f, 54.0f}});
+    return s;
+}
+
+Scene scene_from_mesh(Mesh mesh, std::string name) {
+    Scene s;
+    s.name = std::move(name);
+    s.camera = Camera::framing(mesh.bounds);
+    const Vec3f ext = mesh.bounds.extent();
+    const float size = std::max(ext.x, std::max(ext.y, ext.z));
+    const Vec3f c = mesh.bounds.center();
+    // A light above and in front, at about two model sizes; intensity so that irradiance at the
+    // model is about 1.
+    const Vec3f light = c + Vec3f{0.5f * size, 1.5f * size, 1.5f * size};
+    const Vec3f d = light - c;
+    const float d2 = simd::dot(d, d);
+    s.lights.push_back({light, Vec3f{1.0f} * (3.0f * d2)});
+    s.background = {0.2f, 0.2f, 0.22f};
+    s.mesh = std::move(mesh);
+    return s;
+}
+
+}  // namespace arbor::engine

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages arbor needs, only those missing (idempotent).
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config python3
+  libxsimd-dev libtbb-dev libglm-dev libopenexr-dev libpng-dev libtinyobjloader-dev
+  libcli11-dev nlohmann-json3-dev doctest-dev
+  libbenchmark-dev libembree-dev python3-matplotlib
+  clang libclang-rt-14-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

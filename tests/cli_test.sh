@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Command-line contract (spec/cli.md): bad input gives one stderr line naming the file or option and
+# an exit status in 1..127; good input exits 0 with the JSON fields the spec names.
+set -u
+ARBOR=$1
+SHARED=$2
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+
+# expect_error NEEDLE CMD...: exit in 1..127, exactly one stderr line, containing NEEDLE
+expect_error() {
+  local needle=$1; shift
+  "$@" >"$WORK/out" 2>"$WORK/err"
+  local rc=$?
+  local lines
+  lines=$(wc -l <"$WORK/err")
+  if [ $rc -lt 1 ] || [ $rc -gt 127 ]; then fail "$* -> exit $rc"; return; fi
+  if [ "$lines" -ne 1 ]; then fail "$* -> $lines stderr lines: $(cat "$WORK/err")"; return; fi
+  grep -qF -- "$needle" "$WORK/err" || fail "$* -> stderr lacks '$needle': $(cat "$WORK/err")"
+}
+
+if [ -d "$SHARED/bad" ]; then
+  for f in "$SHARED"/bad/*.obj; do
+    name=$(basename "$f")
+    case $name in
+      huge_coordinates.obj|all_degenerate.obj|missing_mtl.obj)
+        "$ARBOR" info "$f" --json >"$WORK/out" 2>"$WORK/err" || fail "info $name should load (exit $?)";;
+      *) expect_error "$f" "$ARBOR" info "$f";;
+    esac
+  done
+fi
+expect_error "no-such.obj" "$ARBOR" info "$WORK/no-such.obj"
+expect_error "--accel" "$ARBOR" render --accel nonsense -o "$WORK/x.exr"
+expect_error "--spp" "$ARBOR" render --spp abc -o "$WORK/x.exr"
+expect_error "--spp" "$ARBOR" render --spp 0 -o "$WORK/x.exr"
+expect_error "--threads" "$ARBOR" render --threads -3 -o "$WORK/x.exr"
+expect_error "--path" "$ARBOR" trace --scene x.obj --rays y.rays --path warp
+
+# A tiny scene and ray file through `arbor trace --json`.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n' >"$WORK/quad.obj"
+python3 - "$WORK/quad.rays" <<'PY'
+import struct, sys
+rays = [(0.25, 0.25, 1, 0, 0, 0, -1, 100), (0.9, 0.9, 1, 0, 0, 0, -1, 100), (5, 5, 1, 0, 0, 0, -1, 100)]
+with open(sys.argv[1], "wb") as f:
+    f.write(b"RAYS" + struct.pack("<IQ", 1, len(rays)))
+    for r in rays: f.write(struct.pack("<8f", *r))
+PY
+if "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --hits "$WORK/quad.hits" --accel brute --json --repeat 3 >"$WORK/out" 2>"$WORK/err"; then
+  python3 - "$WORK/out" "$WORK/quad.hits" <<'PY' || fail "trace JSON or hits wrong: $(cat "$WORK/out")"
+import json, struct, sys
+j = json.loads(open(sys.argv[1]).read())
+for k in ["accel", "triangles", "rays", "hits", "build_ms", "trace_ms", "mrays_per_s", "threads",
+          "nodes", "leaves", "max_depth", "sah_cost", "bytes_per_triangle"]:
+    assert k in j, k
+assert j["accel"] == "brute" and j["triangles"] == 2 and j["rays"] == 3 and j["hits"] == 2, j
+data = open(sys.argv[2], "rb").read()
+assert data[:4] == b"HITS" and struct.unpack("<IQ", data[4:16]) == (1, 3)
+recs = [struct.unpack("<fIff", data[16 + 16 * i: 32 + 16 * i]) for i in range(3)]
+assert recs[0][1] == 0 and abs(recs[0][0] - 1) < 1e-6, recs
+assert recs[1][1] == 1 and abs(recs[1][0] - 1) < 1e-6, recs
+assert recs[2][1] == 0xFFFFFFFF and recs[2][0] == float("inf"), recs
+PY
+else
+  fail "trace exited $?: $(cat "$WORK/err")"
+fi
+# The output of a failed run never replaces an existing file.
+echo keep >"$WORK/keep.hits"
+"$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null
+[ "$(cat "$WORK/keep.hits")" = keep ] || fail "failed trace touched the existing hits file"
+
+[ $fails -eq 0 ] && echo "cli tests passed"
+exit $fails

@@ -1,0 +1,148 @@
+// Scalar ray/triangle and ray/box kernels on the stiff cases: edges, vertices, axis-parallel rays
+// with +0/-0 components, inactive and NaN rays, degenerate triangles.
+#include "simd/box_test.h"
+#include "simd/tri_test.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+
+using arbor::simd::Vec3f;
+using arbor::simd::woop_shear;
+using arbor::simd::woop_test;
+
+namespace {
+const Vec3f v0{0, 0, 0}, v1{1, 0, 0}, v2{0, 1, 0};
+constexpr float inf = std::numeric_limits<float>::infinity();
+
+arbor::simd::TriHit<float> shoot(Vec3f o, Vec3f d, float tnear = 0.0f, float tfar = inf) {
+    return woop_test(o, woop_shear(d), tnear, tfar, v0, v1, v2);
+}
+}  // namespace
+
+TEST_CASE("triangle: interior hit gives t and barycentrics") {
+    const auto h = shoot({0.25f, 0.5f, 1.0f}, {0, 0, -1});
+    REQUIRE(h.hit);
+    CHECK(h.t == doctest::Approx(1.0f));
+    CHECK(h.u == doctest::Approx(0.25f));  // weight of v1 = x
+    CHECK(h.v == doctest::Approx(0.5f));   // weight of v2 = y
+}
+
+TEST_CASE("triangle: unnormalized direction measures t in direction lengths") {
+    const auto h = shoot({0.25f, 0.25f, 4.0f}, {0, 0, -2});
+    REQUIRE(h.hit);
+    CHECK(h.t == doctest::Approx(2.0f));
+}
+
+TEST_CASE("triangle: both facings hit") {
+    CHECK(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}).hit);
+    CHECK(shoot({0.2f, 0.2f, -1.0f}, {0, 0, 1}).hit);
+}
+
+TEST_CASE("triangle: edges and vertices count as hits") {
+    CHECK(shoot({0.5f, 0.0f, 1.0f}, {0, 0, -1}).hit);   // on edge v0-v1
+    CHECK(shoot({0.0f, 0.5f, 1.0f}, {0, 0, -1}).hit);   // on edge v0-v2
+    CHECK(shoot({0.5f, 0.5f, 1.0f}, {0, 0, -1}).hit);   // on the hypotenuse
+    CHECK(shoot({0.0f, 0.0f, 1.0f}, {0, 0, -1}).hit);   // vertex v0
+    CHECK(shoot({1.0f, 0.0f, 1.0f}, {0, 0, -1}).hit);   // vertex v1
+    CHECK(shoot({0.0f, 1.0f, 1.0f}, {0, 0, -1}).hit);   // vertex v2
+    CHECK_FALSE(shoot({0.5f, 0.5000001f, 1.0f}, {0, 0, -1}).hit);
+    CHECK_FALSE(shoot({-1e-7f, 0.5f, 1.0f}, {0, 0, -1}).hit);
+}
+
+TEST_CASE("triangle: a ray through a shared edge hits exactly one side or both, never neither") {
+    // Two triangles sharing the diagonal of the unit square, many oblique rays through points of it.
+    const Vec3f a{0, 0, 0}, b{1, 0, 0}, c{1, 1, 0}, d{0, 1, 0};
+    for (int i = 1; i < 1000; ++i) {
+        const float s = float(i) / 1000.0f;
+        const Vec3f p{s, s, 0.0f};
+        const Vec3f dir{0.123f * s - 0.05f, -0.0731f, -1.0f};
+        const Vec3f o = p - dir * 3.0f;
+        const auto sh = woop_shear(dir);
+        const bool h1 = woop_test(o, sh, 0, inf, a, b, c).hit;
+        const bool h2 = woop_test(o, sh, 0, inf, a, c, d).hit;
+        CHECK((h1 || h2));
+    }
+}
+
+TEST_CASE("triangle: tnear/tfar bound the hit; inactive rays miss") {
+    CHECK(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 0.0f, 1.0f).hit);   // t == tfar accepted
+    CHECK(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 1.0f, 2.0f).hit);   // t == tnear accepted
+    CHECK_FALSE(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 0.0f, 0.999f).hit);
+    CHECK_FALSE(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 1.001f, inf).hit);
+    CHECK_FALSE(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 2.0f, 1.0f).hit);  // tfar < tnear
+}
+
+TEST_CASE("triangle: axis-parallel rays with +0 and -0 components") {
+    for (float zx : {0.0f, -0.0f})
+        for (float zy : {0.0f, -0.0f}) {
+            CHECK(shoot({0.3f, 0.3f, 2.0f}, {zx, zy, -1.0f}).hit);
+            CHECK(shoot({0.3f, 0.3f, -2.0f}, {zx, zy, 1.0f}).hit);
+            CHECK_FALSE(shoot({1.3f, 0.3f, 2.0f}, {zx, zy, -1.0f}).hit);
+        }
+    // A ray lying in the triangle's plane never hits (det == 0).
+    CHECK_FALSE(shoot({-1.0f, 0.2f, 0.0f}, {1.0f, 0.0f, 0.0f}).hit);
+}
+
+TEST_CASE("triangle: degenerate triangles never hit") {
+    const auto s = woop_shear({0, 0, -1});
+    CHECK_FALSE(woop_test({0.2f, 0.2f, 1}, s, 0, inf, v0, v0, v0).hit);                 // a point
+    CHECK_FALSE(woop_test({0.5f, 0.5f, 1}, s, 0, inf, v0, {1, 1, 0}, {2, 2, 0}).hit);   // collinear
+}
+
+TEST_CASE("triangle: NaN in the ray or the triangle gives a miss") {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const auto s = woop_shear({0, 0, -1});
+    CHECK_FALSE(woop_test({nan, 0.2f, 1}, s, 0, inf, v0, v1, v2).hit);
+    CHECK_FALSE(woop_test({0.2f, 0.2f, 1}, s, 0, inf, {nan, 0, 0}, v1, v2).hit);
+    CHECK_FALSE(woop_test({0.2f, 0.2f, 1}, s, nan, inf, v0, v1, v2).hit);
+}
+
+TEST_CASE("triangle: the double-precision fallback settles a zero edge function exactly") {
+    // Origin exactly above a vertex far from the origin: the float edge function is 0 there.
+    const Vec3f a{1e6f, 1e6f, 0}, b{1e6f + 1, 1e6f, 0}, c{1e6f, 1e6f + 1, 0};
+    const auto s = woop_shear({0, 0, -1});
+    CHECK(woop_test({1e6f, 1e6f, 1}, s, 0, inf, a, b, c).hit);
+    CHECK(woop_test({1e6f + 0.5f, 1e6f, 1}, s, 0, inf, a, b, c).hit);
+    CHECK_FALSE(woop_test({1e6f - 0.0625f, 1e6f, 1}, s, 0, inf, a, b, c).hit);
+}
+
+using arbor::simd::slab_ray;
+using arbor::simd::slab_test;
+
+TEST_CASE("box: hits, misses and the entry distance") {
+    const Vec3f lo{0, 0, 0}, hi{1, 1, 1};
+    float t = 0;
+    CHECK(slab_test(slab_ray({-1, 0.5f, 0.5f}, {1, 0, 0}), lo, hi, 0, inf, t));
+    CHECK(t == doctest::Approx(1.0f));
+    CHECK_FALSE(slab_test(slab_ray({-1, 1.5f, 0.5f}, {1, 0, 0}), lo, hi, 0, inf, t));
+    CHECK_FALSE(slab_test(slab_ray({-1, 0.5f, 0.5f}, {1, 0, 0}), lo, hi, 0, 0.5f, t));  // ends before the box
+    CHECK(slab_test(slab_ray({0.5f, 0.5f, 0.5f}, {1, 0, 0}), lo, hi, 0, inf, t));         // starts inside
+    CHECK(t == 0.0f);
+}
+
+TEST_CASE("box: rays lying in a face plane count as inside that slab, for +0 and -0") {
+    const Vec3f lo{0, 0, 0}, hi{1, 1, 1};
+    float t = 0;
+    for (float z : {0.0f, -0.0f}) {
+        CHECK(slab_test(slab_ray({-1, 1.0f, 0.5f}, {1, z, 0}), lo, hi, 0, inf, t));   // y == hi.y
+        CHECK(slab_test(slab_ray({-1, 0.0f, 0.5f}, {1, z, z}), lo, hi, 0, inf, t));   // y == lo.y
+        CHECK_FALSE(slab_test(slab_ray({-1, 1.0000001f, 0.5f}, {1, z, 0}), lo, hi, 0, inf, t));
+        CHECK_FALSE(slab_test(slab_ray({-1, -1e-7f, 0.5f}, {1, z, 0}), lo, hi, 0, inf, t));
+    }
+}
+
+TEST_CASE("box: the far plane is padded so a grazing hit is not lost") {
+    // A ray that touches the box exactly at an edge (entry == exit) must be kept.
+    const Vec3f lo{0, 0, 0}, hi{1, 1, 1};
+    float t = 0;
+    CHECK(slab_test(slab_ray({-1, -1, 0.5f}, {1, 1, 0}), lo, hi, 0, inf, t));
+    CHECK(slab_test(slab_ray({2, -1, 0.5f}, {-1, 1, 0}), lo, hi, 0, inf, t));
+}
+
+TEST_CASE("box: a degenerate (flat) box is still hit") {
+    float t = 0;
+    CHECK(slab_test(slab_ray({0.5f, 0.5f, 2}, {0, 0, -1}), {0, 0, 0}, {1, 1, 0}, 0, inf, t));
+    CHECK(t == doctest::Approx(2.0f));
+}

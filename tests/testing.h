@@ -1,0 +1,33 @@
+#pragma once
+/// Shared test helpers: ray generators, model paths, hit comparison (rayfile.md tolerance).
+#include "accel/accel.h"
+#include "engine/mesh.h"
+
+#include <random>
+#include <string>
+#include <vector>
+
+namespace arbor::testing {
+
+using accel::Hit;
+using accel::Ray;
+using accel::Vec3f;
+
+/// Folder of ../shared/scenes (set by CMake); empty when it is not there.
+std::string shared_scenes_dir();
+/// Paths of shared/scenes/models/*.obj, sorted; empty when the folder is missing.
+std::vector<std::string> model_paths();
+
+/// Rays from points around the bounds towards random points inside them (mostly hitting).
+std::vector<Ray> random_rays_into(const accel::Bounds& b, std::size_t n, std::uint32_t seed);
+/// Rays with random origins inside the bounds and random directions (incoherent).
+std::vector<Ray> random_rays_inside(const accel::Bounds& b, std::size_t n, std::uint32_t seed);
+/// A pinhole grid of rays looking at the bounds (coherent, like primary rays).
+std::vector<Ray> camera_rays(const accel::Bounds& b, int width, int height);
+
+/// Counts rays whose answers disagree by the rayfile.md rule.
+std::size_t count_disagreements(const std::vector<Hit>& a, const std::vector<Hit>& b);
+/// For any-hit answers: a hit must be a real hit (t within the ray's range) iff the reference hits.
+std::size_t count_occlusion_disagreements(const std::vector<Hit>& any, const std::vector<Hit>& closest);
+
+}  // namespace arbor::testing
