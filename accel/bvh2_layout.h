@@ -1,0 +1,69 @@
+#pragma once
+/// Bvh2Layout: the traversal layout of a binary BVH, converted on purpose from a BinaryBvh.
+///
+/// Nodes are flattened depth-first (the first child of an interior node, when interior, is the next
+/// node) and one 64-byte node holds the boxes of BOTH children in SoA form, so a traversal step
+/// reads one cache line and tests two boxes. Triangles are permuted into leaf order and stored as
+/// SoA blocks of 4 with the ORIGINAL vertices (not edges): the watertight test needs bit-identical
+/// vertex inputs for triangles that share an edge. The wide layouts of the SIMD issue are collapsed
+/// from the same BinaryBvh (they do not start from this layout).
+#include "accel/binary_bvh.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace arbor::accel {
+
+/// Triangles per SoA block (one SSE-width test reads a block).
+inline constexpr std::uint32_t tri_block_width = 4;
+
+/// 64 bytes, one cache line. Per axis, x[] = {lo of child 0, lo of child 1, hi of child 0, hi of
+/// child 1}: a ray with a negative direction component reads its near planes at index 2 + c, a ray
+/// with a positive one at index c. count[c] == 0: child c is the interior node nodes[child[c]];
+/// count[c] > 0: child c is a leaf of count[c] triangles starting at triangle slot child[c]
+/// (block child[c] / 4; leaves always start at a block boundary).
+struct alignas(64) Bvh2Node {
+    float x[4], y[4], z[4];
+    std::uint32_t child[2];
+    std::uint32_t count[2];
+
+    bool is_leaf(int c) const { return count[c] != 0; }
+};
+static_assert(sizeof(Bvh2Node) == 64);
+
+/// Four triangles, SoA: v0[axis][lane], v1[axis][lane], v2[axis][lane]. Lanes past a leaf's count
+/// repeat the leaf's last triangle (a SIMD test may run on all four lanes without a mask).
+struct alignas(16) TriBlock4 {
+    float v0[3][4], v1[3][4], v2[3][4];
+};
+static_assert(sizeof(TriBlock4) == 144);
+
+struct Bvh2Layout {
+    std::vector<Bvh2Node> nodes;          ///< interior nodes, depth-first; nodes[0] is the root when interior
+    std::vector<TriBlock4> blocks;        ///< triangles in leaf order
+    std::vector<std::uint32_t> prim_ids;  ///< 4 per block: the original triangle number of each slot
+    Bounds root_box;                      ///< box of the root (empty for an empty scene)
+    std::uint32_t root_child = 0;         ///< root as a child reference: node 0, or a leaf when
+    std::uint32_t root_count = 0;         ///< root_count > 0 (a tiny scene whose root is a leaf)
+    std::uint32_t max_depth = 0;          ///< deepest leaf; a traversal stack needs max_depth + 1 entries
+
+    bool empty() const { return root_box.empty(); }
+    /// Exact bytes of the arrays a traversal reads (capacity, not size).
+    std::size_t memory_bytes() const {
+        return nodes.capacity() * sizeof(Bvh2Node) + blocks.capacity() * sizeof(TriBlock4) +
+               prim_ids.capacity() * sizeof(std::uint32_t) + sizeof(Bvh2Layout);
+    }
+    /// Triangle slot s: vertices and original id.
+    Vec3f vertex(std::uint32_t slot, int k) const {
+        const TriBlock4& b = blocks[slot / tri_block_width];
+        const std::uint32_t l = slot % tri_block_width;
+        const auto& v = k == 0 ? b.v0 : (k == 1 ? b.v1 : b.v2);
+        return {v[0][l], v[1][l], v[2][l]};
+    }
+};
+
+/// Converts `bvh` (built over `tris`) to the traversal layout. Parallel above a subtree size, and
+/// deterministic: node and block offsets come from subtree sizes, not from scheduling.
+Bvh2Layout make_bvh2_layout(const BinaryBvh& bvh, const TriangleView& tris);
+
+}  // namespace arbor::accel

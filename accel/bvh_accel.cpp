@@ -1,0 +1,103 @@
+#include "accel/bvh_accel.h"
+
+#include "accel/bvh2_traverse.h"
+#include "accel/timer.h"
+#include "simd/tri_test.h"
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+namespace arbor::accel {
+
+BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
+    : kind_(kind) {
+    const Timer timer;
+    layout_ = make_bvh2_layout(bvh, tris);
+    const BvhTreeStats tree = bvh_tree_stats(bvh, cfg.traversal_cost, cfg.intersection_cost);
+    stats_.triangles = tris.triangle_count();
+    stats_.dropped_nonfinite = bvh.dropped_nonfinite;
+    stats_.nodes = tree.nodes;
+    stats_.leaves = tree.leaves;
+    stats_.max_depth = tree.max_depth;
+    stats_.mean_leaf_depth = tree.mean_leaf_depth;
+    stats_.sah_cost = tree.sah_cost;
+    stats_.memory_bytes = layout_.memory_bytes();
+    // While converting, the binary tree, the layout and the converter's three words per node live together.
+    const std::size_t binary_bytes = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
+                                     bvh.prim_ids.capacity() * sizeof(std::uint32_t);
+    const std::size_t convert_peak = binary_bytes + layout_.memory_bytes() + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+    stats_.build_peak_bytes = std::max(bvh.build_peak_bytes, convert_peak);
+    stats_.build_ms = build_ms + timer.ms();
+}
+
+template <bool AnyHit> void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits) const {
+    std::array<Bvh2StackEntry, 64> small;
+    std::vector<Bvh2StackEntry> large;
+    std::span<Bvh2StackEntry> stack(small);
+    if (bvh2_stack_size(layout_) > small.size()) {
+        large.resize(bvh2_stack_size(layout_));
+        stack = large;
+    }
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray& ray = rays[i];
+        Hit best;
+        if (ray_is_traceable(ray)) {
+            const simd::WoopShear shear = simd::woop_shear(ray.dir);
+            float tfar = ray.tfar;
+            auto leaf = [&](std::uint32_t first, std::uint32_t count) {
+                bool found = false;
+                for (std::uint32_t s = first; s < first + count; ++s) {
+                    const TriBlock4& b = layout_.blocks[s / tri_block_width];
+                    const std::uint32_t l = s % tri_block_width;
+                    const simd::TriHit<float> h = simd::woop_test(
+                        ray.org, shear, ray.tnear, tfar, {b.v0[0][l], b.v0[1][l], b.v0[2][l]},
+                        {b.v1[0][l], b.v1[1][l], b.v1[2][l]}, {b.v2[0][l], b.v2[1][l], b.v2[2][l]});
+                    // Strictly closer only, as in brute (the spec allows another prim at an equal t).
+                    if (h.hit && (h.t < best.t || !best.is_hit())) {
+                        best = {h.t, layout_.prim_ids[s], h.u, h.v};
+                        tfar = h.t;
+                        found = true;
+                        if constexpr (AnyHit) return true;
+                    }
+                }
+                return found;
+            };
+            traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf);
+        }
+        hits[i] = best;
+    }
+}
+
+Hit BvhAccel::trace(const Ray& ray, bool any_hit) const {
+    Hit h;
+    if (any_hit) trace_batch<true>({&ray, 1}, {&h, 1});
+    else trace_batch<false>({&ray, 1}, {&h, 1});
+    return h;
+}
+
+void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+    trace_batch<false>(rays, hits);
+}
+
+void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+    trace_batch<true>(rays, hits);
+}
+
+std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,
+                                      const BuildConfig& cfg, double build_ms) {
+    return std::make_unique<BvhAccel>(kind, std::move(bvh), tris, cfg, build_ms);
+}
+
+std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
+                                       BvhBuilder builder) {
+    const Timer timer;
+    BinaryBvh bvh;
+    {
+        const PrimRefs refs = make_prim_refs(tris);  // freed before the conversion
+        bvh = builder(refs, cfg);
+    }
+    return make_bvh_accel(kind, std::move(bvh), tris, cfg, timer.ms());
+}
+
+}  // namespace arbor::accel

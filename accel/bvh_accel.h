@@ -1,0 +1,49 @@
+#pragma once
+/// BvhAccel: every binary BVH (bvh-median, bvh-sah, lbvh) behind the Accel interface. It converts
+/// the builder's BinaryBvh into Bvh2Layout (bvh2_layout.h) and traces it with the scalar loop of
+/// bvh2_traverse.h and the watertight test of simd/tri_test.h, exactly as `brute` does.
+#include "accel/accel.h"
+#include "accel/binary_bvh.h"
+#include "accel/bvh2_layout.h"
+#include "accel/prim_refs.h"
+
+#include <memory>
+
+namespace arbor::accel {
+
+class BvhAccel final : public Accel {
+public:
+    /// Converts `bvh` (built over `tris`) to the traversal layout. The BinaryBvh is alive for the
+    /// whole constructor: layouts collapsed from the binary tree (wide nodes) are made here too.
+    /// `build_ms` is the time spent before (prim refs + builder); the conversion time is added.
+    BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms);
+
+    AccelKind kind() const override { return kind_; }
+    const BuildStats& stats() const override { return stats_; }
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+
+    /// One ray through the scalar loop: closest hit, or with any_hit the first hit found.
+    Hit trace(const Ray& ray, bool any_hit) const;
+    const Bvh2Layout& layout() const { return layout_; }
+
+private:
+    template <bool AnyHit> void trace_batch(std::span<const Ray> rays, std::span<Hit> hits) const;
+
+    AccelKind kind_;
+    Bvh2Layout layout_;
+    BuildStats stats_;
+};
+
+/// The Accel for any BinaryBvh; see BvhAccel.
+std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,
+                                      const BuildConfig& cfg, double build_ms);
+
+/// A BVH builder: a pure function of the prim refs and the config.
+using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BuildConfig&);
+
+/// PrimRefs -> `builder` -> BvhAccel, timed as a whole (build_ms covers all three steps).
+std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
+                                       BvhBuilder builder);
+
+}  // namespace arbor::accel
