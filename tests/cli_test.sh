@@ -65,6 +65,33 @@ PY
 else
   fail "trace exited $?: $(cat "$WORK/err")"
 fi
+# `arbor rays`: a valid ray file of exactly --count rays for each kind, the same bytes for the same
+# seed, and one-line errors for bad options.
+for kind in primary shadow diffuse random; do
+  if "$ARBOR" rays --scene "$WORK/quad.obj" --kind $kind --count 777 -o "$WORK/$kind.rays" --seed 4 >"$WORK/out" 2>"$WORK/err"; then
+    python3 - "$WORK/$kind.rays" $kind <<'PY' || fail "rays --kind $kind wrote a bad file"
+import math, struct, sys
+data = open(sys.argv[1], "rb").read()
+assert data[:4] == b"RAYS" and struct.unpack("<IQ", data[4:16]) == (1, 777), data[:16]
+assert len(data) == 16 + 32 * 777, len(data)
+for i in range(777):
+    ox, oy, oz, tn, dx, dy, dz, tf = struct.unpack("<8f", data[16 + 32 * i: 48 + 32 * i])
+    assert all(math.isfinite(c) for c in (ox, oy, oz, dx, dy, dz, tn)), i
+    assert tn <= tf and (dx, dy, dz) != (0, 0, 0), i
+    if sys.argv[2] == "shadow": assert tf < 1, tf
+    if sys.argv[2] == "diffuse": assert dz > 0, dz  # the quad faces +z towards the camera
+PY
+  else
+    fail "rays --kind $kind exited $?: $(cat "$WORK/err")"
+  fi
+done
+"$ARBOR" rays --scene "$WORK/quad.obj" --kind diffuse --count 777 -o "$WORK/again.rays" --seed 4 >/dev/null 2>&1
+cmp -s "$WORK/diffuse.rays" "$WORK/again.rays" || fail "rays: same seed gave different files"
+expect_error "--kind" "$ARBOR" rays --scene "$WORK/quad.obj" --kind ambient --count 10 -o "$WORK/x.rays"
+expect_error "--count" "$ARBOR" rays --scene "$WORK/quad.obj" --count 0 -o "$WORK/x.rays"
+expect_error "--order" "$ARBOR" rays --scene "$WORK/quad.obj" --count 5 --order zigzag -o "$WORK/x.rays"
+expect_error "no-such.obj" "$ARBOR" rays --scene "$WORK/no-such.obj" --count 5 -o "$WORK/x.rays"
+
 # The output of a failed run never replaces an existing file.
 echo keep >"$WORK/keep.hits"
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null

@@ -12,5 +12,6 @@ using Run = std::function<int()>;
 Run add_info(CLI::App& app);
 Run add_trace(CLI::App& app);
 Run add_render(CLI::App& app);
+Run add_rays(CLI::App& app);
 
 }  // namespace arbor::app

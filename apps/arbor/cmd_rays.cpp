@@ -1,0 +1,94 @@
+/// `arbor rays --scene MODEL.obj --kind primary|shadow|diffuse|random --count N -o OUT.rays
+///  [--seed S] [--order tiles|rows] [--accel NAME] [--threads N] [--json]`: writes the rays of
+/// engine/ray_gen.h to a .rays file (spec/rayfile.md), so any tracer can be fed the same rays.
+#include "accel/timer.h"
+#include "apps/arbor/commands.h"
+#include "apps/arbor/common.h"
+#include "engine/obj_loader.h"
+#include "engine/ray_gen.h"
+#include "engine/rayfile.h"
+
+#include <cstdio>
+#include <iostream>
+
+namespace arbor::app {
+
+namespace {
+
+struct RaysOptions {
+    std::string scene, kind = "primary", out, order = "tiles", accel;
+    std::size_t count = 0;
+    std::uint64_t seed = 1;
+    int threads = 0;
+    bool json = false;
+};
+
+/// Upper bound on --count: 2^27 rays are a 4 GiB file.
+constexpr std::size_t max_count = std::size_t(1) << 27;
+
+int run_rays(const RaysOptions& o) {
+    const auto limit = limit_threads(o.threads);
+    const accel::Timer timer;
+    engine::Warnings warnings;
+    const engine::Scene scene = engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
+    engine::RayGenConfig cfg;
+    cfg.kind = *engine::parse_ray_kind(o.kind);
+    cfg.order = *engine::parse_pixel_order(o.order);
+    cfg.count = o.count;
+    cfg.seed = o.seed;
+    const engine::RayGenScene gen = engine::ray_gen_scene(scene);
+
+    std::unique_ptr<accel::Accel> tracer;
+    if (cfg.kind == engine::RayKind::shadow || cfg.kind == engine::RayKind::diffuse) {
+        tracer = o.accel.empty() ? engine::make_ray_gen_tracer(gen.tris)
+                                 : accel::make_accel(resolve_accel(o.accel, gen.tris, nullptr), gen.tris);
+    }
+    const std::vector<accel::Ray> rays = engine::generate_rays(gen, cfg, tracer.get());
+    engine::write_rays(o.out, rays);
+
+    if (o.json) {
+        nlohmann::json j;
+        j["file"] = o.out;
+        j["scene"] = o.scene;
+        j["kind"] = o.kind;
+        j["order"] = o.order;
+        j["rays"] = rays.size();
+        j["seed"] = o.seed;
+        j["triangles"] = scene.mesh.triangle_count();
+        if (tracer) j["tracer"] = accel::to_string(tracer->kind());
+        j["ms"] = timer.ms();
+        std::cout << j.dump() << '\n';
+        return 0;
+    }
+    engine::print_warnings(warnings);
+    std::printf("%s: %zu %s rays (seed %llu, %s order) in %.1f ms\n", o.out.c_str(), rays.size(), o.kind.c_str(),
+                static_cast<unsigned long long>(o.seed), o.order.c_str(), timer.ms());
+    return 0;
+}
+
+}  // namespace
+
+Run add_rays(CLI::App& cmd) {
+    auto o = std::make_shared<RaysOptions>();
+    cmd.add_option("--scene", o->scene, "OBJ file")->required();
+    cmd.add_option("--kind", o->kind, "primary, shadow, diffuse or random")
+        ->check([](const std::string& v) -> std::string {
+            return engine::parse_ray_kind(v) ? std::string()
+                                             : "unknown ray kind '" + v + "' (expected primary, shadow, diffuse or random)";
+        })
+        ->capture_default_str();
+    cmd.add_option("--count", o->count, "number of rays")->required()->check(CLI::Range(std::size_t(1), max_count));
+    cmd.add_option("-o,--out", o->out, "output .rays file")->required();
+    cmd.add_option("--seed", o->seed, "random seed (same seed, same rays)")->capture_default_str();
+    cmd.add_option("--order", o->order, "pixel order of primary rays: tiles (8x8, as a renderer) or rows")
+        ->check([](const std::string& v) -> std::string {
+            return engine::parse_pixel_order(v) ? std::string() : "unknown order '" + v + "' (expected tiles or rows)";
+        })
+        ->capture_default_str();
+    add_accel_option(cmd, o->accel)->description("structure that traces the primary rays of shadow/diffuse rays");
+    add_threads_option(cmd, o->threads);
+    cmd.add_flag("--json", o->json, "one JSON object on standard output");
+    return [o] { return run_rays(*o); };
+}
+
+}  // namespace arbor::app
