@@ -13,10 +13,22 @@
 
 namespace arbor::simd {
 
-/// |x| increased by two ulps (inf stays inf, 0 stays 0).
+/// |x| increased by two ulps (inf stays inf, NaN stays NaN, +-0 becomes +-2 denorm_min).
 inline float pad_2ulp(float x) {
     const float toward = std::signbit(x) ? -INFINITY : INFINITY;
     return std::nextafter(std::nextafter(x, toward), toward);
+}
+
+/// The same per lane, by integer arithmetic on the bit pattern: adding 2 to the magnitude bits is
+/// two nextafter steps away from zero (across the denormal range too), clamped at infinity; NaN
+/// stays NaN. Bit-identical to the scalar form (tested lane by lane).
+template <class A> inline xsimd::batch<float, A> pad_2ulp(const xsimd::batch<float, A>& x) {
+    using I = xsimd::batch<std::int32_t, A>;
+    const I bits = xsimd::bitwise_cast<I>(x);
+    const I mag = bits & I(0x7fffffff);
+    const I inf(0x7f800000), up = mag + I(2);  // wraps for NaN patterns near 0x7fffffff: replaced below
+    const I padded = xsimd::select(up > inf, inf, up) | (bits & I(std::int32_t(0x80000000u)));
+    return xsimd::bitwise_cast<xsimd::batch<float, A>>(xsimd::select(mag > inf, bits, padded));
 }
 
 /// Per-ray constants of the slab test.

@@ -14,25 +14,32 @@ namespace arbor::simd {
 
 /// Widest float batch of this build (16 lanes with AVX-512, 8 with AVX2).
 using FloatV = xsimd::batch<float>;
-/// Fixed-width batches for wide nodes and packets, whatever the widest ISA.
+/// Fixed-width batches for wide nodes and packets, whatever the widest ISA. A width equal to the
+/// widest one is FloatV itself, so kernels are instantiated once per width. Guard uses of Float16
+/// with XSIMD_WITH_AVX512F and of Float8 with XSIMD_WITH_AVX2 (x86-64-v3 builds have no Float16).
 #if XSIMD_WITH_AVX512F
-using Float16 = xsimd::batch<float, xsimd::avx512bw>;
+static_assert(FloatV::size == 16);
+using Float16 = FloatV;
 #endif
 #if XSIMD_WITH_AVX2
-using Float8 = xsimd::batch<float, xsimd::avx2>;
+using Float8 = std::conditional_t<FloatV::size == 8, FloatV, xsimd::batch<float, xsimd::avx2>>;
 #endif
 using Float4 = xsimd::batch<float, xsimd::sse4_2>;
 
 template <class T> struct lane_traits {
     static constexpr std::size_t size = T::size;
     using mask = typename T::batch_bool_type;
+    using integer = xsimd::batch<std::int32_t, typename T::arch_type>;  ///< same lanes, 32-bit integers
 };
 template <> struct lane_traits<float> {
     static constexpr std::size_t size = 1;
     using mask = bool;
+    using integer = std::int32_t;
 };
 template <class T> inline constexpr std::size_t lanes = lane_traits<T>::size;
 template <class T> using Mask = typename lane_traits<T>::mask;
+/// 32-bit integer lanes matching T (std::int32_t for T = float).
+template <class T> using IntOf = typename lane_traits<T>::integer;
 
 // Scalar shims so that `select/any/all/to_bits` read the same for T = float and for batches.
 inline float select(bool m, float a, float b) { return m ? a : b; }
@@ -76,5 +83,105 @@ inline float lane(float v, std::size_t) { return v; }
 template <class A> inline float lane(const xsimd::batch<float, A>& v, std::size_t i) { return v.get(i); }
 inline bool lane(bool v, std::size_t) { return v; }
 template <class A> inline bool lane(const xsimd::batch_bool<float, A>& m, std::size_t i) { return (to_bits(m) >> i) & 1u; }
+
+/// Loads lanes<T> consecutive values from p (no alignment needed); T = float reads *p.
+template <class T, class S> inline T load_lanes(const S* p) {
+    if constexpr (std::is_arithmetic_v<T>) return *p;
+    else return T::load_unaligned(p);
+}
+/// Stores lanes<T> consecutive values to p (no alignment needed).
+template <class S> inline void store_lanes(S v, S* p) requires std::is_arithmetic_v<S> { *p = v; }
+template <class S, class A> inline void store_lanes(const xsimd::batch<S, A>& v, S* p) { v.store_unaligned(p); }
+
+/// Lanes whose sign bit is set, as std::signbit: true for -0, negative values and NaNs with the sign set.
+inline bool signbit_mask(float x) { return std::signbit(x); }
+template <class A> inline xsimd::batch_bool<float, A> signbit_mask(const xsimd::batch<float, A>& x) {
+    using I = xsimd::batch<std::int32_t, A>;
+    return xsimd::bool_cast(xsimd::bitwise_cast<I>(x) < I(0));
+}
+
+/// Mask whose lane i is bit i of `bits` (the inverse of to_bits).
+template <class T> inline Mask<T> from_bits(std::uint32_t bits) {
+    if constexpr (std::is_same_v<T, float>) {
+        return (bits & 1u) != 0;
+    } else {
+        using A = typename T::arch_type;
+#if XSIMD_WITH_AVX512F
+        if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return Mask<T>(static_cast<__mmask16>(bits));
+        else
+#endif
+        {
+            using I = IntOf<T>;
+            alignas(64) std::int32_t pow2[T::size];
+            for (std::size_t i = 0; i < T::size; ++i) pow2[i] = std::int32_t(1u << i);
+            return xsimd::bool_cast((I(std::int32_t(bits)) & I::load_aligned(pow2)) != I(0));
+        }
+    }
+}
+/// Mask of the first n lanes (n may exceed the lane count).
+template <class T> inline Mask<T> first_lanes(std::size_t n) {
+    return from_bits<T>(n >= 32 ? ~0u : (1u << n) - 1u);
+}
+
+/// select for the integer lanes that go with T, under T's mask.
+inline std::int32_t iselect(bool m, std::int32_t a, std::int32_t b) { return m ? a : b; }
+template <class A>
+inline xsimd::batch<std::int32_t, A> iselect(const xsimd::batch_bool<float, A>& m, const xsimd::batch<std::int32_t, A>& a,
+                                             const xsimd::batch<std::int32_t, A>& b) {
+    return xsimd::select(xsimd::bool_cast(m), a, b);
+}
+/// Lanes where two integer batches are equal, as a mask of T.
+inline bool int_equal(std::int32_t a, std::int32_t b) { return a == b; }
+template <class A>
+inline xsimd::batch_bool<float, A> int_equal(const xsimd::batch<std::int32_t, A>& a, const xsimd::batch<std::int32_t, A>& b) {
+    return xsimd::bool_cast(a == b);
+}
+/// |x| per lane (clears the sign bit, as std::fabs).
+inline float vabs(float x) { return std::fabs(x); }
+template <class A> inline xsimd::batch<float, A> vabs(const xsimd::batch<float, A>& x) { return xsimd::abs(x); }
+inline std::int32_t lane(std::int32_t v, std::size_t) { return v; }
+template <class A> inline std::int32_t lane(const xsimd::batch<std::int32_t, A>& v, std::size_t i) { return v.get(i); }
+
+/// Smallest lane of a NaN-free batch (+0 and -0 compare equal: either may come back).
+inline float hmin(float v) { return v; }
+template <class A> inline float hmin(const xsimd::batch<float, A>& v) {
+#if XSIMD_WITH_AVX512DQ
+    // (Not _mm512_reduce_min_ps: GCC 12 warns about an uninitialized value inside its own header.)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+        const __m512 w = static_cast<__m512>(v);
+        const __m256 m = _mm256_min_ps(_mm512_extractf32x8_ps(w, 0), _mm512_extractf32x8_ps(w, 1));
+        return hmin(xsimd::batch<float, xsimd::avx2>(m));
+    } else
+#endif
+    if constexpr (xsimd::batch<float, A>::size > 8 || !std::is_base_of_v<xsimd::sse2, A>) {
+        alignas(64) float x[xsimd::batch<float, A>::size];
+        v.store_aligned(x);
+        float m = x[0];
+        for (float y : x) m = rmin(y, m);
+        return m;
+    } else {
+        __m128 m;
+#if XSIMD_WITH_AVX
+        if constexpr (std::is_base_of_v<xsimd::avx, A>) {
+            const __m256 w = static_cast<__m256>(v);
+            m = _mm_min_ps(_mm256_castps256_ps128(w), _mm256_extractf128_ps(w, 1));
+        } else
+#endif
+            m = static_cast<__m128>(v);
+        m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+        m = _mm_min_ss(m, _mm_shuffle_ps(m, m, 1));
+        return _mm_cvtss_f32(m);
+    }
+}
+
+/// Index of the hit lane with the smallest t, the lowest index on ties; -1 when no lane hits.
+/// Deterministic: the answer does not depend on the reduction order (+0 and -0 tie).
+template <class T> inline int closest_lane(const Mask<T>& hit, const T& t) {
+    const std::uint32_t bits = to_bits(hit);
+    if (bits == 0) return -1;
+    if ((bits & (bits - 1)) == 0) return std::countr_zero(bits);
+    const float m = hmin(select(hit, t, T(INFINITY)));
+    return std::countr_zero(to_bits(hit & (t == T(m))));
+}
 
 }  // namespace arbor::simd

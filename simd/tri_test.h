@@ -103,7 +103,7 @@ inline TriHit<T> woop_permuted(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>
     r.u = V * rcp;
     r.v = W * rcp;
     // A NaN t (det == 0, or overflow) fails both comparisons, so it never hits.
-    r.hit = !(negative & positive) & (det != zero) & (r.t >= tnear) & (r.t <= tfar);
+    r.hit = (!(negative & positive)) & (det != zero) & (r.t >= tnear) & (r.t <= tfar);
     return r;
 }
 

@@ -1,0 +1,170 @@
+#pragma once
+/// RayPacket<T>: lanes<T> rays in SoA form, with the per-lane constants of the slab test (Ize) and
+/// of the watertight triangle test (Woop), an active mask, and loading from / storing to arrays of
+/// rays and hits. T = float is a one-ray packet: the scalar instantiation every kernel is checked
+/// against, lane by lane.
+#include "simd/box_test.h"
+#include "simd/tri_test.h"
+
+#include <algorithm>
+#include <span>
+
+namespace arbor::simd {
+
+/// The per-lane Woop permutation as masks (kx == 0 is kx0, kx == 1 is kx1, otherwise 2; the same
+/// for ky, kz) and the per-lane shear. The rule is woop_shear's: kz is the axis of the largest
+/// |d| (first of equals), kx = kz+1, ky = kx+1 (mod 3), kx and ky swapped when d[kz] has its sign set.
+template <class T> struct WoopLanes {
+    Mask<T> kx0, kx1, ky0, ky1, kz0, kz1;
+    T sx, sy, sz;
+    bool uniform = true;  ///< every active lane has the permutation (kx, ky, kz) below
+    int kx = 0, ky = 1, kz = 2;
+};
+
+/// The rule of accel::ray_is_traceable per lane: finite origin and direction, a non-zero direction,
+/// tnear <= tfar (false when either is NaN).
+template <class T> inline Mask<T> traceable(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar) {
+    const auto finite = [](const T& x) {
+        if constexpr (std::is_same_v<T, float>) return bool(std::isfinite(x));
+        else return xsimd::isfinite(x);
+    };
+    const T zero(0.0f);
+    return finite(org.x) & finite(org.y) & finite(org.z) & finite(dir.x) & finite(dir.y) & finite(dir.z) &
+           ((dir.x != zero) | (dir.y != zero) | (dir.z != zero)) & (tnear <= tfar);
+}
+
+/// v with its components put in the lane's (kx, ky, kz) order, chosen per lane with selects.
+template <class T> inline Vec3<T> permute_lanes(const WoopLanes<T>& w, const Vec3<T>& v) {
+    return {select(w.kx0, v.x, select(w.kx1, v.y, v.z)), select(w.ky0, v.x, select(w.ky1, v.y, v.z)),
+            select(w.kz0, v.x, select(w.kz1, v.y, v.z))};
+}
+/// The same when every lane has the permutation (w.kx, w.ky, w.kz): plain component picks.
+template <class T> inline Vec3<T> permute_uniform(const WoopLanes<T>& w, const Vec3<T>& v) {
+    return {v[w.kx], v[w.ky], v[w.kz]};
+}
+
+/// Woop permutation and shear of every lane; `active` decides which lanes count for `uniform`.
+template <class T> inline WoopLanes<T> woop_lanes(const Vec3<T>& dir, const Mask<T>& active) {
+    WoopLanes<T> w;
+    const Vec3<T> a{vabs(dir.x), vabs(dir.y), vabs(dir.z)};
+    const Mask<T> gexy = a.x >= a.y, gexz = a.x >= a.z, geyz = a.y >= a.z;
+    w.kz0 = gexy & gexz;
+    w.kz1 = (!gexy) & geyz;
+    const Mask<T> kz2 = !(w.kz0 | w.kz1);
+    const Mask<T> s = signbit_mask(select(w.kz0, dir.x, select(w.kz1, dir.y, dir.z)));
+    w.kx0 = (kz2 & !s) | (w.kz1 & s);
+    w.kx1 = (w.kz0 & !s) | (kz2 & s);
+    w.ky0 = (w.kz1 & !s) | (kz2 & s);
+    w.ky1 = (kz2 & !s) | (w.kz0 & s);
+    const Vec3<T> d = permute_lanes(w, dir);
+    w.sx = d.x / d.z;
+    w.sy = d.y / d.z;
+    w.sz = T(1.0f) / d.z;
+    const std::uint32_t act = to_bits(active);
+    if (act != 0) {
+        const auto same = [act](const Mask<T>& m) {
+            const std::uint32_t b = to_bits(m) & act;
+            return b == 0 || b == act;
+        };
+        w.uniform = same(w.kx0) && same(w.kx1) && same(w.ky0) && same(w.ky1) && same(w.kz0) && same(w.kz1);
+        const std::size_t i = std::countr_zero(act);
+        const auto axis = [i](const Mask<T>& m0, const Mask<T>& m1) { return lane(m0, i) ? 0 : (lane(m1, i) ? 1 : 2); };
+        w.kx = axis(w.kx0, w.kx1);
+        w.ky = axis(w.ky0, w.ky1);
+        w.kz = axis(w.kz0, w.kz1);
+    }
+    return w;
+}
+
+/// lanes<T> rays. Lanes that are not traceable are inactive, with tnear = +inf and tfar = -inf so
+/// that no test can accept them even without the mask; every kernel also ANDs `active`.
+template <class T> struct RayPacket {
+    static constexpr std::size_t size = lanes<T>;
+    Vec3<T> org, dir;
+    Vec3<T> rcp_near;       ///< 1/d
+    Vec3<T> rcp_far;        ///< 1/d padded by 2 ulps (Ize)
+    Mask<T> near_is_hi[3];  ///< sign bit of d per axis: the near plane is the box's max
+    T tnear, tfar;
+    Mask<T> active;
+    WoopLanes<T> woop;
+};
+
+/// Packet from SoA rays; lanes outside `active` or not traceable become inactive.
+template <class T>
+inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar,
+                                const Mask<T>& active) {
+    RayPacket<T> p;
+    p.org = org;
+    p.dir = dir;
+    p.active = active & traceable(org, dir, tnear, tfar);
+    p.tnear = select(p.active, tnear, T(INFINITY));
+    p.tfar = select(p.active, tfar, T(-INFINITY));
+    for (int k = 0; k < 3; ++k) {
+        p.rcp_near[k] = T(1.0f) / dir[k];
+        p.rcp_far[k] = pad_2ulp(p.rcp_near[k]);
+        p.near_is_hi[k] = signbit_mask(dir[k]);
+    }
+    p.woop = woop_lanes(dir, p.active);
+    return p;
+}
+
+/// Packet from the first min(rays.size(), lanes<T>) rays of an array of accel::Ray-like records
+/// (members org, dir, tnear, tfar); the remaining lanes are inactive (a partial packet).
+template <class T, class R> inline RayPacket<T> load_packet(std::span<const R> rays) {
+    constexpr std::size_t n = lanes<T>;
+    const std::size_t count = std::min(rays.size(), n);
+    alignas(64) float f[8][n];
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool have = i < count;
+        f[0][i] = have ? rays[i].org.x : 0.0f;
+        f[1][i] = have ? rays[i].org.y : 0.0f;
+        f[2][i] = have ? rays[i].org.z : 0.0f;
+        f[3][i] = have ? rays[i].dir.x : 0.0f;
+        f[4][i] = have ? rays[i].dir.y : 0.0f;
+        f[5][i] = have ? rays[i].dir.z : 0.0f;
+        f[6][i] = have ? rays[i].tnear : INFINITY;
+        f[7][i] = have ? rays[i].tfar : -INFINITY;
+    }
+    const auto ld = [&f](int k) { return load_lanes<T>(f[k]); };
+    return make_packet<T>({ld(0), ld(1), ld(2)}, {ld(3), ld(4), ld(5)}, ld(6), ld(7), first_lanes<T>(count));
+}
+
+/// Closest hits of a packet. A lane without a hit holds the miss record {+inf, -1, 0, 0}.
+template <class T> struct PacketHit {
+    T t = T(INFINITY);
+    T u = T(0.0f), v = T(0.0f);
+    IntOf<T> prim = IntOf<T>(-1);
+};
+
+/// Takes the lanes of `h` that hit and are strictly closer than the hit recorded so far (or are the
+/// first hit): the tie rule of the brute oracle. Shrinks p.tfar in those lanes; returns them.
+template <class T>
+inline Mask<T> record_hits(PacketHit<T>& best, RayPacket<T>& p, const TriHit<T>& h, std::int32_t prim) {
+    const Mask<T> take = h.hit & p.active & ((h.t < best.t) | int_equal(best.prim, IntOf<T>(-1)));
+    best.t = select(take, h.t, best.t);
+    best.u = select(take, h.u, best.u);
+    best.v = select(take, h.v, best.v);
+    best.prim = iselect(take, IntOf<T>(prim), best.prim);
+    p.tfar = select(take, h.t, p.tfar);
+    return take;
+}
+
+/// Writes the first min(hits.size(), lanes<T>) lanes to an array of accel::Hit-like records
+/// (members t, prim, u, v).
+template <class T, class H> inline void store_hits(const PacketHit<T>& h, std::span<H> hits) {
+    constexpr std::size_t n = lanes<T>;
+    alignas(64) float t[n], u[n], v[n];
+    alignas(64) std::int32_t prim[n];
+    store_lanes(h.t, t);
+    store_lanes(h.u, u);
+    store_lanes(h.v, v);
+    store_lanes(h.prim, prim);
+    for (std::size_t i = 0; i < std::min(hits.size(), n); ++i) {
+        hits[i].t = t[i];
+        hits[i].prim = static_cast<std::uint32_t>(prim[i]);
+        hits[i].u = u[i];
+        hits[i].v = v[i];
+    }
+}
+
+}  // namespace arbor::simd

@@ -1,0 +1,49 @@
+#pragma once
+/// WideRay<T>: one ray broadcast to every lane of T, for testing it against lanes<T> boxes (a wide
+/// node) or lanes<T> triangles (a leaf block) at once. Its constants come from the scalar
+/// slab_ray() and woop_shear() themselves, so a wide test does per lane exactly what the scalar
+/// test does on that box or triangle.
+#include "simd/box_test.h"
+#include "simd/tri_test.h"
+
+namespace arbor::simd {
+
+template <class T> struct WideRay {
+    Vec3<T> org;            ///< origin in x, y, z order
+    Vec3<T> org_perm;       ///< origin in the (kx, ky, kz) order of the triangle test
+    Vec3<T> rcp_near;       ///< 1/d
+    Vec3<T> rcp_far;        ///< 1/d padded by 2 ulps (Ize)
+    T tnear, tfar;          ///< tfar may be lowered by the caller as hits are found
+    T sx, sy, sz;           ///< Woop shear
+    int near_is_hi[3] = {}; ///< 1 when d[k] has its sign bit set: the near plane is the box's max
+    int kx = 0, ky = 1, kz = 2;
+    bool traceable = false; ///< false: tnear = +inf and tfar = -inf, no test accepts the ray
+};
+
+/// The ray o + t d, t in [tnear, tfar]. A ray that fails the accel::ray_is_traceable rule (NaN or
+/// Inf components, zero direction, tnear > tfar) is kept as `traceable = false` and never hits.
+template <class T> inline WideRay<T> wide_ray(const Vec3f& o, const Vec3f& d, float tnear, float tfar) {
+    const bool ok = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
+                    std::isfinite(d.y) && std::isfinite(d.z) && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) &&
+                    tnear <= tfar;
+    const SlabRay s = slab_ray(o, d);
+    const WoopShear w = woop_shear(d);
+    WideRay<T> r;
+    r.traceable = ok;
+    r.org = {T(o.x), T(o.y), T(o.z)};
+    r.org_perm = {T(o[w.kx]), T(o[w.ky]), T(o[w.kz])};
+    r.rcp_near = {T(s.rcp_near.x), T(s.rcp_near.y), T(s.rcp_near.z)};
+    r.rcp_far = {T(s.rcp_far.x), T(s.rcp_far.y), T(s.rcp_far.z)};
+    r.tnear = T(ok ? tnear : INFINITY);
+    r.tfar = T(ok ? tfar : -INFINITY);
+    r.sx = T(w.sx);
+    r.sy = T(w.sy);
+    r.sz = T(w.sz);
+    for (int k = 0; k < 3; ++k) r.near_is_hi[k] = s.near_is_hi[k];
+    r.kx = w.kx;
+    r.ky = w.ky;
+    r.kz = w.kz;
+    return r;
+}
+
+}  // namespace arbor::simd

@@ -1,0 +1,241 @@
+// simd/ building blocks lane by lane against their scalar forms: mask conversions, sign bits,
+// the padded reciprocal, reductions, hit ordering, and RayPacket loading/storing.
+#include "simd/lane_order.h"
+#include "simd/ray_packet.h"
+#include "simd_cases.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <numeric>
+#include <span>
+
+using namespace arbor::simd;
+using arbor::testing::bits_of;
+using arbor::testing::Mismatches;
+using arbor::testing::Ray;
+
+namespace {
+
+/// Special values plus random bit patterns (every class of float: denormals, NaNs, infinities).
+std::vector<float> special_floats() {
+    std::vector<float> v{0.0f,     -0.0f,     FLT_TRUE_MIN, -FLT_TRUE_MIN, FLT_MIN,   -FLT_MIN,
+                         std::nextafter(FLT_MIN, 0.0f),     1.0f,          -1.0f,     FLT_MAX,
+                         -FLT_MAX, std::nextafter(FLT_MAX, 0.0f), INFINITY,  -INFINITY, NAN, -NAN, 3.0e-39f, 1e30f};
+    std::mt19937 rng(7);
+    for (int i = 0; i < 4000; ++i) v.push_back(std::bit_cast<float>(std::uint32_t(rng())));
+    while (v.size() % 16) v.push_back(0.5f);
+    return v;
+}
+
+bool same_float(float a, float b) { return (std::isnan(a) && std::isnan(b)) || bits_of(a) == bits_of(b); }
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("simd: to_bits, from_bits and first_lanes agree", T, ARBOR_TEST_BATCHES) {
+    constexpr std::size_t n = lanes<T>;
+    const std::uint32_t all_lanes = n == 32 ? ~0u : (1u << n) - 1u;
+    std::mt19937 rng(1);
+    for (int i = 0; i < 200; ++i) {
+        const std::uint32_t b = std::uint32_t(rng()) & all_lanes;
+        const Mask<T> m = from_bits<T>(b);
+        REQUIRE(to_bits(m) == b);
+        for (std::size_t k = 0; k < n; ++k) CHECK(lane(m, k) == bool((b >> k) & 1u));
+    }
+    for (std::size_t count = 0; count <= n + 1; ++count)
+        CHECK(to_bits(first_lanes<T>(count)) == (count >= n ? all_lanes : (1u << count) - 1u));
+    CHECK(to_bits(first_lanes<float>(0)) == 0u);
+    CHECK(to_bits(first_lanes<float>(3)) == 1u);
+}
+
+TEST_CASE_TEMPLATE("simd: signbit_mask, vabs and pad_2ulp match the scalar forms bit for bit", T, ARBOR_TEST_BATCHES) {
+    const std::vector<float> v = special_floats();
+    Mismatches bad;
+    for (std::size_t s = 0; s < v.size(); s += lanes<T>) {
+        const T x = load_lanes<T>(&v[s]);
+        const Mask<T> sign = signbit_mask(x);
+        const T a = vabs(x), pad = pad_2ulp(x);
+        for (std::size_t i = 0; i < lanes<T>; ++i) {
+            const float xi = v[s + i];
+            if (lane(sign, i) != signbit_mask(xi)) bad.add("signbit", xi);
+            if (!same_float(lane(a, i), vabs(xi))) bad.add("abs", xi);
+            if (!same_float(lane(pad, i), pad_2ulp(xi))) bad.add("pad", xi, lane(pad, i), pad_2ulp(xi));
+        }
+    }
+    ARBOR_CHECK_NONE(bad);
+    // The scalar reference really moves two ulps outward, and saturates at infinity.
+    CHECK(pad_2ulp(1.0f) == std::nextafter(std::nextafter(1.0f, 2.0f), 2.0f));
+    CHECK(pad_2ulp(-FLT_MAX) == -INFINITY);
+}
+
+TEST_CASE_TEMPLATE("simd: hmin and closest_lane pick the nearest hit, lowest lane on ties", T, ARBOR_TEST_BATCHES) {
+    constexpr std::size_t n = lanes<T>;
+    std::mt19937 rng(3);
+    const float pool[] = {-0.0f, 0.0f, 0.5f, 1.0f, 1.0f, 2.0f, INFINITY};
+    Mismatches bad;
+    for (int it = 0; it < 2000; ++it) {
+        alignas(64) float t[n];
+        for (float& x : t) x = (it % 2) ? pool[rng() % 7] : arbor::testing::uniform(rng, 0.0f, 10.0f);
+        const std::uint32_t b = std::uint32_t(rng()) & (n == 32 ? ~0u : (1u << n) - 1u);
+        const T tv = load_lanes<T>(t);
+        int expect = -1;
+        for (std::size_t i = 0; i < n; ++i)
+            if (((b >> i) & 1u) && (expect < 0 || t[i] < t[expect])) expect = int(i);
+        const int got = closest_lane(from_bits<T>(b), tv);
+        if (got != expect) bad.add("closest", got, expect, b);
+        const float m = hmin(tv), ref = *std::min_element(t, t + n);
+        if (m != ref) bad.add("hmin", m, ref);
+    }
+    ARBOR_CHECK_NONE(bad);
+    CHECK(closest_lane(false, 1.0f) == -1);
+    CHECK(closest_lane(true, 1.0f) == 0);
+}
+
+TEST_CASE_TEMPLATE("simd: iselect and int_equal work lane by lane", T, ARBOR_TEST_BATCHES) {
+    using I = IntOf<T>;
+    alignas(64) std::int32_t a[lanes<T>], b[lanes<T>];
+    for (std::size_t i = 0; i < lanes<T>; ++i) {
+        a[i] = std::int32_t(i);
+        b[i] = (i % 3 == 0) ? std::int32_t(i) : -1;
+    }
+    const I ai = load_lanes<I>(a), bi = load_lanes<I>(b);
+    const Mask<T> eq = int_equal(ai, bi);
+    const I sel = iselect(eq, I(100), bi);
+    for (std::size_t i = 0; i < lanes<T>; ++i) {
+        CHECK(lane(eq, i) == (i % 3 == 0));
+        CHECK(lane(sel, i) == (i % 3 == 0 ? 100 : -1));
+    }
+}
+
+TEST_CASE_TEMPLATE("simd: order_hits is a stable sort of the hit lanes by distance", T, float, ARBOR_TEST_BATCHES) {
+    constexpr std::size_t n = lanes<T>;
+    std::mt19937 rng(5);
+    Mismatches bad;
+    for (int it = 0; it < 3000; ++it) {
+        alignas(64) float t[n];
+        for (float& x : t) x = (it % 3 == 0) ? float(rng() % 3) : arbor::testing::uniform(rng, -1.0f, 5.0f);
+        std::uint32_t b = std::uint32_t(rng()) & (n == 32 ? ~0u : (1u << n) - 1u);
+        if (it % 4 == 0) b &= b - 1;  // favour small counts, as in traversal
+        std::vector<std::uint8_t> expect;
+        for (std::size_t i = 0; i < n; ++i)
+            if ((b >> i) & 1u) expect.push_back(std::uint8_t(i));
+        std::stable_sort(expect.begin(), expect.end(), [&t](std::uint8_t x, std::uint8_t y) { return t[x] < t[y]; });
+        std::uint8_t out[32];
+        const int count = order_hits(b, load_lanes<T>(t), out);
+        if (count != int(expect.size()) || !std::equal(expect.begin(), expect.end(), out)) bad.add("order", b, count);
+    }
+    ARBOR_CHECK_NONE(bad);
+}
+
+namespace {
+/// Lane i's Woop axes, read back from the masks.
+template <class T> WoopShear axes_of(const WoopLanes<T>& w, std::size_t i) {
+    const auto axis = [i](const Mask<T>& m0, const Mask<T>& m1) { return lane(m0, i) ? 0 : (lane(m1, i) ? 1 : 2); };
+    WoopShear s;
+    s.kx = axis(w.kx0, w.kx1);
+    s.ky = axis(w.ky0, w.ky1);
+    s.kz = axis(w.kz0, w.kz1);
+    s.sx = lane(w.sx, i);
+    s.sy = lane(w.sy, i);
+    s.sz = lane(w.sz, i);
+    return s;
+}
+
+/// Checks one lane of a packet against the scalar oracles (ray_is_traceable, slab_ray, woop_shear).
+template <class T> void check_lane(const RayPacket<T>& p, std::size_t i, const Ray* ray, Mismatches& bad) {
+    const bool active = ray && arbor::accel::ray_is_traceable(*ray);
+    if (lane(p.active, i) != active) return bad.add("active", i);
+    if (!active) {
+        if (!(lane(p.tnear, i) == INFINITY && lane(p.tfar, i) == -INFINITY)) bad.add("inactive range", i);
+        return;
+    }
+    const SlabRay s = slab_ray(ray->org, ray->dir);
+    const WoopShear w = woop_shear(ray->dir), got = axes_of(p.woop, i);
+    for (int k = 0; k < 3; ++k) {
+        if (bits_of(lane(p.org[k], i)) != bits_of(ray->org[k])) bad.add("org", i, k);
+        if (bits_of(lane(p.dir[k], i)) != bits_of(ray->dir[k])) bad.add("dir", i, k);
+        if (bits_of(lane(p.rcp_near[k], i)) != bits_of(s.rcp_near[k])) bad.add("rcp_near", i, k);
+        if (bits_of(lane(p.rcp_far[k], i)) != bits_of(s.rcp_far[k])) bad.add("rcp_far", i, k);
+        if (lane(p.near_is_hi[k], i) != bool(s.near_is_hi[k])) bad.add("near_is_hi", i, k);
+    }
+    if (bits_of(lane(p.tnear, i)) != bits_of(ray->tnear) || bits_of(lane(p.tfar, i)) != bits_of(ray->tfar))
+        bad.add("range", i);
+    if (got.kx != w.kx || got.ky != w.ky || got.kz != w.kz) bad.add("woop axes", i, got.kx, got.ky, got.kz);
+    if (bits_of(got.sx) != bits_of(w.sx) || bits_of(got.sy) != bits_of(w.sy) || bits_of(got.sz) != bits_of(w.sz))
+        bad.add("woop shear", i);
+    if (p.woop.uniform && (got.kx != p.woop.kx || got.ky != p.woop.ky || got.kz != p.woop.kz))
+        bad.add("uniform but lane differs", i);
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("RayPacket: every lane matches the scalar slab and Woop constants", T, float, ARBOR_TEST_BATCHES) {
+    const std::vector<Vec3f> targets{{0, 0, 0}, {1, 1, 1}, {-1, 0.5f, 0}, {0.25f, -1, 1}};
+    const std::vector<Ray> rays = arbor::testing::stiff_rays(11, 300, targets);
+    Mismatches bad;
+    std::size_t mixed = 0;
+    for (std::size_t s = 0; s < rays.size(); s += lanes<T>) {
+        const auto chunk = std::span<const Ray>(rays).subspan(s, std::min(lanes<T>, rays.size() - s));
+        const RayPacket<T> p = load_packet<T, Ray>(chunk);
+        for (std::size_t i = 0; i < lanes<T>; ++i) check_lane(p, i, i < chunk.size() ? &chunk[i] : nullptr, bad);
+        mixed += !p.woop.uniform;
+    }
+    ARBOR_CHECK_NONE(bad);
+    if constexpr (lanes<T> > 1) CHECK(mixed > 0);  // the per-lane permutation was exercised
+}
+
+TEST_CASE_TEMPLATE("RayPacket: partial packets and the uniform permutation flag", T, ARBOR_TEST_BATCHES) {
+    constexpr std::size_t n = lanes<T>;
+    std::vector<Ray> rays;
+    for (std::size_t i = 0; i < n; ++i) rays.push_back({{0, 0, 5}, 0.0f, {0.01f * float(i), 0.02f, -1.0f}, INFINITY});
+    RayPacket<T> p = load_packet<T, Ray>(std::span<const Ray>(rays));
+    CHECK(to_bits(p.active) == to_bits(first_lanes<T>(n)));
+    CHECK(p.woop.uniform);
+    CHECK((p.woop.kx == 1 && p.woop.ky == 0 && p.woop.kz == 2));  // -z dominant: x and y swapped
+    rays[n - 1].dir = {1.0f, 0.0f, 0.0f};
+    CHECK_FALSE(load_packet<T, Ray>(std::span<const Ray>(rays)).woop.uniform);
+    // The odd lane out is inactive: it no longer counts.
+    rays[n - 1].tfar = -1.0f;
+    CHECK(load_packet<T, Ray>(std::span<const Ray>(rays)).woop.uniform);
+    // A partial packet: the missing lanes are inactive and never counted.
+    p = load_packet<T, Ray>(std::span<const Ray>(rays).first(n / 2 + 1));
+    CHECK(to_bits(p.active) == to_bits(first_lanes<T>(n / 2 + 1)));
+    CHECK(p.woop.uniform);
+    CHECK(to_bits(load_packet<T, Ray>(std::span<const Ray>()).active) == 0u);
+}
+
+TEST_CASE_TEMPLATE("PacketHit: record_hits keeps brute's tie rule, store_hits writes Hit records", T, float,
+                   ARBOR_TEST_BATCHES) {
+    constexpr std::size_t n = lanes<T>;
+    std::vector<Ray> rays(n, Ray{{0, 0, 5}, 0.0f, {0, 0, -1}, INFINITY});
+    rays[0].tfar = -1.0f;  // inactive: never recorded
+    RayPacket<T> p = load_packet<T, Ray>(std::span<const Ray>(rays));
+    PacketHit<T> best;
+    alignas(64) float t1[n], t2[n];
+    for (std::size_t i = 0; i < n; ++i) {
+        t1[i] = 2.0f + float(i);
+        t2[i] = (i % 2) ? t1[i] : t1[i] - 1.0f;  // odd lanes tie, even lanes are closer
+    }
+    TriHit<T> h{first_lanes<T>(n), load_lanes<T>(t1), T(0.25f), T(0.5f)};
+    record_hits(best, p, h, 7);
+    h.t = load_lanes<T>(t2);
+    h.u = T(0.125f);
+    const std::uint32_t second = to_bits(record_hits(best, p, h, 9));
+    std::vector<arbor::accel::Hit> out(n + 1);
+    store_hits(best, std::span<arbor::accel::Hit>(out).first(n));
+    for (std::size_t i = 0; i < n; ++i) {
+        CAPTURE(i);
+        if (i == 0) {
+            CHECK_FALSE(out[i].is_hit());
+            CHECK(out[i].t == INFINITY);
+            continue;
+        }
+        const bool closer = i % 2 == 0;
+        CHECK(bool((second >> i) & 1u) == closer);
+        CHECK(out[i].prim == (closer ? 9u : 7u));
+        CHECK(out[i].t == (closer ? t2[i] : t1[i]));
+        CHECK(out[i].u == (closer ? 0.125f : 0.25f));
+        CHECK(out[i].v == 0.5f);
+        CHECK(lane(p.tfar, i) == out[i].t);
+    }
+    CHECK_FALSE(out[n].is_hit());  // only lanes<T> records written
+}
