@@ -1,6 +1,8 @@
 #include "accel/accel.h"
 
 #include "accel/brute_accel.h"
+#include "accel/bvh_accel.h"
+#include "accel/bvh_build.h"
 
 #include <array>
 #include <stdexcept>
@@ -61,6 +63,8 @@ std::string accel_kind_names() {
 std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg) {
     switch (kind) {
     case AccelKind::brute: return std::make_unique<BruteAccel>(tris);
+    case AccelKind::bvh_median: return build_bvh_accel(kind, tris, cfg, build_bvh_median);
+    case AccelKind::bvh_sah: return build_bvh_accel(kind, tris, cfg, build_bvh_sah);
     case AccelKind::automatic: throw std::invalid_argument("make_accel: resolve 'auto' before building");
     default: break;
     }

@@ -92,6 +92,22 @@ expect_error "--count" "$ARBOR" rays --scene "$WORK/quad.obj" --count 0 -o "$WOR
 expect_error "--order" "$ARBOR" rays --scene "$WORK/quad.obj" --count 5 --order zigzag -o "$WORK/x.rays"
 expect_error "no-such.obj" "$ARBOR" rays --scene "$WORK/no-such.obj" --count 5 -o "$WORK/x.rays"
 
+# The BVHs give brute's answers on the same file, with the default and the seed report's leaf size.
+for args in "--accel bvh-sah" "--accel bvh-median --leaf-size 1" "--accel bvh-sah --leaf-size 1 --sah-bins 4" ""; do
+  # shellcheck disable=SC2086
+  "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --hits "$WORK/bvh.hits" $args --json >"$WORK/out" 2>"$WORK/err" \
+    || fail "trace $args exited $?: $(cat "$WORK/err")"
+  cmp -s "$WORK/quad.hits" "$WORK/bvh.hits" || fail "trace $args: hits differ from brute's"
+  python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["hits"] == 2 and j["nodes"] >= 1, j' "$WORK/out" \
+    || fail "trace $args JSON: $(cat "$WORK/out")"
+done
+grep -q '"accel":"bvh-sah"' "$WORK/out" || fail "trace without --accel should default to bvh-sah: $(cat "$WORK/out")"
+"$ARBOR" info "$WORK/quad.obj" --accel bvh-median --leaf-size 1 --json >"$WORK/out" 2>"$WORK/err" || fail "info --leaf-size 1 exited $?"
+grep -q '"leaves":2' "$WORK/out" || fail "info --accel bvh-median --leaf-size 1 should report 2 leaves: $(cat "$WORK/out")"
+expect_error "--leaf-size" "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --leaf-size 0
+expect_error "--sah-bins" "$ARBOR" info "$WORK/quad.obj" --accel bvh-sah --sah-bins 1
+expect_error "--leaf-size" "$ARBOR" render --leaf-size x -o "$WORK/x.exr"
+
 # The output of a failed run never replaces an existing file.
 echo keep >"$WORK/keep.hits"
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null

@@ -1,4 +1,4 @@
-/// `arbor info MODEL.obj [--json] [--accel NAME]`: counts, bounds, warnings; with --accel also the
+/// `arbor info MODEL.obj [--json] [--accel NAME] [--leaf-size N] [--sah-bins N]`: counts, bounds, warnings; with --accel also the
 /// build statistics of that structure.
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
@@ -16,6 +16,7 @@ namespace {
 struct InfoOptions {
     std::string model;
     std::string accel;
+    accel::BuildConfig build;
     bool json = false;
 };
 
@@ -50,9 +51,10 @@ int run_info(const InfoOptions& o) {
     if (!o.accel.empty()) {
         std::string reason;
         const auto kind = resolve_accel(o.accel, mesh.view(), &reason);
-        const auto accel = accel::make_accel(kind, mesh.view());
+        const auto accel = accel::make_accel(kind, mesh.view(), o.build);
         j["accel"] = accel::to_string(kind);
         j["build_ms"] = accel->stats().build_ms;
+        j["leaf_size"] = o.build.max_leaf_size;
         put_stats(j, accel->stats());
     }
     if (o.json) {
@@ -78,6 +80,7 @@ Run add_info(CLI::App& cmd) {
     auto o = std::make_shared<InfoOptions>();
     cmd.add_option("MODEL", o->model, "OBJ file")->required();
     add_accel_option(cmd, o->accel);
+    add_build_options(cmd, o->build);
     cmd.add_flag("--json", o->json, "one JSON object on standard output");
     return [o] { return run_info(*o); };
 }

@@ -1,4 +1,5 @@
-/// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--spp N] [--width W] [--height H] [--threads N]`.
+/// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W] [--height H]
+///  [--threads N]`.
 #include "accel/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
@@ -15,7 +16,8 @@ namespace arbor::app {
 namespace {
 
 struct RenderOptions {
-    std::string scene, out = "arbor.exr", accel = "brute";
+    std::string scene, out = "arbor.exr", accel = "bvh-sah";
+    accel::BuildConfig build;
     int spp = 4, width = 640, height = 480, threads = 0, depth = 3;
     bool no_png = false;
 };
@@ -36,7 +38,7 @@ int run_render(const RenderOptions& o) {
     std::string reason;
     const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason);
     const accel::Timer build_timer;
-    const auto structure = accel::make_accel(kind, scene.mesh.view());
+    const auto structure = accel::make_accel(kind, scene.mesh.view(), o.build);
     const double build_ms = build_timer.ms();
 
     engine::RenderSettings set;
@@ -70,6 +72,7 @@ Run add_render(CLI::App& cmd) {
     cmd.add_option("SCENE", o->scene, "OBJ file (default: the embedded default scene)");
     cmd.add_option("-o,--output", o->out, "OpenEXR output; a PNG preview is written beside it")->capture_default_str();
     add_accel_option(cmd, o->accel)->capture_default_str();
+    add_build_options(cmd, o->build);
     cmd.add_option("--spp", o->spp, "samples per pixel")->check(CLI::Range(1, 1 << 16))->capture_default_str();
     cmd.add_option("--width", o->width, "image width")->check(CLI::Range(1, 1 << 15))->capture_default_str();
     cmd.add_option("--height", o->height, "image height")->check(CLI::Range(1, 1 << 15))->capture_default_str();

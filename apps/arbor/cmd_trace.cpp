@@ -1,5 +1,5 @@
 /// `arbor trace --scene MODEL.obj --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
-///  [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
+///  [--leaf-size N] [--sah-bins N] [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
 #include "accel/timer.h"
 #include "accel/trace.h"
 #include "apps/arbor/commands.h"
@@ -19,7 +19,8 @@ namespace arbor::app {
 namespace {
 
 struct TraceOptions {
-    std::string scene, rays, hits, accel = "brute", path = "best";
+    std::string scene, rays, hits, accel = "bvh-sah", path = "best";
+    accel::BuildConfig build;
     bool occluded = false, json = false;
     int threads = 0, repeat = 1;
 };
@@ -34,7 +35,7 @@ int run_trace(const TraceOptions& o) {
     const auto path = *accel::parse_trace_path(o.path);
 
     const accel::Timer build_timer;
-    const auto structure = accel::make_accel(kind, mesh.view());
+    const auto structure = accel::make_accel(kind, mesh.view(), o.build);
     const double build_ms = build_timer.ms();
 
     std::vector<accel::Hit> hits(rays.size());
@@ -65,6 +66,7 @@ int run_trace(const TraceOptions& o) {
     j["repeat"] = o.repeat;
     j["mrays_per_s"] = median_ms > 0 ? double(rays.size()) / (median_ms * 1e3) : 0.0;
     j["threads"] = active_threads();
+    j["leaf_size"] = o.build.max_leaf_size;
     put_stats(j, structure->stats());
     if (o.json) {
         std::cout << j.dump() << '\n';
@@ -86,6 +88,7 @@ Run add_trace(CLI::App& cmd) {
     cmd.add_option("--rays", o->rays, ".rays file (spec/rayfile.md)")->required();
     cmd.add_option("--hits", o->hits, "write the answers to this .hits file");
     add_accel_option(cmd, o->accel)->capture_default_str();
+    add_build_options(cmd, o->build);
     cmd.add_flag("--occluded", o->occluded, "any-hit (shadow) queries");
     add_threads_option(cmd, o->threads);
     cmd.add_option("--repeat", o->repeat, "trace K times, report the median")->check(CLI::Range(1, 100000));

@@ -15,6 +15,15 @@ CLI::Option* add_accel_option(CLI::App& cmd, std::string& name) {
         });
 }
 
+void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
+    cmd.add_option("--leaf-size", cfg.max_leaf_size, "most triangles per BVH leaf")
+        ->check(CLI::Range(1u, 1u << 16))
+        ->capture_default_str();
+    cmd.add_option("--sah-bins", cfg.sah_bins, "bins per axis of the binned SAH build (bvh-sah)")
+        ->check(CLI::Range(2u, 64u))
+        ->capture_default_str();
+}
+
 CLI::Option* add_threads_option(CLI::App& cmd, int& threads) {
     return cmd.add_option("--threads", threads, "worker threads (default: all)")->check(CLI::Range(1, 4096));
 }
