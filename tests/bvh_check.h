@@ -40,13 +40,19 @@ inline const std::vector<BvhKind>& bvh_kinds() {
     return kinds;
 }
 
-/// Closest and any hit of `accel` against brute on `rays` (traced in parallel): every answer
-/// agrees per rayfile.md, any-hit reports a hit exactly when brute's closest hit exists, and an
-/// any-hit t lies in the ray's [tnear, tfar]. Returns how many rays hit (for the caller to check
-/// that the rays test something).
-inline std::size_t check_oracle(const accel::Accel& accel, const accel::BruteAccel& brute, const std::vector<Ray>& rays) {
-    std::vector<Hit> ref(rays.size()), got(rays.size()), any(rays.size());
+/// Brute force's closest hits for `rays` (traced in parallel): the reference of check_oracle.
+inline std::vector<Hit> brute_answers(const accel::BruteAccel& brute, const std::vector<Ray>& rays) {
+    std::vector<Hit> ref(rays.size());
     accel::trace_parallel(brute, rays, ref, accel::Query::closest, accel::TracePath::scalar, 16);
+    return ref;
+}
+
+/// Closest and any hit of `accel` against brute's closest hits `ref` for the same rays: every
+/// answer agrees per rayfile.md, any-hit reports a hit exactly when brute does, and an any-hit t
+/// lies in the ray's [tnear, tfar]. Returns how many rays hit (for the caller to check that the
+/// rays test something).
+inline std::size_t check_oracle(const accel::Accel& accel, const std::vector<Ray>& rays, const std::vector<Hit>& ref) {
+    std::vector<Hit> got(rays.size()), any(rays.size());
     accel::trace_parallel(accel, rays, got, accel::Query::closest, accel::TracePath::scalar, 64);
     accel::trace_parallel(accel, rays, any, accel::Query::any, accel::TracePath::scalar, 64);
     std::size_t bad = 0, bad_any = 0, out_of_range = 0;

@@ -113,9 +113,9 @@ TEST_CASE("bvh accel: scalar traversal of a hand-made tree agrees with brute (cl
         accel::BvhAccel bvh(accel::AccelKind::bvh_median, index_split_tree(mesh.view(), leaf), mesh.view(), {}, 0.0);
         CHECK(bvh.stats().nodes > 1);
         CHECK(bvh.stats().memory_bytes >= bvh.layout().nodes.size() * 64 + bvh.layout().blocks.size() * 144);
-        check_against_brute(mesh, bvh, testing::random_rays_into(mesh.bounds, 3000, 1));
-        check_against_brute(mesh, bvh, testing::random_rays_inside(mesh.bounds, 3000, 2));
-        check_against_brute(mesh, bvh, testing::camera_rays(mesh.bounds, 48, 40));
+        check_against_brute(mesh, bvh, testing::random_rays_into(mesh.bounds, 1000, 1));
+        check_against_brute(mesh, bvh, testing::random_rays_inside(mesh.bounds, 1000, 2));
+        check_against_brute(mesh, bvh, testing::camera_rays(mesh.bounds, 32, 30));
     }
 }
 
