@@ -3,6 +3,7 @@
 #include "accel/brute_accel.h"
 #include "accel/bvh_accel.h"
 #include "accel/bvh_build.h"
+#include "accel/lbvh_build.h"
 
 #include <array>
 #include <stdexcept>
@@ -65,6 +66,7 @@ std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, cons
     case AccelKind::brute: return std::make_unique<BruteAccel>(tris);
     case AccelKind::bvh_median: return build_bvh_accel(kind, tris, cfg, build_bvh_median);
     case AccelKind::bvh_sah: return build_bvh_accel(kind, tris, cfg, build_bvh_sah);
+    case AccelKind::lbvh: return build_bvh_accel(kind, tris, cfg, build_lbvh);
     case AccelKind::automatic: throw std::invalid_argument("make_accel: resolve 'auto' before building");
     default: break;
     }

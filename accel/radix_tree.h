@@ -1,0 +1,53 @@
+#pragma once
+/// The hierarchy of an LBVH: a binary radix tree over sorted Morton codes, collapsed into leaves of
+/// at most max_leaf_size primitives and written in the canonical BinaryBvh layout.
+///
+/// Keys are augmented with their sorted position, so duplicate codes are told apart: the prefix
+/// length of positions i and j is clz(code_i ^ code_j) when the codes differ, and 64 +
+/// clz32(i ^ j) when they are equal. A run of equal codes therefore splits on the position bits
+/// (at a power-of-two boundary near the middle), which bounds the depth by 64 + log2(n) and never
+/// makes a leaf larger than max_leaf_size. Internal nodes are named as in Karras 2012: node 0 is
+/// the root, and an internal node's children are its split position gamma (left) and gamma + 1
+/// (right). Both methods below build the same tree, so their outputs are bit-identical.
+#include "accel/binary_bvh.h"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace arbor::accel {
+
+/// How the radix tree is found.
+enum class RadixTreeMethod {
+    /// Karras 2012, "Maximizing Parallelism in the Construction of BVHs, Octrees, and k-d Trees":
+    /// every internal node independently (tbb::parallel_for), then bounds bottom-up with one atomic
+    /// visit counter per node (the counters order the work; they decide no placement).
+    karras,
+    /// Recursive split at the first differing bit (binary search), tbb::parallel_invoke above the
+    /// parallel threshold; stops descending at subtrees of at most max_leaf_size primitives.
+    top_down,
+};
+
+struct RadixTreeInput {
+    /// Sorted keys; the Morton code of position i is keys[i] >> code_shift (the low bits may hold
+    /// payload, e.g. the primitive index under a 30-bit code).
+    std::span<const std::uint64_t> keys;
+    int code_shift = 0;
+    /// Box of the primitive at each sorted position.
+    std::span<const Bounds> boxes;
+    std::uint32_t max_leaf_size = 4;        ///< collapse subtrees of at most this many primitives (>= 1)
+    std::uint32_t parallel_threshold = 1024; ///< subtrees smaller than this run serially
+};
+
+struct RadixTreeResult {
+    /// Canonical layout: depth-first, siblings adjacent, children after parents. Leaf ranges are
+    /// sorted positions (first, count); they tile [0, n) in order.
+    std::vector<BvhBuildNode> nodes;
+    std::size_t temp_bytes = 0;  ///< temporary memory used on top of the inputs and the output
+};
+
+/// Builds the collapsed tree over keys.size() == boxes.size() primitives (empty input: no nodes;
+/// one primitive: one leaf). Deterministic: the result depends only on the input.
+RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod method);
+
+}  // namespace arbor::accel
