@@ -4,6 +4,7 @@
 #include "accel/build_stats.h"
 #include "accel/geometry.h"
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -27,6 +28,22 @@ std::optional<TracePath> parse_trace_path(std::string_view s);
 /// The names accepted by parse_accel_kind, for error messages: "brute, bvh-median, ...".
 std::string accel_kind_names();
 
+/// What a traversal did, summed over the rays of a batch: the statistics mode of the benchmarks
+/// (perf/README.md, "Counting hook"). A structure that counts fills all three fields with its
+/// scalar reference loop; the counting loop is a separate instantiation (e.g. a `bool Count`
+/// template parameter), so the timed paths carry no counter code.
+struct TraceCounters {
+    std::uint64_t rays = 0;              ///< rays of the batches counted (traceable or not)
+    std::uint64_t nodes_visited = 0;     ///< nodes whose contents a ray read: interior nodes whose
+                                         ///< child boxes (or split plane) it tested, and leaves it entered
+    std::uint64_t triangles_tested = 0;  ///< ray/triangle tests performed
+
+    TraceCounters& operator+=(const TraceCounters& o) {
+        rays += o.rays, nodes_visited += o.nodes_visited, triangles_tested += o.triangles_tested;
+        return *this;
+    }
+};
+
 class Accel {
 public:
     virtual ~Accel() = default;
@@ -41,6 +58,14 @@ public:
     virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const = 0;
     /// Any hit in [tnear, tfar] for each ray: t and prim of some hit, or the miss record.
     virtual void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const = 0;
+
+    /// Statistics mode: the same answers as intersect (any_hit = false) or occluded (true) on the
+    /// scalar path, while adding what the traversal did to `counters`. Returns false, leaving
+    /// hits and counters untouched, when the structure does not count (the default).
+    virtual bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
+                               TraceCounters& counters) const {
+        return false;
+    }
 };
 
 /// Builds structure `kind` over `tris`. The view must outlive the Accel only for `brute`

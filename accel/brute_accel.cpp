@@ -23,12 +23,17 @@ BruteAccel::BruteAccel(const TriangleView& view) {
     stats_.build_ms = timer.ms();
 }
 
-Hit BruteAccel::trace(const Ray& ray, bool any_hit) const {
+Hit BruteAccel::trace(const Ray& ray, bool any_hit) const { return trace_impl<false>(ray, any_hit, nullptr); }
+
+template <bool Count> Hit BruteAccel::trace_impl(const Ray& ray, bool any_hit, TraceCounters* counters) const {
     Hit best;
+    if constexpr (Count) ++counters->rays;
     if (!ray_is_traceable(ray)) return best;
+    if constexpr (Count) ++counters->nodes_visited;
     const simd::WoopShear shear = simd::woop_shear(ray.dir);
     float tfar = ray.tfar;
     for (const Tri& tri : tris_) {
+        if constexpr (Count) ++counters->triangles_tested;
         const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
         // Strictly closer only: on a tie the triangle defined first keeps the hit.
         if (h.hit && (h.t < best.t || !best.is_hit())) {
@@ -42,6 +47,12 @@ Hit BruteAccel::trace(const Ray& ray, bool any_hit) const {
 
 void BruteAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace(rays[i], false);
+}
+
+bool BruteAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
+                               TraceCounters& counters) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_impl<true>(rays[i], any_hit, &counters);
+    return true;
 }
 
 void BruteAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {

@@ -15,11 +15,16 @@ public:
     const BuildStats& stats() const override { return stats_; }
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    /// One node (the whole list) per traceable ray; every triangle tested until the answer.
+    bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
+                       TraceCounters& counters) const override;
 
     /// One ray, the plain loop: closest hit (any_hit = false) or the first hit found.
     Hit trace(const Ray& ray, bool any_hit) const;
 
 private:
+    template <bool Count> Hit trace_impl(const Ray& ray, bool any_hit, TraceCounters* counters) const;
+
     struct Tri {
         Vec3f v0, v1, v2;
         std::uint32_t prim;

@@ -183,6 +183,13 @@ RayGenScene ray_gen_scene(const Scene& scene, bool use_scene_camera) {
 }
 
 std::vector<Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg, const accel::Accel* tracer) {
+    if (!tracer) return generate_rays(scene, cfg, PrimaryTracer{});
+    return generate_rays(scene, cfg, [tracer](std::span<const Ray> rays, std::span<Hit> hits) {
+        accel::trace_parallel(*tracer, rays, hits, accel::Query::closest);
+    });
+}
+
+std::vector<Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg, const PrimaryTracer& tracer) {
     if (cfg.kind == RayKind::random) return random_rays(scene.bounds, cfg.count, cfg.seed);
 
     int width = 0, height = 0;
@@ -199,7 +206,7 @@ std::vector<Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg
     std::vector<Hit> hits(px.size());
     for (std::uint64_t pass = 0; pass < max_passes && out.size() < cfg.count; ++pass) {
         const std::vector<Ray> prim = primary_pass(cam, width, px, cfg.seed, pass);
-        accel::trace_parallel(*tracer, prim, hits, accel::Query::closest);
+        tracer(prim, hits);
         const std::size_t before = out.size();
         for (std::size_t i = 0; i < prim.size() && out.size() < cfg.count; ++i) {
             Vec3f p, n;

@@ -10,6 +10,7 @@
 #include "engine/scene.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -63,12 +64,17 @@ Camera framed_camera(const accel::Bounds& b, int width, int height);
 /// Image size for `count` primary rays at `aspect`: width * height >= count, the last row partial.
 void primary_image_size(std::size_t count, float aspect, int& width, int& height);
 
+/// Closest hits of a batch of primary rays over the scene's triangles (hits.size() == rays.size()).
+using PrimaryTracer = std::function<void(std::span<const accel::Ray> rays, std::span<accel::Hit> hits)>;
+
 /// Generates cfg.count rays of cfg.kind. Shadow and diffuse rays start at hit points of primary
-/// rays traced with `tracer` (required for them, built over scene.tris; any structure gives the
-/// same rays up to ties): only hits facing the light make shadow rays, and passes of re-jittered
-/// primary rays are traced until there are enough hits. Throws std::invalid_argument when a
-/// tracer is missing for shadow/diffuse, and engine::InputError when the primary rays find (almost)
-/// no usable hit point in the scene.
+/// rays traced with `tracer` (required for them; any correct tracer gives the same rays up to
+/// ties): only hits facing the light make shadow rays, and passes of re-jittered primary rays are
+/// traced until there are enough hits. Throws std::invalid_argument when a tracer is missing for
+/// shadow/diffuse, and engine::InputError when the primary rays find (almost) no usable hit point.
+std::vector<accel::Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg, const PrimaryTracer& tracer);
+/// The same with an Accel built over scene.tris, traced with accel::trace_parallel (may be null
+/// for primary and random rays).
 std::vector<accel::Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg,
                                       const accel::Accel* tracer = nullptr);
 

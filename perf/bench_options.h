@@ -1,0 +1,59 @@
+#pragma once
+/// What the benchmark runs: the matrix (scenes x ray kinds x structures x paths x threads, plus
+/// the Embree modes) and how hard it measures. Defaults are the full report; `quick()` the
+/// two-minute one.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace arbor::perf {
+
+struct BenchOptions {
+    /// Scene names to run ("all", or any of: models, stadium, interior, grass, soup, scaling,
+    /// tiny, or a model stem / replicated-1eK; a leading '?' skips a missing model); see plan_scenes().
+    std::vector<std::string> scenes{"models", "stadium", "interior", "grass", "soup", "scaling"};
+    /// Folder of *.obj models (../shared/scenes/models); missing = no model scenes.
+    std::string models_dir;
+    /// Largest replicated scene, as a power of ten (3..7).
+    int scaling_max_exp = 7;
+    /// Sizes of the procedural scenes.
+    std::size_t grass_blades = 200000, soup_triangles = 200000;
+    int interior_detail = 4;
+    /// Ray kinds: primary, shadow, diffuse, random.
+    std::vector<std::string> kinds{"primary", "shadow", "diffuse", "random"};
+    /// Structures to try (those make_accel cannot build are reported and skipped).
+    std::vector<std::string> structures{"bvh-median", "bvh-sah", "lbvh", "kdtree"};
+    /// Also time brute (only sensible on tiny scenes).
+    bool time_brute = false;
+    /// Rays per (scene, kind).
+    std::size_t rays = std::size_t(1) << 18;
+    /// Rays per (scene, kind) on the replicated scaling scenes (only primary and diffuse run there).
+    std::size_t scaling_rays = std::size_t(1) << 17;
+    /// Timed repeats per configuration (median, min, max); builds repeat `build_repeats` times
+    /// (once on scenes above 2M triangles).
+    int repeats = 5;
+    int build_repeats = 3;
+    /// Thread counts; 0 means all hardware threads.
+    std::vector<int> threads{1, 0};
+    /// Brute-force validation budget: about this many ray/triangle tests per (scene, kind); the
+    /// sample is budget / triangles rays, clamped to [min_sample, max_sample].
+    double brute_budget = 2e9;
+    std::size_t min_sample = 32, max_sample = 2048;
+    /// Rays per (scene, kind, structure) traced in the statistics mode (TraceCounters).
+    std::size_t count_sample = 4096;
+    /// Ray budgets for the build + trace totals.
+    std::vector<double> budgets{1e6, 16e6, 256e6};
+    /// Run the Embree peer when it is built.
+    bool embree = true;
+    /// Embree modes beyond the default (MEDIUM, not robust, every call): HIGH and ROBUST with
+    /// rtcIntersect1 and the stream call.
+    bool embree_variants = true;
+    std::uint64_t seed = 1;
+    /// Print progress lines on stderr.
+    bool verbose = true;
+
+    /// The two-minute variant: tiny and small scenes, fewer rays and repeats.
+    static BenchOptions quick();
+};
+
+}  // namespace arbor::perf

@@ -1,0 +1,275 @@
+#include "perf/bench_report.h"
+
+#include "engine/error.h"
+#include "engine/file_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace arbor::perf {
+
+namespace {
+
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json stat(const Stat3& s) { return {{"median", num(s.median)}, {"min", num(s.min)}, {"max", num(s.max)}}; }
+
+std::string fmt(double v, int prec = 2) {
+    if (!std::isfinite(v)) return "–";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", prec, v);
+    return buf;
+}
+std::string csv_num(double v) { return std::isfinite(v) ? fmt(v, 6) : ""; }
+std::string err(long long v) { return v < 0 ? "–" : std::to_string(v); }
+std::string budget_name(double b) {
+    if (b >= 1e9) return fmt(b / 1e9, 0) + "G";
+    if (b >= 1e6) return fmt(b / 1e6, 0) + "M";
+    if (b >= 1e3) return fmt(b / 1e3, 0) + "k";
+    return fmt(b, 0);
+}
+
+int max_threads(const BenchResult& r) {
+    int t = 0;
+    for (const auto& row : r.rows) t = std::max(t, row.threads);
+    return t;
+}
+
+/// Scenes and kinds in the order they first appear.
+std::vector<std::string> in_order(const BenchResult& r, std::string BenchRow::*field) {
+    std::vector<std::string> out;
+    for (const auto& row : r.rows)
+        if (std::find(out.begin(), out.end(), row.*field) == out.end()) out.push_back(row.*field);
+    return out;
+}
+
+const BenchRow* best_row(const BenchResult& r, const std::string& scene, const std::string& kind, int threads,
+                         bool embree, bool default_embree_only = true) {
+    const BenchRow* best = nullptr;
+    for (const auto& row : r.rows) {
+        if (row.scene != scene || row.kind != kind || row.threads != threads || row.embree != embree) continue;
+        if (embree && default_embree_only && row.structure != "embree") continue;
+        if (!best || row.mrays.median > best->mrays.median) best = &row;
+    }
+    return best;
+}
+
+void headline(std::ostringstream& md, const BenchResult& r) {
+    const int t = max_threads(r);
+    const auto kinds = in_order(r, &BenchRow::kind);
+    md << "## Headline: best arbor structure per scene and ray kind (" << t << " threads)\n\n"
+       << "Cell: structure/path, median Mrays/s, and its ratio to Embree's default mode (best call).\n\n| scene | tris |";
+    for (const auto& k : kinds) md << ' ' << k << " |";
+    md << "\n|---|---:|";
+    for (std::size_t i = 0; i < kinds.size(); ++i) md << "---|";
+    md << '\n';
+    for (const auto& scene : in_order(r, &BenchRow::scene)) {
+        std::size_t tris = 0;
+        for (const auto& row : r.rows)
+            if (row.scene == scene) tris = row.triangles;
+        md << "| " << scene << " | " << tris << " |";
+        for (const auto& k : kinds) {
+            const BenchRow* a = best_row(r, scene, k, t, false);
+            const BenchRow* e = best_row(r, scene, k, t, true);
+            if (!a && !e) {
+                md << " |";
+                continue;
+            }
+            md << ' ';
+            if (a) md << a->structure << '/' << a->path << ' ' << fmt(a->mrays.median);
+            if (a && e) md << " (" << fmt(a->ratio_embree) << "×)";
+            if (!a && e) md << "embree/" << e->path << ' ' << fmt(e->mrays.median);
+            md << " |";
+        }
+        md << '\n';
+    }
+    md << '\n';
+}
+
+void builds(std::ostringstream& md, const BenchResult& r) {
+    md << "## Builds\n\nBuild wall time in ms (median, [min–max]) per thread count; structure statistics.\n\n"
+       << "| scene | tris | structure | threads | build ms | bytes/tri | nodes | depth | SAH cost |\n"
+       << "|---|---:|---|---:|---:|---:|---:|---:|---:|\n";
+    std::set<std::tuple<std::string, std::string, int>> seen;
+    for (const auto& row : r.rows) {
+        if (!seen.insert({row.scene, row.structure, row.threads}).second) continue;
+        md << "| " << row.scene << " | " << row.triangles << " | " << row.structure << " | " << row.threads << " | "
+           << fmt(row.build_ms.median, 1) << " [" << fmt(row.build_ms.min, 1) << "–" << fmt(row.build_ms.max, 1)
+           << "] | " << fmt(row.bytes_per_triangle, 1) << " | " << fmt(row.nodes, 0) << " | " << fmt(row.max_depth, 0)
+           << " | " << fmt(row.sah_cost, 1) << " |\n";
+    }
+    md << '\n';
+}
+
+void matrix(std::ostringstream& md, const BenchResult& r) {
+    md << "## Trace matrix\n\nMrays/s median [min–max] of the repeats; nodes and triangles per ray from the "
+          "statistics mode; errors: against brute on a sample (bad/sample), against the structure's scalar path "
+          "and against Embree's default (rtcIntersect1) on all rays.\n\n"
+       << "| scene | kind | thr | structure | path | Mrays/s | nodes/ray | tris/ray | err brute | err scalar | "
+          "err embree | × embree |\n|---|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& row : r.rows)
+        md << "| " << row.scene << " | " << row.kind << " | " << row.threads << " | " << row.structure << " | "
+           << row.path << " | " << fmt(row.mrays.median) << " [" << fmt(row.mrays.min) << "–" << fmt(row.mrays.max)
+           << "] | " << fmt(row.nodes_per_ray, 1) << " | " << fmt(row.tris_per_ray, 1) << " | " << row.err_brute << "/"
+           << row.brute_sample << " | " << err(row.err_scalar) << " | " << err(row.err_embree) << " | "
+           << fmt(row.ratio_embree) << " |\n";
+    md << '\n';
+}
+
+void totals(std::ostringstream& md, const BenchResult& r) {
+    const int t = max_threads(r);
+    md << "## Build + trace for a ray budget (" << t << " threads)\n\n"
+       << "Per budget: the arbor structure (best path) with the smallest build + budget/throughput, its total in "
+          "seconds, and the runner-up; Embree default for comparison.\n\n| scene | kind |";
+    for (double b : r.budgets) md << ' ' << budget_name(b) << " rays |";
+    md << "\n|---|---|";
+    for (std::size_t i = 0; i < r.budgets.size(); ++i) md << "---|";
+    md << '\n';
+    for (const auto& scene : in_order(r, &BenchRow::scene))
+        for (const auto& kind : in_order(r, &BenchRow::kind)) {
+            bool any = false;
+            std::string line = "| " + scene + " | " + kind + " |";
+            for (std::size_t bi = 0; bi < r.budgets.size(); ++bi) {
+                std::map<std::string, double> by_structure;  // best path per structure
+                double embree = nan_value;
+                for (const auto& row : r.rows) {
+                    if (row.scene != scene || row.kind != kind || row.threads != t || bi >= row.total_ms.size()) continue;
+                    if (row.embree) {
+                        if (row.structure == "embree" && !(row.total_ms[bi] >= embree)) embree = row.total_ms[bi];
+                        continue;
+                    }
+                    auto [it, fresh] = by_structure.emplace(row.structure, row.total_ms[bi]);
+                    if (!fresh) it->second = std::min(it->second, row.total_ms[bi]);
+                }
+                std::vector<std::pair<double, std::string>> ranked;
+                for (const auto& [s, ms] : by_structure) ranked.push_back({ms, s});
+                std::sort(ranked.begin(), ranked.end());
+                line += ' ';
+                if (!ranked.empty()) {
+                    any = true;
+                    line += ranked[0].second + " " + fmt(ranked[0].first * 1e-3, 2) + " s";
+                    if (ranked.size() > 1) line += " (" + ranked[1].second + " " + fmt(ranked[1].first * 1e-3, 2) + ")";
+                }
+                if (std::isfinite(embree)) line += "; embree " + fmt(embree * 1e-3, 2);
+                line += " |";
+            }
+            if (any) md << line << '\n';
+        }
+    md << '\n';
+}
+
+void autos(std::ostringstream& md, const BenchResult& r) {
+    if (r.autos.empty()) return;
+    std::size_t within = 0, exact = 0;
+    double sum = 0.0, worst = 0.0;
+    for (const auto& a : r.autos) {
+        within += a.regret <= 0.10;
+        exact += a.picked == a.best;
+        sum += a.regret;
+        worst = std::max(worst, a.regret);
+    }
+    const double n = double(r.autos.size());
+    md << "## --accel auto\n\nOn " << r.autos.size() << " (scene, kind, threads, budget) rows: picked the measured best "
+       << fmt(100.0 * double(exact) / n, 0) << "% of the time, within 10% of the best total " << fmt(100.0 * double(within) / n, 0)
+       << "%; mean regret " << fmt(100.0 * sum / n, 1) << "%, worst " << fmt(100.0 * worst, 1) << "%.\n\n"
+       << "| scene | kind | thr | budget | picked | best | regret | reason |\n|---|---|---:|---:|---|---|---:|---|\n";
+    for (const auto& a : r.autos)
+        md << "| " << a.scene << " | " << a.kind << " | " << a.threads << " | " << budget_name(a.budget) << " | "
+           << a.picked << " | " << a.best << " | " << fmt(100.0 * a.regret, 1) << "% | " << a.reason << " |\n";
+    md << '\n';
+}
+
+}  // namespace
+
+std::string to_json(const BenchResult& r) {
+    nlohmann::json j;
+    j["meta"] = {{"date", r.date},       {"command", r.command},     {"compiler", r.compiler},
+                 {"libraries", r.libraries}, {"embree", r.embree},   {"hardware_threads", r.hardware_threads},
+                 {"seconds", r.seconds}, {"budgets", r.budgets}, {"load_before", r.load_before},
+                 {"load_after", r.load_after}};
+    j["rows"] = nlohmann::json::array();
+    for (const auto& row : r.rows) {
+        nlohmann::json x;
+        x["scene"] = row.scene, x["family"] = row.family, x["kind"] = row.kind, x["query"] = row.query;
+        x["structure"] = row.structure, x["path"] = row.path, x["embree"] = row.embree, x["threads"] = row.threads;
+        x["triangles"] = row.triangles, x["rays"] = row.rays;
+        x["build_ms"] = stat(row.build_ms), x["trace_ms"] = stat(row.trace_ms), x["mrays_per_s"] = stat(row.mrays);
+        x["nodes"] = num(row.nodes), x["leaves"] = num(row.leaves), x["max_depth"] = num(row.max_depth);
+        x["sah_cost"] = num(row.sah_cost), x["bytes_per_triangle"] = num(row.bytes_per_triangle);
+        x["nodes_per_ray"] = num(row.nodes_per_ray), x["tris_per_ray"] = num(row.tris_per_ray);
+        x["brute_sample"] = row.brute_sample, x["err_brute"] = row.err_brute;
+        x["err_scalar"] = row.err_scalar < 0 ? nlohmann::json(nullptr) : nlohmann::json(row.err_scalar);
+        x["err_embree"] = row.err_embree < 0 ? nlohmann::json(nullptr) : nlohmann::json(row.err_embree);
+        x["ratio_embree"] = num(row.ratio_embree);
+        x["total_ms"] = nlohmann::json::array();
+        for (double v : row.total_ms) x["total_ms"].push_back(num(v));
+        j["rows"].push_back(std::move(x));
+    }
+    j["auto"] = nlohmann::json::array();
+    for (const auto& a : r.autos)
+        j["auto"].push_back({{"scene", a.scene}, {"kind", a.kind}, {"threads", a.threads}, {"budget", a.budget},
+                             {"picked", a.picked}, {"best", a.best}, {"picked_ms", num(a.picked_ms)},
+                             {"best_ms", num(a.best_ms)}, {"regret", num(a.regret)}, {"reason", a.reason}});
+    j["notes"] = r.notes;
+    return j.dump(1) + "\n";
+}
+
+std::string to_csv(const BenchResult& r) {
+    std::ostringstream out;
+    out << "scene,family,kind,query,structure,path,embree,threads,triangles,rays,build_ms,build_ms_min,build_ms_max,"
+           "trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,mrays_per_s_min,mrays_per_s_max,nodes,leaves,max_depth,"
+           "sah_cost,bytes_per_triangle,nodes_per_ray,tris_per_ray,brute_sample,err_brute,err_scalar,err_embree,"
+           "ratio_embree";
+    for (double b : r.budgets) out << ",total_ms_" << budget_name(b);
+    out << '\n';
+    for (const auto& row : r.rows) {
+        out << row.scene << ',' << row.family << ',' << row.kind << ',' << row.query << ',' << row.structure << ','
+            << row.path << ',' << (row.embree ? 1 : 0) << ',' << row.threads << ',' << row.triangles << ',' << row.rays;
+        for (const Stat3* s : {&row.build_ms, &row.trace_ms, &row.mrays})
+            out << ',' << csv_num(s->median) << ',' << csv_num(s->min) << ',' << csv_num(s->max);
+        for (double v : {row.nodes, row.leaves, row.max_depth, row.sah_cost, row.bytes_per_triangle, row.nodes_per_ray,
+                         row.tris_per_ray})
+            out << ',' << csv_num(v);
+        out << ',' << row.brute_sample << ',' << row.err_brute << ',' << (row.err_scalar < 0 ? "" : std::to_string(row.err_scalar))
+            << ',' << (row.err_embree < 0 ? "" : std::to_string(row.err_embree)) << ',' << csv_num(row.ratio_embree);
+        for (double v : row.total_ms) out << ',' << csv_num(v);
+        out << '\n';
+    }
+    return out.str();
+}
+
+std::string to_markdown(const BenchResult& r) {
+    std::ostringstream md;
+    md << "# arbor benchmark " << r.date << "\n\n"
+       << "- command: `" << r.command << "`\n- wall time: " << fmt(r.seconds, 1) << " s\n- hardware threads: "
+       << r.hardware_threads << " (load average " << r.load_before << " at the start, " << r.load_after
+       << " at the end)\n- compiler: " << r.compiler << "\n- libraries: " << r.libraries << "\n- peer: "
+       << r.embree << "\n\n";
+    headline(md, r);
+    totals(md, r);
+    autos(md, r);
+    builds(md, r);
+    matrix(md, r);
+    if (!r.notes.empty()) {
+        md << "## Notes\n\n";
+        for (const auto& n : r.notes) md << "- " << n << '\n';
+    }
+    return md.str();
+}
+
+void write_reports(const BenchResult& r, const std::string& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw engine::InputError(dir + ": cannot create directory (" + ec.message() + ")");
+    engine::write_file_atomic(dir + "/bench.json", to_json(r));
+    engine::write_file_atomic(dir + "/bench.csv", to_csv(r));
+    engine::write_file_atomic(dir + "/bench.md", to_markdown(r));
+}
+
+}  // namespace arbor::perf

@@ -1,0 +1,74 @@
+#pragma once
+/// The benchmark's results: one row per (scene, ray kind, threads, structure, path), the auto
+/// choices, and notes. Written by bench_report.h as JSON, CSV and Markdown.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace arbor::perf {
+
+inline constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
+
+/// Median, minimum and maximum of repeated measurements.
+struct Stat3 {
+    double median = nan_value, min = nan_value, max = nan_value;
+};
+/// Of `v` (empty: all NaN). The median of an even count is the mean of the middle two.
+Stat3 summarize(std::vector<double> v);
+
+struct BenchRow {
+    std::string scene, family, kind, query;  ///< query: closest or any (shadow rays)
+    std::string structure;                   ///< arbor structure name, or embree[-high][-robust]
+    std::string path;                        ///< scalar|packet|single, or the Embree call 1|8|16|1M
+    bool embree = false;
+    int threads = 0;
+    std::size_t triangles = 0, rays = 0;
+
+    Stat3 build_ms;  ///< wall time of the build at this thread count (Embree: rtcCommitScene)
+    Stat3 trace_ms;  ///< wall time of tracing all rays
+    Stat3 mrays;     ///< rays / trace time, in millions per second (min from the slowest run)
+
+    // Structure statistics (NaN / 0 when the structure does not report them).
+    double nodes = nan_value, leaves = nan_value, max_depth = nan_value, sah_cost = nan_value;
+    double bytes_per_triangle = nan_value;
+    /// Statistics mode (TraceCounters) on a sample of the rays; NaN when the structure does not count.
+    double nodes_per_ray = nan_value, tris_per_ray = nan_value;
+
+    // The error columns.
+    std::size_t brute_sample = 0;  ///< rays of the brute-force sample
+    long long err_brute = -1;      ///< of them, answers disagreeing with brute (rayfile.md rule)
+    long long err_scalar = -1;     ///< all rays: disagreeing with this structure's scalar path (-1: is scalar)
+    long long err_embree = -1;     ///< all rays: disagreeing with Embree default, rtcIntersect1 (-1: no Embree)
+
+    double ratio_embree = nan_value;  ///< median Mrays/s over Embree default's best call (same scene, kind, threads)
+    std::vector<double> total_ms;     ///< build + trace time for each ray budget of the run
+
+    // --accel auto on this row's (scene, kind, threads): filled on the auto rows only.
+};
+
+/// One decision of --accel auto against the measured matrix, for a (scene, kind, threads, budget).
+struct AutoRow {
+    std::string scene, kind;
+    int threads = 0;
+    double budget = 0.0;
+    std::string picked, best;   ///< structure auto picked, structure with the smallest measured total
+    double picked_ms = 0.0, best_ms = 0.0;
+    double regret = 0.0;        ///< picked_ms / best_ms - 1
+    std::string reason;
+};
+
+struct BenchResult {
+    std::vector<BenchRow> rows;
+    std::vector<AutoRow> autos;
+    std::vector<std::string> notes;      ///< unavailable structures, skipped scenes, ...
+    std::vector<double> budgets;
+    std::string embree;                  ///< embree_description(), or "not built"
+    std::string compiler, libraries, command, date;
+    std::string load_before, load_after;  ///< /proc/loadavg at the start and the end (a shared machine)
+    int hardware_threads = 0;
+    double seconds = 0.0;                ///< wall time of the whole run
+};
+
+}  // namespace arbor::perf

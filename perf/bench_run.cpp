@@ -1,0 +1,297 @@
+#include "perf/bench_run.h"
+
+#include "accel/brute_accel.h"
+#include "accel/timer.h"
+#include "engine/error.h"
+#include "engine/ray_gen.h"
+#include "perf/bench_build.h"
+#include "perf/bench_plan.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstdio>
+#include <map>
+
+namespace arbor::perf {
+
+using accel::Hit;
+using accel::Query;
+using accel::Ray;
+
+namespace {
+
+class Progress {
+public:
+    explicit Progress(bool on) : on_(on) {}
+    void operator()(const char* fmt, ...) const __attribute__((format(printf, 2, 3))) {
+        if (!on_) return;
+        std::fprintf(stderr, "[bench %6.1fs] ", timer_.seconds());
+        va_list args;
+        va_start(args, fmt);
+        std::vfprintf(stderr, fmt, args);
+        va_end(args);
+        std::fputc('\n', stderr);
+    }
+
+private:
+    bool on_;
+    accel::Timer timer_;
+};
+
+/// The first three fields of /proc/loadavg ("" elsewhere): other processes skew every timing.
+std::string load_average() {
+    std::FILE* f = std::fopen("/proc/loadavg", "r");
+    if (!f) return {};
+    char buf[128] = {};
+    const bool ok = std::fgets(buf, sizeof buf, f) != nullptr;
+    std::fclose(f);
+    if (!ok) return {};
+    std::string s(buf);
+    std::size_t pos = 0;
+    for (int i = 0; i < 3 && pos != std::string::npos; ++i) pos = s.find(' ', pos + 1);
+    return s.substr(0, pos);
+}
+
+std::vector<int> resolve_threads(const std::vector<int>& requested) {
+    const int hw = tbb::info::default_concurrency();
+    std::vector<int> out;
+    for (int t : requested) {
+        t = t <= 0 ? hw : std::min(t, hw);
+        if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+    }
+    return out;
+}
+
+/// `s` indices spread evenly over [0, n).
+std::vector<std::size_t> spread(std::size_t n, std::size_t s) {
+    s = std::min(s, n);
+    std::vector<std::size_t> idx(s);
+    for (std::size_t i = 0; i < s; ++i) idx[i] = i * n / s;
+    return idx;
+}
+
+/// Closest-hit answers agree by the rayfile.md rule; any-hit answers when both hit or both miss.
+bool agree(const Hit& a, const Hit& b, Query q) { return q == Query::any ? a.is_hit() == b.is_hit() : accel::hits_agree(a, b); }
+
+long long count_disagreements(std::span<const Hit> a, std::span<const Hit> b, Query q) {
+    long long bad = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) bad += !agree(a[i], b[i], q);
+    return bad;
+}
+
+/// Per structure, from the statistics mode: nodes visited and triangles tested per ray.
+struct Counted {
+    double nodes_per_ray = nan_value, tris_per_ray = nan_value;
+};
+
+struct KindInput {
+    const BenchScene* scene;
+    engine::RayKind kind;
+    Query query;
+    bool coherent;
+    std::vector<Ray> rays;
+};
+
+void run_kind(const KindInput& in, const std::vector<Built>& built, const std::vector<TraceConfig>& configs,
+              const accel::BruteAccel& brute, const BenchOptions& o, const std::vector<int>& threads,
+              const Progress& log, BenchResult& out) {
+    const std::vector<Ray>& rays = in.rays;
+    const std::size_t n = rays.size(), tris = in.scene->scene.mesh.triangle_count();
+    const std::string kind_name(engine::to_string(in.kind));
+
+    // 1. The oracle on a sample: brute force costs rays x triangles.
+    const auto sample_size = std::size_t(std::clamp(o.brute_budget / double(std::max<std::size_t>(tris, 1)),
+                                                    double(o.min_sample), double(o.max_sample)));
+    const std::vector<std::size_t> sample = spread(n, sample_size);
+    std::vector<Ray> sample_rays;
+    for (std::size_t i : sample) sample_rays.push_back(rays[i]);
+    std::vector<Hit> truth(sample_rays.size());
+    accel::trace_parallel(brute, sample_rays, truth, in.query, accel::TracePath::scalar, 16);
+
+    // 2. Every configuration once on all rays (all threads): the answers for the error columns.
+    std::vector<std::vector<Hit>> answers(configs.size(), std::vector<Hit>(n));
+    for (std::size_t c = 0; c < configs.size(); ++c) configs[c].trace(rays, answers[c], in.query, in.coherent);
+    const std::vector<Hit>* embree_ref = nullptr;
+    std::map<const Built*, const std::vector<Hit>*> scalar_ref;
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+        if (configs[c].built->is_embree() && !embree_ref && configs[c].built->name == "embree" && configs[c].path == "1")
+            embree_ref = &answers[c];
+        if (!configs[c].built->is_embree() && configs[c].path == "scalar") scalar_ref[configs[c].built] = &answers[c];
+    }
+
+    // 3. The statistics mode on a sample, per arbor structure.
+    std::map<const Built*, Counted> counted;
+    const std::vector<std::size_t> count_idx = spread(n, o.count_sample);
+    std::vector<Ray> count_rays;
+    for (std::size_t i : count_idx) count_rays.push_back(rays[i]);
+    std::vector<Hit> count_hits(count_rays.size());
+    for (const Built& b : built) {
+        if (!b.accel) continue;
+        accel::TraceCounters tc;
+        if (b.accel->trace_counted(count_rays, count_hits, in.query == Query::any, tc) && tc.rays > 0)
+            counted[&b] = {double(tc.nodes_visited) / double(tc.rays), double(tc.triangles_tested) / double(tc.rays)};
+    }
+
+    // 4. Timing: K repeats at each thread count, all configurations round-robin, the order
+    // rotated each repeat.
+    std::vector<Hit> scratch(n);
+    for (const int t : threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
+        std::vector<std::vector<double>> ms(configs.size());
+        for (int rep = 0; rep < o.repeats; ++rep) {
+            for (std::size_t j = 0; j < configs.size(); ++j) {
+                const std::size_t c = (j + std::size_t(rep)) % configs.size();
+                const accel::Timer timer;
+                configs[c].trace(rays, scratch, in.query, in.coherent);
+                ms[c].push_back(timer.ms());
+            }
+        }
+        for (std::size_t c = 0; c < configs.size(); ++c) {
+            const TraceConfig& cfg = configs[c];
+            const Built& b = *cfg.built;
+            BenchRow r;
+            r.scene = in.scene->name;
+            r.family = in.scene->family;
+            r.kind = kind_name;
+            r.query = in.query == Query::any ? "any" : "closest";
+            r.structure = b.name;
+            r.path = cfg.path;
+            r.embree = b.is_embree();
+            r.threads = t;
+            r.triangles = tris;
+            r.rays = n;
+            const auto bt = b.build_ms.find(t);
+            if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second);
+            r.trace_ms = summarize(ms[c]);
+            const double mr = double(n) * 1e-3;  // rays per ms -> Mrays/s
+            r.mrays = {mr / r.trace_ms.median, mr / r.trace_ms.max, mr / r.trace_ms.min};
+            if (b.accel) {
+                const accel::BuildStats& s = b.accel->stats();
+                r.nodes = double(s.nodes), r.leaves = double(s.leaves), r.max_depth = double(s.max_depth);
+                r.sah_cost = s.sah_cost;
+                r.bytes_per_triangle = s.bytes_per_triangle();
+                if (const auto it = counted.find(&b); it != counted.end())
+                    r.nodes_per_ray = it->second.nodes_per_ray, r.tris_per_ray = it->second.tris_per_ray;
+            } else {
+                r.bytes_per_triangle = tris ? double(b.memory_bytes()) / double(tris) : nan_value;
+            }
+            r.brute_sample = sample.size();
+            r.err_brute = 0;
+            for (std::size_t k = 0; k < sample.size(); ++k) r.err_brute += !agree(answers[c][sample[k]], truth[k], in.query);
+            if (const auto it = scalar_ref.find(&b); it != scalar_ref.end() && cfg.path != "scalar")
+                r.err_scalar = count_disagreements(answers[c], *it->second, in.query);
+            if (embree_ref) r.err_embree = count_disagreements(answers[c], *embree_ref, in.query);
+            for (const double budget : o.budgets)
+                r.total_ms.push_back(r.build_ms.median + budget / (r.mrays.median * 1e6) * 1e3);
+            out.rows.push_back(std::move(r));
+        }
+    }
+    log("  %s: %zu rays, brute sample %zu, %zu configurations", kind_name.c_str(), n, sample.size(), configs.size());
+}
+
+/// Ratio of each row's median Mrays/s to the best call of Embree's default mode on the same
+/// (scene, kind, threads).
+void fill_embree_ratios(std::vector<BenchRow>& rows, std::size_t from) {
+    std::map<std::tuple<std::string, std::string, int>, double> best;
+    for (std::size_t i = from; i < rows.size(); ++i)
+        if (rows[i].structure == "embree") {
+            double& b = best[{rows[i].scene, rows[i].kind, rows[i].threads}];
+            b = std::max(b, rows[i].mrays.median);
+        }
+    for (std::size_t i = from; i < rows.size(); ++i) {
+        const auto it = best.find({rows[i].scene, rows[i].kind, rows[i].threads});
+        if (it != best.end() && it->second > 0) rows[i].ratio_embree = rows[i].mrays.median / it->second;
+    }
+}
+
+void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<int>& threads, const Progress& log,
+               BenchResult& out) {
+    const accel::TriangleView view = bs.scene.mesh.view();
+    const std::size_t tris = view.triangle_count();
+    const bool scaling = bs.family == "replicated";
+    log("scene %s: %zu triangles", bs.name.c_str(), tris);
+    const int build_repeats = tris > 2000000 ? 1 : std::max(o.build_repeats, 1);
+    std::vector<Built> built = build_structures(view, o, threads, build_repeats, out.notes);
+    for (const Built& b : built) {
+        const auto& v = b.build_ms.at(threads.back());
+        log("  built %s: %.1f ms (median of %zu at %d threads)", b.name.c_str(), summarize(v).median, v.size(),
+            threads.back());
+    }
+    const std::vector<TraceConfig> configs = trace_configs(built);
+    const accel::BruteAccel brute(view);
+
+    // Primary hits for shadow/diffuse rays: the fastest tracer at hand (any correct one gives the
+    // same rays up to ties and rounding).
+    std::unique_ptr<accel::Accel> fallback;
+    const TraceConfig* gen = nullptr;
+    for (const TraceConfig& c : configs)
+        if (!gen || (c.built->is_embree() && !gen->built->is_embree())) gen = &c;
+    engine::PrimaryTracer tracer = [&](std::span<const Ray> r, std::span<Hit> h) {
+        if (gen) gen->trace(r, h, Query::closest, true);
+        else accel::trace_parallel(brute, r, h, Query::closest);
+    };
+    const engine::RayGenScene gscene = engine::ray_gen_scene(bs.scene, bs.use_scene_camera);
+
+    const std::size_t first_row = out.rows.size();
+    for (const std::string& kname : o.kinds) {
+        const engine::RayKind kind = *engine::parse_ray_kind(kname);
+        if (scaling && kind != engine::RayKind::primary && kind != engine::RayKind::diffuse) continue;
+        engine::RayGenConfig rc;
+        rc.kind = kind;
+        rc.count = scaling ? o.scaling_rays : o.rays;
+        rc.seed = o.seed;
+        KindInput in{&bs, kind, kind == engine::RayKind::shadow ? Query::any : Query::closest,
+                     kind == engine::RayKind::primary || kind == engine::RayKind::shadow, {}};
+        try {
+            in.rays = engine::generate_rays(gscene, rc, tracer);
+        } catch (const engine::InputError& e) {
+            out.notes.push_back(bs.name + " " + kname + ": " + e.what());
+            continue;
+        }
+        run_kind(in, built, configs, brute, o, threads, log, out);
+    }
+    fill_embree_ratios(out.rows, first_row);
+}
+
+}  // namespace
+
+Stat3 summarize(std::vector<double> v) {
+    if (v.empty()) return {};
+    std::sort(v.begin(), v.end());
+    const std::size_t m = v.size() / 2;
+    const double median = v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+    return {median, v.front(), v.back()};
+}
+
+BenchResult run_bench(const BenchOptions& o) {
+    for (const std::string& k : o.kinds)
+        if (!engine::parse_ray_kind(k))
+            throw engine::InputError("--kinds: unknown ray kind '" + k + "' (expected primary, shadow, diffuse, random)");
+    (void)bench_structures(o);  // validates the names
+    const std::vector<SceneSource> plan = plan_scenes(o);
+    const std::vector<int> threads = resolve_threads(o.threads);
+    const Progress log(o.verbose);
+    const accel::Timer timer;
+    BenchResult out;
+    out.load_before = load_average();
+    out.budgets = o.budgets;
+    out.hardware_threads = tbb::info::default_concurrency();
+    for (const SceneSource& src : plan) {
+        try {
+            const BenchScene scene = src.make();
+            run_scene(scene, o, threads, log, out);
+        } catch (const std::bad_alloc&) {
+            out.notes.push_back(src.name + ": out of memory, skipped");
+        }
+    }
+    std::sort(out.notes.begin(), out.notes.end());
+    out.notes.erase(std::unique(out.notes.begin(), out.notes.end()), out.notes.end());
+    out.seconds = timer.seconds();
+    out.load_after = load_average();
+    return out;
+}
+
+}  // namespace arbor::perf

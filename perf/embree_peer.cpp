@@ -1,0 +1,299 @@
+#include "perf/embree_peer.h"
+
+#include "accel/timer.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace arbor::perf {
+
+using accel::Hit;
+using accel::Query;
+using accel::Ray;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+
+/// Sums what the device allocates (negative sizes are frees).
+bool monitor_memory(void* user, ssize_t bytes, bool) {
+    static_cast<std::atomic<std::int64_t>*>(user)->fetch_add(bytes, std::memory_order_relaxed);
+    return true;
+}
+
+[[noreturn]] void throw_embree(RTCDevice device, const char* what) {
+    const RTCError e = rtcGetDeviceError(device);
+    throw std::runtime_error(std::string("embree: ") + what + " failed (error " + std::to_string(int(e)) + ")");
+}
+
+/// Fills the RTCRay fields of one ray; untraceable rays become inactive (tnear > tfar) with a
+/// harmless finite origin and direction, so that Embree never sees NaN or Inf.
+template <class R> void put_ray(R& r, const Ray& ray) {
+    if (accel::ray_is_traceable(ray)) {
+        r.org_x = ray.org.x, r.org_y = ray.org.y, r.org_z = ray.org.z, r.tnear = ray.tnear;
+        r.dir_x = ray.dir.x, r.dir_y = ray.dir.y, r.dir_z = ray.dir.z, r.tfar = ray.tfar;
+    } else {
+        r.org_x = r.org_y = r.org_z = 0.0f, r.dir_x = 1.0f, r.dir_y = r.dir_z = 0.0f;
+        r.tnear = 1.0f, r.tfar = 0.0f;
+    }
+    r.time = 0.0f;
+    r.mask = 0xFFFFFFFFu;
+    r.id = 0;
+    r.flags = 0;
+}
+
+Hit closest_hit(const RTCRayHit& rh) {
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return accel::miss_hit;
+    return {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v};
+}
+
+/// Embree sets tfar = -inf on an occluded ray. The answer keeps t = tnear, prim = 0.
+Hit any_hit(float tfar_after, float tnear) {
+    if (tfar_after != -inf) return accel::miss_hit;
+    return {tnear, 0u, 0.0f, 0.0f};
+}
+
+template <int N> struct Packet;
+template <> struct Packet<8> {
+    using RayHit = RTCRayHit8;
+    using Ray = RTCRay8;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) { rtcIntersect8(valid, s, c, rh); }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded8(valid, s, c, r); }
+};
+template <> struct Packet<16> {
+    using RayHit = RTCRayHit16;
+    using Ray = RTCRay16;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) { rtcIntersect16(valid, s, c, rh); }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(valid, s, c, r); }
+};
+
+/// Lane k of an SoA packet ray, written through the same put_ray as single rays.
+template <class P> struct LaneRef {
+    P& p;
+    int k;
+};
+template <class P> void put_lane(P& p, int k, const Ray& ray) {
+    struct One {
+        float org_x, org_y, org_z, tnear, dir_x, dir_y, dir_z, time, tfar;
+        unsigned mask, id, flags;
+    } one;
+    put_ray(one, ray);
+    p.org_x[k] = one.org_x, p.org_y[k] = one.org_y, p.org_z[k] = one.org_z, p.tnear[k] = one.tnear;
+    p.dir_x[k] = one.dir_x, p.dir_y[k] = one.dir_y, p.dir_z[k] = one.dir_z, p.tfar[k] = one.tfar;
+    p.time[k] = 0.0f, p.mask[k] = 0xFFFFFFFFu, p.id[k] = 0, p.flags[k] = 0;
+}
+
+template <int N>
+void trace_packets(RTCScene scene, RTCIntersectContext* ctx, std::span<const Ray> rays, std::span<Hit> hits, Query q) {
+    using P = Packet<N>;
+    for (std::size_t base = 0; base < rays.size(); base += N) {
+        const int n = int(std::min<std::size_t>(N, rays.size() - base));
+        alignas(64) int valid[N];
+        if (q == Query::closest) {
+            alignas(64) typename P::RayHit rh;
+            for (int k = 0; k < N; ++k) {
+                valid[k] = k < n && accel::ray_is_traceable(rays[base + std::size_t(k)]) ? -1 : 0;
+                put_lane(rh.ray, k, k < n ? rays[base + std::size_t(k)] : Ray{});
+                rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+            }
+            P::intersect(valid, scene, ctx, &rh);
+            for (int k = 0; k < n; ++k)
+                hits[base + std::size_t(k)] = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID || !valid[k]
+                                                  ? accel::miss_hit
+                                                  : Hit{rh.ray.tfar[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k]};
+        } else {
+            alignas(64) typename P::Ray r;
+            for (int k = 0; k < N; ++k) {
+                valid[k] = k < n && accel::ray_is_traceable(rays[base + std::size_t(k)]) ? -1 : 0;
+                put_lane(r, k, k < n ? rays[base + std::size_t(k)] : Ray{});
+            }
+            P::occluded(valid, scene, ctx, &r);
+            for (int k = 0; k < n; ++k)
+                hits[base + std::size_t(k)] = valid[k] ? any_hit(r.tfar[k], r.tnear[k]) : accel::miss_hit;
+        }
+    }
+}
+
+}  // namespace
+
+struct EmbreePeer::Impl {
+    EmbreeConfig cfg;
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<float> vertices;  // x, y, z, pad per vertex (+ 4 floats: Embree reads 16 bytes)
+    std::atomic<std::int64_t> bytes{0};
+    double build_ms = 0.0, setup_ms = 0.0;
+    std::size_t memory_bytes = 0, triangles = 0;
+
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+std::string_view to_string(EmbreeCall c) {
+    switch (c) {
+    case EmbreeCall::single: return "1";
+    case EmbreeCall::packet8: return "8";
+    case EmbreeCall::packet16: return "16";
+    case EmbreeCall::stream: return "1M";
+    }
+    return "?";
+}
+
+std::string embree_config_name(const EmbreeConfig& cfg) {
+    std::string s = "embree";
+    if (cfg.high_quality) s += "-high";
+    if (cfg.robust) s += "-robust";
+    if (cfg.copy_indices) s += "-copy";
+    return s;
+}
+
+EmbreePeer::EmbreePeer(const accel::TriangleView& tris, const EmbreeConfig& cfg) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.cfg = cfg;
+    m.triangles = tris.triangle_count();
+    const accel::Timer setup;
+    m.device = rtcNewDevice(nullptr);
+    if (!m.device) throw std::runtime_error("embree: rtcNewDevice failed");
+    rtcSetDeviceMemoryMonitorFunction(m.device, monitor_memory, &m.bytes);
+    m.scene = rtcNewScene(m.device);
+    rtcSetSceneFlags(m.scene, cfg.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+    rtcSetSceneBuildQuality(m.scene, cfg.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+
+    RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    const std::size_t nv = tris.vertex_count();
+    m.vertices.assign(4 * nv + 4, 0.0f);
+    for (std::size_t i = 0; i < nv; ++i) {
+        m.vertices[4 * i] = tris.x[i];
+        m.vertices[4 * i + 1] = tris.y[i];
+        m.vertices[4 * i + 2] = tris.z[i];
+    }
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.vertices.data(), 0,
+                               4 * sizeof(float), nv);
+    if (cfg.copy_indices) {
+        auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                         3 * sizeof(std::uint32_t), m.triangles));
+        if (!idx) throw_embree(m.device, "rtcSetNewGeometryBuffer");
+        std::copy(tris.indices.begin(), tris.indices.end(), idx);
+    } else {
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, tris.indices.data(), 0,
+                                   3 * sizeof(std::uint32_t), m.triangles);
+    }
+    rtcSetGeometryBuildQuality(geom, cfg.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(m.scene, geom);  // geometry 0: every geomID is 0
+    rtcReleaseGeometry(geom);
+    if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE) throw_embree(m.device, "scene setup");
+    m.setup_ms = setup.ms();
+
+    const std::int64_t before = m.bytes.load();
+    const accel::Timer build;
+    rtcCommitScene(m.scene);
+    m.build_ms = build.ms();
+    if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE) throw_embree(m.device, "rtcCommitScene");
+    m.memory_bytes = std::size_t(std::max<std::int64_t>(0, m.bytes.load() - before));
+}
+
+EmbreePeer::~EmbreePeer() = default;
+
+const EmbreeConfig& EmbreePeer::config() const { return impl_->cfg; }
+double EmbreePeer::build_ms() const { return impl_->build_ms; }
+double EmbreePeer::setup_ms() const { return impl_->setup_ms; }
+std::size_t EmbreePeer::memory_bytes() const { return impl_->memory_bytes; }
+std::size_t EmbreePeer::triangles() const { return impl_->triangles; }
+
+void EmbreePeer::trace(std::span<const Ray> rays, std::span<Hit> hits, Query query, EmbreeCall call,
+                       bool coherent) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCScene scene = impl_->scene;
+    const std::size_t n = std::min(rays.size(), hits.size());
+    rays = rays.first(n);
+    hits = hits.first(n);
+
+    switch (call) {
+    case EmbreeCall::packet8: trace_packets<8>(scene, &ctx, rays, hits, query); return;
+    case EmbreeCall::packet16: trace_packets<16>(scene, &ctx, rays, hits, query); return;
+    case EmbreeCall::single:
+        for (std::size_t i = 0; i < n; ++i) {
+            if (query == Query::closest) {
+                RTCRayHit rh;
+                put_ray(rh.ray, rays[i]);
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(scene, &ctx, &rh);
+                hits[i] = closest_hit(rh);
+            } else {
+                RTCRay r;
+                put_ray(r, rays[i]);
+                rtcOccluded1(scene, &ctx, &r);
+                hits[i] = accel::ray_is_traceable(rays[i]) ? any_hit(r.tfar, r.tnear) : accel::miss_hit;
+            }
+        }
+        return;
+    case EmbreeCall::stream: {
+        // Sub-batches on the stack: no allocation while timing; Embree's stream code works on
+        // small blocks internally anyway.
+        constexpr std::size_t block = 256;
+        for (std::size_t base = 0; base < n; base += block) {
+            const std::size_t m = std::min(block, n - base);
+            if (query == Query::closest) {
+                RTCRayHit rh[block];
+                for (std::size_t k = 0; k < m; ++k) {
+                    put_ray(rh[k].ray, rays[base + k]);
+                    rh[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                    rh[k].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                }
+                rtcIntersect1M(scene, &ctx, rh, unsigned(m), sizeof(RTCRayHit));
+                for (std::size_t k = 0; k < m; ++k) hits[base + k] = closest_hit(rh[k]);
+            } else {
+                RTCRay r[block];
+                for (std::size_t k = 0; k < m; ++k) put_ray(r[k], rays[base + k]);
+                rtcOccluded1M(scene, &ctx, r, unsigned(m), sizeof(RTCRay));
+                for (std::size_t k = 0; k < m; ++k)
+                    hits[base + k] = accel::ray_is_traceable(rays[base + k]) ? any_hit(r[k].tfar, r[k].tnear) : accel::miss_hit;
+            }
+        }
+        return;
+    }
+    }
+}
+
+void EmbreePeer::trace_parallel(std::span<const Ray> rays, std::span<Hit> hits, Query query, EmbreeCall call,
+                                bool coherent, std::size_t chunk) const {
+    const std::size_t n = std::min(rays.size(), hits.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(chunk, 1)),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          trace(rays.subspan(r.begin(), r.size()), hits.subspan(r.begin(), r.size()), query, call,
+                                coherent);
+                      });
+}
+
+std::string embree_description() {
+    RTCDevice d = rtcNewDevice(nullptr);
+    if (!d) return "Embree (device creation failed)";
+    auto prop = [&](RTCDeviceProperty p) { return rtcGetDeviceProperty(d, p); };
+    std::string s = "Embree " + std::to_string(prop(RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
+                    std::to_string(prop(RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
+                    std::to_string(prop(RTC_DEVICE_PROPERTY_VERSION_PATCH));
+    s += std::string(" (native packets:") + (prop(RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED) ? " 4" : "") +
+         (prop(RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? " 8" : "") +
+         (prop(RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) ? " 16" : "") +
+         "; stream: " + (prop(RTC_DEVICE_PROPERTY_RAY_STREAM_SUPPORTED) ? "yes" : "no") +
+         "; tasking: " + (prop(RTC_DEVICE_PROPERTY_TASKING_SYSTEM) == 1 ? "TBB" : "internal") + ")";
+    rtcReleaseDevice(d);
+    return s;
+}
+
+}  // namespace arbor::perf
