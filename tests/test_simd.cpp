@@ -2,6 +2,7 @@
 // the padded reciprocal, reductions, hit ordering, and RayPacket loading/storing.
 #include "simd/lane_order.h"
 #include "simd/ray_packet.h"
+#include "simd/wide_ray.h"
 #include "simd_cases.h"
 
 #include <algorithm>
@@ -66,6 +67,28 @@ TEST_CASE_TEMPLATE("simd: signbit_mask, vabs and pad_2ulp match the scalar forms
     // The scalar reference really moves two ulps outward, and saturates at infinity.
     CHECK(pad_2ulp(1.0f) == std::nextafter(std::nextafter(1.0f, 2.0f), 2.0f));
     CHECK(pad_2ulp(-FLT_MAX) == -INFINITY);
+}
+
+TEST_CASE_TEMPLATE("simd: rmax and rmin return b unless a is strictly larger/smaller, as the scalar forms", T,
+                   ARBOR_TEST_BATCHES) {
+    std::vector<float> v = special_floats();
+    std::vector<float> w(v.size());
+    std::mt19937 rng(17);
+    for (std::size_t i = 0; i < w.size(); ++i) w[i] = (i % 3 == 0) ? v[(i * 7 + 1) % v.size()] : v[rng() % v.size()];
+    for (std::size_t i = 0; i + 1 < v.size(); i += 5) w[i] = -v[i];  // +0/-0, NaN/-NaN and x/-x pairs
+    Mismatches bad;
+    for (std::size_t s = 0; s < v.size(); s += lanes<T>) {
+        const T a = load_lanes<T>(&v[s]), b = load_lanes<T>(&w[s]);
+        const T mx = rmax(a, b), mn = rmin(a, b);
+        for (std::size_t i = 0; i < lanes<T>; ++i) {
+            if (bits_of(lane(mx, i)) != bits_of(rmax(v[s + i], w[s + i]))) bad.add("rmax", v[s + i], w[s + i]);
+            if (bits_of(lane(mn, i)) != bits_of(rmin(v[s + i], w[s + i]))) bad.add("rmin", v[s + i], w[s + i]);
+        }
+    }
+    ARBOR_CHECK_NONE(bad);
+    CHECK(bits_of(lane(rmax(T(0.0f), T(-0.0f)), 0)) == bits_of(-0.0f));
+    CHECK(std::isnan(lane(rmin(T(1.0f), T(NAN)), 0)));
+    CHECK(lane(rmin(T(NAN), T(1.0f)), 0) == 1.0f);
 }
 
 TEST_CASE_TEMPLATE("simd: hmin and closest_lane pick the nearest hit, lowest lane on ties", T, ARBOR_TEST_BATCHES) {
@@ -238,4 +261,34 @@ TEST_CASE_TEMPLATE("PacketHit: record_hits keeps brute's tie rule, store_hits wr
         CHECK(lane(p.tfar, i) == out[i].t);
     }
     CHECK_FALSE(out[n].is_hit());  // only lanes<T> records written
+}
+
+TEST_CASE_TEMPLATE("WideRay: broadcasts slab_ray's and woop_shear's constants bit for bit", T, float, ARBOR_TEST_BATCHES) {
+    const std::vector<Ray> rays = arbor::testing::stiff_rays(13, 500, {{0, 0, 0}, {1, -1, 0.5f}});
+    Mismatches bad;
+    for (const Ray& ray : rays) {
+        const WideRay<T> w = wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
+        const SlabRay s = slab_ray(ray.org, ray.dir);
+        const WoopShear sh = woop_shear(ray.dir);
+        const bool ok = arbor::accel::ray_is_traceable(ray);
+        if (w.traceable != ok) bad.add("traceable", &ray - rays.data());
+        if (w.kx != sh.kx || w.ky != sh.ky || w.kz != sh.kz) bad.add("axes", &ray - rays.data());
+        for (std::size_t i = 0; i < lanes<T>; ++i) {
+            for (int k = 0; k < 3; ++k) {
+                if (!same_float(lane(w.rcp_near[k], i), s.rcp_near[k])) bad.add("rcp_near", &ray - rays.data(), k);
+                if (!same_float(lane(w.rcp_far[k], i), s.rcp_far[k])) bad.add("rcp_far", &ray - rays.data(), k);
+                if (w.near_is_hi[k] != s.near_is_hi[k]) bad.add("near_is_hi", &ray - rays.data(), k);
+                if (bits_of(lane(w.org[k], i)) != bits_of(ray.org[k])) bad.add("org", &ray - rays.data(), k);
+            }
+            const Vec3f op{ray.org[sh.kx], ray.org[sh.ky], ray.org[sh.kz]};
+            for (int k = 0; k < 3; ++k)
+                if (bits_of(lane(w.org_perm[k], i)) != bits_of(op[k])) bad.add("org_perm", &ray - rays.data(), k);
+            if (!same_float(lane(w.sx, i), sh.sx) || !same_float(lane(w.sy, i), sh.sy) || !same_float(lane(w.sz, i), sh.sz))
+                bad.add("shear", &ray - rays.data());
+            const float tn = ok ? ray.tnear : INFINITY, tf = ok ? ray.tfar : -INFINITY;
+            if (bits_of(lane(w.tnear, i)) != bits_of(tn) || bits_of(lane(w.tfar, i)) != bits_of(tf))
+                bad.add("range", &ray - rays.data());
+        }
+    }
+    ARBOR_CHECK_NONE(bad);
 }
