@@ -9,22 +9,20 @@ BvhTreeStats bvh_tree_stats(const BinaryBvh& bvh, float traversal_cost, float in
     if (bvh.nodes.empty()) return s;
     const double root_area = bvh.nodes[0].box.area();
     double cost = 0.0, depth_sum = 0.0;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 0u}};  // (node, depth)
-    while (!stack.empty()) {
-        const auto [i, depth] = stack.back();
-        stack.pop_back();
+    // Children come after their parents: one forward pass hands every node its depth.
+    std::vector<std::uint32_t> depth(bvh.nodes.size(), 0);
+    for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
         const BvhBuildNode& n = bvh.nodes[i];
         ++s.nodes;
         if (n.is_leaf()) {
             ++s.leaves;
-            s.max_depth = std::max(s.max_depth, depth);
+            s.max_depth = std::max(s.max_depth, depth[i]);
             s.max_leaf_size = std::max(s.max_leaf_size, n.count);
-            depth_sum += depth;
+            depth_sum += depth[i];
             cost += n.box.area() * n.count * intersection_cost;
         } else {
             cost += n.box.area() * traversal_cost;
-            stack.push_back({n.first, depth + 1});
-            stack.push_back({n.first + 1, depth + 1});
+            depth[n.first] = depth[n.first + 1] = depth[i] + 1;
         }
     }
     s.mean_leaf_depth = s.leaves ? depth_sum / double(s.leaves) : 0.0;

@@ -29,7 +29,7 @@ struct BinaryBvh {
     bool empty() const { return prim_ids.empty(); }
 };
 
-/// Statistics of a binary tree: nodes, leaves, depths, SAH cost normalized to the root area
+/// Statistics of a valid binary tree (every node reachable, children after parents): nodes, leaves, depths, SAH cost normalized to the root area
 /// (cost = sum over interior nodes of area * traversal_cost + sum over leaves of area * count *
 /// intersection_cost, divided by the root area).
 struct BvhTreeStats {

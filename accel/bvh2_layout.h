@@ -5,8 +5,10 @@
 /// node) and one 64-byte node holds the boxes of BOTH children in SoA form, so a traversal step
 /// reads one cache line and tests two boxes. Triangles are permuted into leaf order and stored as
 /// SoA blocks of 4 with the ORIGINAL vertices (not edges): the watertight test needs bit-identical
-/// vertex inputs for triangles that share an edge. The wide layouts of the SIMD issue are collapsed
-/// from the same BinaryBvh (they do not start from this layout).
+/// vertex inputs for triangles that share an edge. Leaves are packed back to back (a leaf may
+/// start inside a block): padding every leaf to whole blocks doubled the triangle memory and made
+/// the conversion of a 2.5M-triangle scene 2x slower, for no gain in the scalar traversal. The wide
+/// layouts of the SIMD issue are collapsed from the same BinaryBvh (they do not start from this one).
 #include "accel/binary_bvh.h"
 
 #include <cstdint>
@@ -20,8 +22,8 @@ inline constexpr std::uint32_t tri_block_width = 4;
 /// 64 bytes, one cache line. Per axis, x[] = {lo of child 0, lo of child 1, hi of child 0, hi of
 /// child 1}: a ray with a negative direction component reads its near planes at index 2 + c, a ray
 /// with a positive one at index c. count[c] == 0: child c is the interior node nodes[child[c]];
-/// count[c] > 0: child c is a leaf of count[c] triangles starting at triangle slot child[c]
-/// (block child[c] / 4; leaves always start at a block boundary).
+/// count[c] > 0: child c is a leaf of triangle slots [child[c], child[c] + count[c]) (slot s lives
+/// in block s / 4, lane s % 4).
 struct alignas(64) Bvh2Node {
     float x[4], y[4], z[4];
     std::uint32_t child[2];
@@ -31,8 +33,8 @@ struct alignas(64) Bvh2Node {
 };
 static_assert(sizeof(Bvh2Node) == 64);
 
-/// Four triangles, SoA: v0[axis][lane], v1[axis][lane], v2[axis][lane]. Lanes past a leaf's count
-/// repeat the leaf's last triangle (a SIMD test may run on all four lanes without a mask).
+/// Four triangle slots, SoA: v0[axis][lane], v1[axis][lane], v2[axis][lane]. Lanes past the last
+/// triangle of the scene repeat it (a 4-wide test may read the whole last block).
 struct alignas(16) TriBlock4 {
     float v0[3][4], v1[3][4], v2[3][4];
 };
@@ -41,7 +43,7 @@ static_assert(sizeof(TriBlock4) == 144);
 struct Bvh2Layout {
     std::vector<Bvh2Node> nodes;          ///< interior nodes, depth-first; nodes[0] is the root when interior
     std::vector<TriBlock4> blocks;        ///< triangles in leaf order
-    std::vector<std::uint32_t> prim_ids;  ///< 4 per block: the original triangle number of each slot
+    std::vector<std::uint32_t> prim_ids;  ///< per slot (4 per block): the original triangle number
     Bounds root_box;                      ///< box of the root (empty for an empty scene)
     std::uint32_t root_child = 0;         ///< root as a child reference: node 0, or a leaf when
     std::uint32_t root_count = 0;         ///< root_count > 0 (a tiny scene whose root is a leaf)

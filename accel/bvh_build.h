@@ -13,8 +13,10 @@ namespace arbor::accel {
 BinaryBvh build_bvh_median(const PrimRefs& refs, const BuildConfig& cfg);
 
 /// `bvh-sah`: binned SAH, I. Wald, "On fast Construction of SAH-based Bounding Volume
-/// Hierarchies", RT 2007: cfg.sah_bins bins per axis over the centroid bounds, a leaf where the
-/// SAH says so and the range fits in cfg.max_leaf_size, parallel binning on large ranges.
+/// Hierarchies", RT 2007: cfg.sah_bins (2..32) bins per axis over the centroid bounds, a leaf where
+/// the SAH says so and the range fits in cfg.max_leaf_size, parallel binning on large ranges.
+/// Ranges of at most 16 primitives are split by an exact SAH sweep over their centroids sorted on
+/// the longest axis of the centroid bounds instead (cheaper than binning them).
 /// Degenerate centroid bounds, or a binning that cannot separate the range, fall back to a median
 /// split; below depth 48 only median splits are made, so the depth stays under 48 + 32.
 BinaryBvh build_bvh_sah(const PrimRefs& refs, const BuildConfig& cfg);

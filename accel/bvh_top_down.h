@@ -19,7 +19,7 @@
 namespace arbor::accel::detail {
 
 /// 32-byte working copy of a PrimRef, partitioned in place by the builders.
-struct BuildPrim {
+struct alignas(16) BuildPrim {
     float lo[3];
     std::uint32_t id;
     float hi[3];
@@ -92,6 +92,7 @@ private:
     std::unique_ptr<Subtree> build(const BuildTask& t) {
         auto s = std::make_unique<Subtree>();
         if (t.size() < parallel_threshold()) {
+            s->nodes.reserve(2 * std::size_t(t.size()) - 1);  // a binary tree over n leaves' worth of prims
             s->nodes.push_back({});
             build_serial(t, 0, s->nodes);
             s->total = s->nodes.size();

@@ -17,6 +17,23 @@ struct BlockResult {
     Bounds bounds, centroid_bounds;
 };
 
+/// The nine corner coordinates of triangle t.
+struct Corners {
+    float x[3], y[3], z[3];
+    Corners(const TriangleView& v, std::size_t t) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t i = v.indices[3 * t + k];
+            x[k] = v.x[i], y[k] = v.y[i], z[k] = v.z[i];
+        }
+    }
+    /// Same verdict as TriangleView::triangle_is_finite: v - v is 0 exactly when v is finite.
+    bool finite() const {
+        float s = 0.0f;
+        for (int k = 0; k < 3; ++k) s += (x[k] - x[k]) + (y[k] - y[k]) + (z[k] - z[k]);
+        return s == 0.0f;
+    }
+};
+
 }  // namespace
 
 PrimRefs make_prim_refs(const TriangleView& tris) {
@@ -31,7 +48,7 @@ PrimRefs make_prim_refs(const TriangleView& tris) {
         for (std::size_t b = r.begin(); b != r.end(); ++b) {
             const std::size_t end = std::min(n, (b + 1) * block_size);
             std::size_t count = 0;
-            for (std::size_t t = b * block_size; t < end; ++t) count += tris.triangle_is_finite(t);
+            for (std::size_t t = b * block_size; t < end; ++t) count += Corners(tris, t).finite();
             block[b].count = count;
         }
     });
@@ -54,8 +71,10 @@ PrimRefs make_prim_refs(const TriangleView& tris) {
             std::size_t out = block[b].count;
             Bounds bounds, centroid_bounds;
             for (std::size_t t = b * block_size; t < end; ++t) {
-                if (!tris.triangle_is_finite(t)) continue;
-                const Bounds box = tris.triangle_bounds(t);
+                const Corners v(tris, t);
+                if (!v.finite()) continue;
+                const Bounds box{{std::min({v.x[0], v.x[1], v.x[2]}), std::min({v.y[0], v.y[1], v.y[2]}), std::min({v.z[0], v.z[1], v.z[2]})},
+                                 {std::max({v.x[0], v.x[1], v.x[2]}), std::max({v.y[0], v.y[1], v.y[2]}), std::max({v.z[0], v.z[1], v.z[2]})}};
                 const Vec3f c = box.lo * 0.5f + box.hi * 0.5f;
                 refs.lo_x[out] = box.lo.x, refs.lo_y[out] = box.lo.y, refs.lo_z[out] = box.lo.z;
                 refs.hi_x[out] = box.hi.x, refs.hi_y[out] = box.hi.y, refs.hi_z[out] = box.hi.z;

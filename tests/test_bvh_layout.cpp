@@ -76,22 +76,27 @@ TEST_CASE("bvh layout: every triangle slot keeps its original vertices and id; s
         const auto tstats = accel::bvh_tree_stats(tree);
         CHECK(layout.nodes.size() == tstats.leaves - 1);
         CHECK(layout.max_depth == tstats.max_depth);
-        std::size_t blocks = 0;
-        for (const auto& n : tree.nodes) blocks += n.is_leaf() ? (n.count + 3) / 4 : 0;
-        CHECK(layout.blocks.size() == blocks);
-        CHECK(layout.prim_ids.size() == 4 * blocks);
+        std::size_t finite = 0;
+        for (std::size_t t = 0; t < view.triangle_count(); ++t) finite += view.triangle_is_finite(t);
+        CHECK(layout.blocks.size() == (finite + 3) / 4);  // leaves packed back to back
+        CHECK(layout.prim_ids.size() == 4 * layout.blocks.size());
+        for (std::size_t s = finite; s < layout.prim_ids.size(); ++s) CHECK(layout.prim_ids[s] == layout.prim_ids[finite - 1]);
+        std::uint32_t next_slot = 0;  // depth-first, left child first: leaves come in slot order
         // Walk the layout: leaves reached, slots in range, vertices equal to the view's corners.
         std::vector<int> seen(view.triangle_count(), 0);
         std::vector<std::pair<std::uint32_t, std::uint32_t>> todo{{layout.root_child, layout.root_count}};
+        std::uint32_t next_node = 0;
         while (!todo.empty()) {
             const auto [child, count] = todo.back();
             todo.pop_back();
             if (count == 0) {
                 REQUIRE(child < layout.nodes.size());
-                for (int c = 0; c < 2; ++c) todo.push_back({layout.nodes[child].child[c], layout.nodes[child].count[c]});
+                CHECK(child == next_node++);  // nodes in depth-first order
+                for (int c = 1; c >= 0; --c) todo.push_back({layout.nodes[child].child[c], layout.nodes[child].count[c]});
                 continue;
             }
-            CHECK(child % 4 == 0);
+            CHECK(child == next_slot);
+            next_slot += count;
             for (std::uint32_t s = child; s < child + count; ++s) {
                 const std::uint32_t t = layout.prim_ids[s];
                 REQUIRE(t < view.triangle_count());

@@ -1,0 +1,193 @@
+// bench_bvh: build time, SAH cost and scalar trace speed of the BVH builders on one model and on
+// that model replicated on a grid (millions of triangles). A benchmark, not a test: it validates
+// every structure against brute on a subset of the rays first, then times. Usage:
+//   bench_bvh [--model OBJ] [--copies N] [--repeat K] [--threads T] [--rays N] [--sweep-max N] [--build-only 1]
+// Times are medians of K runs; the builders are run interleaved (A B A B ...) so that machine
+// noise hits them alike.
+#include "accel/accel.h"
+#include "accel/brute_accel.h"
+#include "accel/bvh_accel.h"
+#include "accel/bvh_build.h"
+#include "accel/timer.h"
+#include "accel/trace.h"
+#include "engine/obj_loader.h"
+#include "engine/ray_gen.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+using namespace arbor;
+using accel::Vec3f;
+
+namespace {
+
+struct Options {
+    std::string model = ARBOR_SHARED_SCENES "/models/stanford-bunny.obj";
+    int copies = 36, repeat = 5, threads = 2;
+    std::size_t rays = 1u << 18, sweep_max = 200000;
+    bool build_only = false;  ///< only the bvh-sah phases (for profiling)
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+/// `copies` copies of `m` on a square grid in x/z, spaced 1.2 model sizes apart.
+engine::Mesh replicate(const engine::Mesh& m, int copies) {
+    engine::Mesh out;
+    const int side = int(std::ceil(std::sqrt(double(copies))));
+    const Vec3f e = m.bounds.extent();
+    for (int c = 0; c < copies; ++c) {
+        const Vec3f shift{float(c % side) * 1.2f * e.x, 0.0f, float(c / side) * 1.2f * e.z};
+        const auto base = std::uint32_t(out.vertex_count());
+        for (std::size_t i = 0; i < m.vertex_count(); ++i) out.add_vertex(Vec3f{m.x[i], m.y[i], m.z[i]} + shift);
+        for (std::uint32_t i : m.indices) out.indices.push_back(base + i);
+    }
+    out.compute_bounds();
+    return out;
+}
+
+struct RaySet {
+    std::string name;
+    std::vector<accel::Ray> rays;
+};
+
+std::vector<RaySet> make_rays(const engine::Mesh& mesh, std::size_t n) {
+    engine::RayGenScene gs{mesh.view(), mesh.bounds, mesh.bounds.hi + mesh.bounds.extent(), std::nullopt};
+    std::vector<RaySet> sets;
+    for (auto kind : {engine::RayKind::primary, engine::RayKind::random}) {
+        engine::RayGenConfig cfg;
+        cfg.kind = kind;
+        cfg.count = n;
+        sets.push_back({std::string(engine::to_string(kind)), engine::generate_rays(gs, cfg)});
+    }
+    return sets;
+}
+
+/// Rays of `sets` (a spread-out subset of `per_set` each) traced by `a` and by brute must agree.
+std::size_t validate(const accel::Accel& a, const accel::BruteAccel& brute, const std::vector<RaySet>& sets, std::size_t per_set) {
+    std::size_t bad = 0;
+    for (const auto& s : sets) {
+        std::vector<accel::Ray> sub;
+        const std::size_t step = std::max<std::size_t>(1, s.rays.size() / per_set);
+        for (std::size_t i = 0; i < s.rays.size(); i += step) sub.push_back(s.rays[i]);
+        std::vector<accel::Hit> ref(sub.size()), got(sub.size()), any(sub.size());
+        accel::trace_parallel(brute, sub, ref, accel::Query::closest, accel::TracePath::scalar, 4);
+        accel::trace_parallel(a, sub, got, accel::Query::closest, accel::TracePath::scalar);
+        accel::trace_parallel(a, sub, any, accel::Query::any, accel::TracePath::scalar);
+        for (std::size_t i = 0; i < sub.size(); ++i) bad += !accel::hits_agree(ref[i], got[i]) + (any[i].is_hit() != ref[i].is_hit());
+    }
+    return bad;
+}
+
+void run_scene(const std::string& name, const engine::Mesh& mesh, const Options& o) {
+    const auto view = mesh.view();
+    std::printf("\n## %s: %zu triangles, %d threads, median of %d\n", name.c_str(), mesh.triangle_count(), o.threads, o.repeat);
+    const accel::BuildConfig cfg;
+    const std::vector<std::pair<std::string, accel::AccelKind>> kinds = {
+        {"bvh-median", accel::AccelKind::bvh_median}, {"bvh-sah", accel::AccelKind::bvh_sah},
+        {"lbvh", accel::AccelKind::lbvh}, {"kdtree", accel::AccelKind::kdtree}};
+    std::map<std::string, std::vector<double>> times;
+    std::map<std::string, std::unique_ptr<accel::Accel>> built;
+    std::vector<double> t_refs, t_build, t_convert;
+    for (int r = 0; r < o.repeat; ++r) {
+        for (const auto& [kname, kind] : kinds) {
+            if (o.build_only) break;
+            try {
+                const accel::Timer t;
+                auto a = accel::make_accel(kind, view, cfg);
+                times[kname].push_back(t.ms());
+                built[kname] = std::move(a);
+            } catch (const std::invalid_argument&) {  // not in this build yet
+            }
+        }
+        // bvh-sah by phases: prim refs, binned SAH build, conversion to the traversal layout.
+        const accel::Timer t0;
+        const accel::PrimRefs refs = accel::make_prim_refs(view);
+        const double a = t0.ms();
+        accel::BinaryBvh bvh = accel::build_bvh_sah(refs, cfg);
+        const double b = t0.ms();
+        const auto acc = accel::make_bvh_accel(accel::AccelKind::bvh_sah, std::move(bvh), view, cfg, 0.0);
+        t_refs.push_back(a), t_build.push_back(b - a), t_convert.push_back(t0.ms() - b);
+    }
+    std::printf("bvh-sah phases: prim refs %.1f ms, binned SAH %.1f ms, layout %.1f ms\n", median(t_refs),
+                median(t_build), median(t_convert));
+    if (o.build_only) return;
+
+    const auto sets = make_rays(mesh, o.rays);
+    const accel::BruteAccel brute(view);
+    const std::size_t check = std::max<std::size_t>(16, std::size_t(2e8 / double(mesh.triangle_count()) / 2));
+    std::printf("| structure | build ms | SAH cost | nodes | depth | B/tri | brute disagreements (%zu rays) |",
+                std::min(check, o.rays) * 2);
+    for (const auto& s : sets) std::printf(" %s Mrays/s |", s.name.c_str());
+    std::printf("\n|---|---|---|---|---|---|---|");
+    for (std::size_t i = 0; i < sets.size(); ++i) std::printf("---|");
+    std::printf("\n");
+    for (const auto& [kname, kind] : kinds) {
+        if (!built.count(kname)) continue;
+        const accel::Accel& a = *built[kname];
+        const std::size_t bad = validate(a, brute, sets, check);
+        std::printf("| %s | %.1f | %.2f | %zu | %u | %.1f | %zu |", kname.c_str(), median(times[kname]), a.stats().sah_cost,
+                    a.stats().nodes, a.stats().max_depth, a.stats().bytes_per_triangle(), bad);
+        for (const auto& s : sets) {
+            std::vector<accel::Hit> hits(s.rays.size());
+            std::vector<double> tt;
+            for (int r = 0; r < o.repeat; ++r) {
+                const accel::Timer t;
+                accel::trace_parallel(a, s.rays, hits, accel::Query::closest, accel::TracePath::scalar);
+                tt.push_back(t.ms());
+            }
+            std::printf(" %.2f |", double(s.rays.size()) / median(tt) * 1e-3);
+        }
+        std::printf("\n");
+    }
+    if (mesh.triangle_count() <= o.sweep_max) {
+        const accel::Timer t;
+        const accel::BinaryBvh sweep = accel::build_bvh_sah_sweep(accel::make_prim_refs(view), cfg);
+        const double ms = t.ms();
+        const double sweep_cost = accel::bvh_tree_stats(sweep).sah_cost;
+        std::printf("full-sweep SAH: cost %.2f (built in %.0f ms); bvh-sah / sweep = %.4f\n", sweep_cost, ms,
+                    built.count("bvh-sah") ? built["bvh-sah"]->stats().sah_cost / sweep_cost : 0.0);
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string k = argv[i], v = argv[i + 1];
+        if (k == "--model") o.model = v;
+        else if (k == "--copies") o.copies = std::atoi(v.c_str());
+        else if (k == "--repeat") o.repeat = std::max(1, std::atoi(v.c_str()));
+        else if (k == "--threads") o.threads = std::max(1, std::atoi(v.c_str()));
+        else if (k == "--rays") o.rays = std::size_t(std::atoll(v.c_str()));
+        else if (k == "--build-only") o.build_only = v != "0";
+        else if (k == "--sweep-max") o.sweep_max = std::size_t(std::atoll(v.c_str()));
+        else {
+            std::fprintf(stderr, "bench_bvh: unknown option %s\n", k.c_str());
+            return 2;
+        }
+    }
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(o.threads));
+    engine::Warnings w;
+    engine::Mesh model;
+    try {
+        model = engine::load_obj(o.model, w);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_bvh: %s\n", e.what());
+        return 1;
+    }
+    run_scene(o.model.substr(o.model.find_last_of('/') + 1), model, o);
+    if (o.copies > 1) run_scene("replicated x" + std::to_string(o.copies), replicate(model, o.copies), o);
+    return 0;
+}
