@@ -20,7 +20,7 @@ void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
         ->check(CLI::Range(1u, 1u << 16))
         ->capture_default_str();
     cmd.add_option("--sah-bins", cfg.sah_bins, "bins per axis of the binned SAH build (bvh-sah)")
-        ->check(CLI::Range(2u, 64u))
+        ->check(CLI::Range(2u, 32u))
         ->capture_default_str();
 }
 
