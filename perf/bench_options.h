@@ -26,9 +26,16 @@ struct BenchOptions {
     /// Also time brute (only sensible on tiny scenes).
     bool time_brute = false;
     /// Rays per (scene, kind).
-    std::size_t rays = std::size_t(1) << 18;
+    std::size_t rays = std::size_t(1) << 17;
     /// Rays per (scene, kind) on the replicated scaling scenes (only primary and diffuse run there).
     std::size_t scaling_rays = std::size_t(1) << 17;
+    /// Wall-time budget for timing one (scene, kind): when the repeats would take longer, fewer
+    /// rays of the same kind are timed (a coarser image, same seed), at least min_timed_rays.
+    double kind_seconds = 4.0;
+    std::size_t min_timed_rays = std::size_t(1) << 14;
+    /// Scenes above this many triangles are built once, timed at all threads only, and run Embree's
+    /// default mode only.
+    std::size_t big_scene = 2000000;
     /// Timed repeats per configuration (median, min, max); builds repeat `build_repeats` times
     /// (once on scenes above 2M triangles).
     int repeats = 5;
@@ -37,7 +44,7 @@ struct BenchOptions {
     std::vector<int> threads{1, 0};
     /// Brute-force validation budget: about this many ray/triangle tests per (scene, kind); the
     /// sample is budget / triangles rays, clamped to [min_sample, max_sample].
-    double brute_budget = 2e9;
+    double brute_budget = 5e8;
     std::size_t min_sample = 32, max_sample = 2048;
     /// Rays per (scene, kind, structure) traced in the statistics mode (TraceCounters).
     std::size_t count_sample = 4096;

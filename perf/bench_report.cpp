@@ -198,7 +198,7 @@ std::string to_json(const BenchResult& r) {
         nlohmann::json x;
         x["scene"] = row.scene, x["family"] = row.family, x["kind"] = row.kind, x["query"] = row.query;
         x["structure"] = row.structure, x["path"] = row.path, x["embree"] = row.embree, x["threads"] = row.threads;
-        x["triangles"] = row.triangles, x["rays"] = row.rays;
+        x["triangles"] = row.triangles, x["rays"] = row.rays, x["validated_rays"] = row.validated_rays;
         x["build_ms"] = stat(row.build_ms), x["trace_ms"] = stat(row.trace_ms), x["mrays_per_s"] = stat(row.mrays);
         x["nodes"] = num(row.nodes), x["leaves"] = num(row.leaves), x["max_depth"] = num(row.max_depth);
         x["sah_cost"] = num(row.sah_cost), x["bytes_per_triangle"] = num(row.bytes_per_triangle);
@@ -222,7 +222,7 @@ std::string to_json(const BenchResult& r) {
 
 std::string to_csv(const BenchResult& r) {
     std::ostringstream out;
-    out << "scene,family,kind,query,structure,path,embree,threads,triangles,rays,build_ms,build_ms_min,build_ms_max,"
+    out << "scene,family,kind,query,structure,path,embree,threads,triangles,rays,validated_rays,build_ms,build_ms_min,build_ms_max,"
            "trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,mrays_per_s_min,mrays_per_s_max,nodes,leaves,max_depth,"
            "sah_cost,bytes_per_triangle,nodes_per_ray,tris_per_ray,brute_sample,err_brute,err_scalar,err_embree,"
            "ratio_embree";
@@ -230,7 +230,7 @@ std::string to_csv(const BenchResult& r) {
     out << '\n';
     for (const auto& row : r.rows) {
         out << row.scene << ',' << row.family << ',' << row.kind << ',' << row.query << ',' << row.structure << ','
-            << row.path << ',' << (row.embree ? 1 : 0) << ',' << row.threads << ',' << row.triangles << ',' << row.rays;
+            << row.path << ',' << (row.embree ? 1 : 0) << ',' << row.threads << ',' << row.triangles << ',' << row.rays << ',' << row.validated_rays;
         for (const Stat3* s : {&row.build_ms, &row.trace_ms, &row.mrays})
             out << ',' << csv_num(s->median) << ',' << csv_num(s->min) << ',' << csv_num(s->max);
         for (double v : {row.nodes, row.leaves, row.max_depth, row.sah_cost, row.bytes_per_triangle, row.nodes_per_ray,

@@ -24,7 +24,9 @@ struct BenchRow {
     std::string path;                        ///< scalar|packet|single, or the Embree call 1|8|16|1M
     bool embree = false;
     int threads = 0;
-    std::size_t triangles = 0, rays = 0;
+    std::size_t triangles = 0;
+    std::size_t rays = 0;            ///< rays timed
+    std::size_t validated_rays = 0;  ///< rays of the error columns (the timed ones or a finer image of them)
 
     Stat3 build_ms;  ///< wall time of the build at this thread count (Embree: rtcCommitScene)
     Stat3 trace_ms;  ///< wall time of tracing all rays

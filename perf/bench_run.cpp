@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstdarg>
 #include <cstdio>
+#include <functional>
 #include <map>
 
 namespace arbor::perf {
@@ -92,7 +93,8 @@ struct KindInput {
     engine::RayKind kind;
     Query query;
     bool coherent;
-    std::vector<Ray> rays;
+    std::vector<Ray> rays;                                    ///< validated (all of them)
+    std::function<std::vector<Ray>(std::size_t)> make_rays;  ///< the same kind and seed, another count
 };
 
 void run_kind(const KindInput& in, const std::vector<Built>& built, const std::vector<TraceConfig>& configs,
@@ -111,9 +113,15 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     std::vector<Hit> truth(sample_rays.size());
     accel::trace_parallel(brute, sample_rays, truth, in.query, accel::TracePath::scalar, 16);
 
-    // 2. Every configuration once on all rays (all threads): the answers for the error columns.
+    // 2. Every configuration once on all rays (all threads): the answers for the error columns,
+    // and a first time for planning.
     std::vector<std::vector<Hit>> answers(configs.size(), std::vector<Hit>(n));
-    for (std::size_t c = 0; c < configs.size(); ++c) configs[c].trace(rays, answers[c], in.query, in.coherent);
+    double pass_ms = 0.0;
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+        const accel::Timer timer;
+        configs[c].trace(rays, answers[c], in.query, in.coherent);
+        pass_ms += timer.ms();
+    }
     const std::vector<Hit>* embree_ref = nullptr;
     std::map<const Built*, const std::vector<Hit>*> scalar_ref;
     for (std::size_t c = 0; c < configs.size(); ++c) {
@@ -136,8 +144,21 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     }
 
     // 4. Timing: K repeats at each thread count, all configurations round-robin, the order
-    // rotated each repeat.
-    std::vector<Hit> scratch(n);
+    // rotated each repeat. When that would take longer than o.kind_seconds, the timed rays are a
+    // smaller set of the same kind and seed (a coarser image), never fewer than o.min_timed_rays.
+    // The first pass ran on all threads; at t threads a pass takes about all/t times as long.
+    const int all = *std::max_element(threads.begin(), threads.end());
+    double slowdown = 0.0;
+    for (const int t : threads) slowdown += double(all) / double(t);
+    const double projected_s = pass_ms * 1e-3 * double(o.repeats) * slowdown;
+    std::vector<Ray> fewer;
+    if (projected_s > o.kind_seconds && n > o.min_timed_rays && in.make_rays) {
+        const auto m = std::max(o.min_timed_rays, std::size_t(double(n) * o.kind_seconds / projected_s));
+        fewer = in.make_rays(m);
+    }
+    const std::vector<Ray>& timed = fewer.empty() ? rays : fewer;
+    const std::size_t nt = timed.size();
+    std::vector<Hit> scratch(nt);
     for (const int t : threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
         std::vector<std::vector<double>> ms(configs.size());
@@ -145,7 +166,7 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             for (std::size_t j = 0; j < configs.size(); ++j) {
                 const std::size_t c = (j + std::size_t(rep)) % configs.size();
                 const accel::Timer timer;
-                configs[c].trace(rays, scratch, in.query, in.coherent);
+                configs[c].trace(timed, scratch, in.query, in.coherent);
                 ms[c].push_back(timer.ms());
             }
         }
@@ -162,11 +183,12 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             r.embree = b.is_embree();
             r.threads = t;
             r.triangles = tris;
-            r.rays = n;
+            r.rays = nt;
+            r.validated_rays = n;
             const auto bt = b.build_ms.find(t);
             if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second);
             r.trace_ms = summarize(ms[c]);
-            const double mr = double(n) * 1e-3;  // rays per ms -> Mrays/s
+            const double mr = double(nt) * 1e-3;  // rays per ms -> Mrays/s
             r.mrays = {mr / r.trace_ms.median, mr / r.trace_ms.max, mr / r.trace_ms.min};
             if (b.accel) {
                 const accel::BuildStats& s = b.accel->stats();
@@ -189,7 +211,8 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             out.rows.push_back(std::move(r));
         }
     }
-    log("  %s: %zu rays, brute sample %zu, %zu configurations", kind_name.c_str(), n, sample.size(), configs.size());
+    log("  %s: %zu rays validated (brute sample %zu), %zu timed, %zu configurations", kind_name.c_str(), n,
+        sample.size(), nt, configs.size());
 }
 
 /// Ratio of each row's median Mrays/s to the best call of Embree's default mode on the same
@@ -213,12 +236,22 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
     const std::size_t tris = view.triangle_count();
     const bool scaling = bs.family == "replicated";
     log("scene %s: %zu triangles", bs.name.c_str(), tris);
-    const int build_repeats = tris > 2000000 ? 1 : std::max(o.build_repeats, 1);
-    std::vector<Built> built = build_structures(view, o, threads, build_repeats, out.notes);
+    // Big scenes: one build, all threads only, Embree's default mode only.
+    const bool big = tris > o.big_scene;
+    const int all = *std::max_element(threads.begin(), threads.end());
+    const std::vector<int> scene_threads = big ? std::vector<int>{all} : threads;
+    BenchOptions so = o;
+    if (big) {
+        so.embree_variants = false;
+        out.notes.push_back(bs.name + ": above " + std::to_string(o.big_scene) +
+                            " triangles: one build per structure, " + std::to_string(all) +
+                            " threads only, Embree default mode only");
+    }
+    const int build_repeats = big ? 1 : std::max(o.build_repeats, 1);
+    std::vector<Built> built = build_structures(view, so, scene_threads, build_repeats, out.notes);
     for (const Built& b : built) {
-        const auto& v = b.build_ms.at(threads.back());
-        log("  built %s: %.1f ms (median of %zu at %d threads)", b.name.c_str(), summarize(v).median, v.size(),
-            threads.back());
+        const auto& v = b.build_ms.at(all);
+        log("  built %s: %.1f ms (median of %zu at %d threads)", b.name.c_str(), summarize(v).median, v.size(), all);
     }
     const std::vector<TraceConfig> configs = trace_configs(built);
     const accel::BruteAccel brute(view);
@@ -244,14 +277,19 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
         rc.count = scaling ? o.scaling_rays : o.rays;
         rc.seed = o.seed;
         KindInput in{&bs, kind, kind == engine::RayKind::shadow ? Query::any : Query::closest,
-                     kind == engine::RayKind::primary || kind == engine::RayKind::shadow, {}};
+                     kind == engine::RayKind::primary || kind == engine::RayKind::shadow, {}, {}};
+        in.make_rays = [&gscene, rc, &tracer](std::size_t count) {
+            engine::RayGenConfig c = rc;
+            c.count = count;
+            return engine::generate_rays(gscene, c, tracer);
+        };
         try {
-            in.rays = engine::generate_rays(gscene, rc, tracer);
+            in.rays = in.make_rays(rc.count);
         } catch (const engine::InputError& e) {
             out.notes.push_back(bs.name + " " + kname + ": " + e.what());
             continue;
         }
-        run_kind(in, built, configs, brute, o, threads, log, out);
+        run_kind(in, built, configs, brute, o, scene_threads, log, out);
     }
     fill_embree_ratios(out.rows, first_row);
 }
