@@ -268,11 +268,13 @@ BENCHMARK_TEMPLATE(BM_packet_triangle, Float4, true, 1);
 BENCHMARK_TEMPLATE(BM_packet_triangle, Float8, true, 0);
 BENCHMARK_TEMPLATE(BM_packet_triangle, Float8, true, 1);
 BENCHMARK_TEMPLATE(BM_packet_triangle, Float8, false, 0);
+BENCHMARK_TEMPLATE(BM_packet_triangle, Float8, false, 1);
 #endif
 #if XSIMD_WITH_AVX512F
 BENCHMARK_TEMPLATE(BM_packet_triangle, Float16, true, 0);
 BENCHMARK_TEMPLATE(BM_packet_triangle, Float16, true, 1);
 BENCHMARK_TEMPLATE(BM_packet_triangle, Float16, false, 0);
+BENCHMARK_TEMPLATE(BM_packet_triangle, Float16, false, 1);
 #endif
 
 /// Setting rays up: load_packet (transpose + per-lane constants) and wide_ray (broadcast); ns/test
