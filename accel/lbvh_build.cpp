@@ -2,12 +2,12 @@
 
 #include "accel/morton.h"
 #include "accel/radix_sort.h"
+#include "accel/scratch_array.h"
 #include "accel/timer.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <memory>
 #include <stdexcept>
 
 namespace arbor::accel {
@@ -43,9 +43,9 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOpt
     Timer step;
     const bool packed = opt.morton_bits == 30;
     const MortonQuantizer quantizer(refs.centroid_bounds, packed ? 10 : 21);
-    // Scratch is default-initialized (no zeroing pass): every element is written below.
-    std::unique_ptr<std::uint64_t[]> keys(new std::uint64_t[n]);
-    std::unique_ptr<std::uint32_t[]> values(packed ? nullptr : new std::uint32_t[n]);
+    // Scratch is not zeroed: every element is written below.
+    ScratchArray<std::uint64_t> keys(n);
+    ScratchArray<std::uint32_t> values(packed ? 0 : n);
     if (packed) {
         parallel_range(n, [&](std::size_t i) {
             keys[i] = (std::uint64_t(quantizer.code30(refs.centroid(i))) << 32) | std::uint64_t(i);
@@ -64,38 +64,27 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOpt
     sort_cfg.digit_bits = opt.digit_bits;
     sort_cfg.begin_bit = packed ? 32 : 0;
     sort_cfg.end_bit = packed ? 62 : 63;
-    const std::span<std::uint64_t> key_span(keys.get(), n);
-    const std::size_t sort_bytes =
-        radix_sort(key_span, packed ? std::span<std::uint32_t>() : std::span<std::uint32_t>(values.get(), n), sort_cfg);
+    const std::size_t sort_bytes = radix_sort(keys.span(), values.span(), sort_cfg);
     t.sort_ms = step.ms();
 
-    // 3. Boxes and triangle ids in sorted order: the hierarchy then reads them sequentially.
-    step = Timer();
-    std::unique_ptr<Bounds[]> boxes(new Bounds[n]);
-    bvh.prim_ids.resize(n);
-    parallel_range(n, [&](std::size_t i) {
-        const std::uint32_t r = packed ? std::uint32_t(keys[i]) : values[i];
-        boxes[i] = refs.box(r);
-        bvh.prim_ids[i] = refs.prim_ids[r];
-    });
-    values.reset();
-    t.gather_ms = step.ms();
-
-    // 4. Hierarchy; leaf ranges are sorted positions, which is exactly the order of prim_ids.
+    // 3. Hierarchy. The leaves read the boxes and triangle ids through the sorted references (no
+    //    separate gather pass); leaf ranges are sorted positions, the order of prim_ids.
     step = Timer();
     RadixTreeInput in;
-    in.keys = std::span<const std::uint64_t>(keys.get(), n);
+    in.keys = std::span<const std::uint64_t>(keys.data(), n);
     in.code_shift = packed ? 32 : 0;
-    in.boxes = std::span<const Bounds>(boxes.get(), n);
+    in.sorted_refs = values.span();
+    in.prims = &refs;
     in.max_leaf_size = cfg.max_leaf_size;
     in.parallel_threshold = cfg.parallel_threshold;
     RadixTreeResult tree = build_radix_tree(in, opt.hierarchy);
     bvh.nodes = std::move(tree.nodes);
+    bvh.prim_ids = std::move(tree.prim_ids);
     t.hierarchy_ms = step.ms();
 
     const std::size_t key_bytes = n * (sizeof(std::uint64_t) + (packed ? 0 : sizeof(std::uint32_t)));
     const std::size_t sort_peak = key_bytes + sort_bytes;
-    const std::size_t tree_peak = n * (sizeof(std::uint64_t) + sizeof(Bounds) + sizeof(std::uint32_t)) + tree.temp_bytes +
+    const std::size_t tree_peak = key_bytes + tree.temp_bytes + bvh.prim_ids.size() * sizeof(std::uint32_t) +
                                   bvh.nodes.size() * sizeof(BvhBuildNode);
     bvh.build_peak_bytes = refs.memory_bytes() + std::max(sort_peak, tree_peak);
     return bvh;

@@ -20,7 +20,7 @@ struct LbvhOptions {
 
 /// Wall time of each step, for the benchmark.
 struct LbvhTimings {
-    double codes_ms = 0, sort_ms = 0, gather_ms = 0, hierarchy_ms = 0;
+    double codes_ms = 0, sort_ms = 0, hierarchy_ms = 0;
 };
 
 /// Builds the LBVH over `refs` with cfg.max_leaf_size (leaves hold at most that many primitives)

@@ -1,10 +1,11 @@
 #include "accel/radix_sort.h"
 
+#include "accel/scratch_array.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -36,17 +37,17 @@ std::size_t sort_impl(std::span<Key> keys, std::span<std::uint32_t> values, cons
     const std::size_t nblocks = (n + block - 1) / block;
     const bool with_values = !values.empty();
 
-    // Scratch: default-initialized (not zeroed); every element is written by the first scatter.
-    std::unique_ptr<Key[]> tmp_keys(new Key[n]);
-    std::unique_ptr<std::uint32_t[]> tmp_values(with_values ? new std::uint32_t[n] : nullptr);
+    // Scratch: not zeroed; every element is written by the first scatter.
+    ScratchArray<Key> tmp_keys(n);
+    ScratchArray<std::uint32_t> tmp_values(with_values ? n : 0);
     // counts[b * radix + d]: how many keys of block b have digit d; turned into offsets in place.
     std::vector<std::size_t> counts(nblocks * radix);
     std::size_t scratch = n * sizeof(Key) + (with_values ? n * sizeof(std::uint32_t) : 0) + counts.size() * sizeof(std::size_t);
 
     Key* src_k = keys.data();
-    Key* dst_k = tmp_keys.get();
+    Key* dst_k = tmp_keys.data();
     std::uint32_t* src_v = values.data();
-    std::uint32_t* dst_v = tmp_values.get();
+    std::uint32_t* dst_v = tmp_values.data();
 
     for (int shift = begin_bit; shift < end_bit; shift += digit_bits) {
         const Key mask = Key((std::size_t(1) << std::min(digit_bits, end_bit - shift)) - 1);

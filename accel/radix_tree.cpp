@@ -1,5 +1,7 @@
 #include "accel/radix_tree.h"
 
+#include "accel/scratch_array.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -7,7 +9,6 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <memory>
 #include <stdexcept>
 
 namespace arbor::accel {
@@ -21,7 +22,12 @@ struct InnerNode {
     std::uint32_t split;  ///< gamma: the left child covers [first, gamma], the right [gamma + 1, last]
     std::uint32_t count;  ///< nodes of the collapsed subtree in the output (1 when it became a leaf)
 };
-static_assert(std::is_trivially_default_constructible_v<InnerNode>);
+
+/// Box and output node count of a subtree.
+struct Subtree {
+    Bounds box;
+    std::uint32_t count;
+};
 
 /// Length of the common prefix of the augmented keys at sorted positions i and j; -1 when j is
 /// outside [0, n).
@@ -41,39 +47,41 @@ private:
     int shift_;
 };
 
-Bounds box_of(const InnerNode& n) { return {n.lo, n.hi}; }
-
 class TreeBuilder {
 public:
-    explicit TreeBuilder(const RadixTreeInput& in)
-        : in_(in), n_(std::uint32_t(in.keys.size())), m_(std::max<std::uint32_t>(in.max_leaf_size, 1)),
-          delta_(in.keys, in.code_shift), inner_(new InnerNode[n_ - 1]) {}
+    TreeBuilder(const RadixTreeInput& in, std::vector<std::uint32_t>& prim_ids)
+        : in_(in), prims_(*in.prims), prim_ids_(prim_ids), n_(std::uint32_t(in.keys.size())),
+          m_(std::max<std::uint32_t>(in.max_leaf_size, 1)), delta_(in.keys, in.code_shift), inner_(n_ - 1) {}
 
-    std::size_t inner_bytes() const { return std::size_t(n_ - 1) * sizeof(InnerNode); }
+    std::size_t temp_bytes() const {
+        return inner_.bytes() + first_.bytes() + last_.bytes() + inner_parent_.bytes() + leaf_parent_.bytes() + visits_.bytes();
+    }
 
     /// Karras 2012, Figure 4: node i finds the direction of its range, the other end j by an
-    /// exponential then a binary search, and its split gamma by a binary search.
+    /// exponential then a binary search, and its split gamma by a binary search. Then bounds
+    /// bottom-up, with one visit counter per node.
     void karras() {
-        first_.reset(new std::uint32_t[n_ - 1]);
-        last_.reset(new std::uint32_t[n_ - 1]);
-        inner_parent_.reset(new std::uint32_t[n_ - 1]);
-        leaf_parent_.reset(new std::uint32_t[n_]);
+        first_ = ScratchArray<std::uint32_t>(n_ - 1);
+        last_ = ScratchArray<std::uint32_t>(n_ - 1);
+        inner_parent_ = ScratchArray<std::uint32_t>(n_ - 1);
+        leaf_parent_ = ScratchArray<std::uint32_t>(n_);
+        visits_ = ScratchArray<std::uint32_t>(n_ - 1);
         tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, std::int64_t(n_) - 1, 4096),
                           [&](const tbb::blocked_range<std::int64_t>& r) {
                               for (std::int64_t i = r.begin(); i != r.end(); ++i) karras_node(i);
+                              std::fill(visits_.data() + r.begin(), visits_.data() + r.end(), 0u);
                           });
-        // Bottom-up: from every leaf, climb while this thread is the second to arrive at a node (so
-        // both children are done). The visit counters only order the work: every value written is
-        // the same whoever arrives second.
-        std::unique_ptr<std::atomic<std::uint32_t>[]> visits(new std::atomic<std::uint32_t>[n_ - 1]);
-        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n_ - 1, 16384), [&](const tbb::blocked_range<std::uint32_t>& r) {
-            for (std::uint32_t i = r.begin(); i != r.end(); ++i) visits[i].store(0, std::memory_order_relaxed);
-        });
-        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n_, 4096), [&](const tbb::blocked_range<std::uint32_t>& r) {
-            for (std::uint32_t p = r.begin(); p != r.end(); ++p) {
+        // From every leaf, climb while this thread is the second to arrive at a node (so both
+        // children are done). The counters only order the work: every value written is the same
+        // whoever arrives second, and acq_rel makes the first arrival's writes visible.
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n_, 4096), [&](const tbb::blocked_range<std::uint32_t>& range) {
+            for (std::uint32_t p = range.begin(); p != range.end(); ++p) {
+                prim_ids_[p] = prims_.prim_ids[ref(p)];
                 std::uint32_t node = leaf_parent_[p];
-                while (visits[node].fetch_add(1, std::memory_order_acq_rel) == 1) {
-                    finish(node, first_[node], last_[node]);
+                while (std::atomic_ref<std::uint32_t>(visits_[node]).fetch_add(1, std::memory_order_acq_rel) == 1) {
+                    const std::uint32_t first = first_[node], last = last_[node], g = inner_[node].split;
+                    const Subtree l = child(g, first, g), r = child(g + 1, g + 1, last);
+                    store(node, first, last, g, l, r);
                     if (node == 0) break;
                     node = inner_parent_[node];
                 }
@@ -81,20 +89,23 @@ public:
         });
     }
 
-    /// Top-down: root covers [0, n - 1]; recursion in parallel above the threshold.
+    /// Top-down: root covers [0, n - 1]; recursion in parallel above the threshold. Stops at
+    /// subtrees of at most max_leaf_size primitives.
     void top_down() { top_down_node(0, 0, n_ - 1); }
 
     /// Writes the collapsed tree in the canonical layout.
-    std::vector<BvhBuildNode> emit() {
+    std::vector<BvhBuildNode> emit() const {
         std::vector<BvhBuildNode> nodes(inner_[0].count);
         emit_node(nodes, 0, 0, n_ - 1, 0, 1);
         return nodes;
     }
 
-    std::size_t karras_bytes() const { return std::size_t(n_ - 1) * 4 * sizeof(std::uint32_t) + std::size_t(n_) * 4; }
-
 private:
-    std::uint32_t size(std::uint32_t first, std::uint32_t last) const { return last - first + 1; }
+    static std::uint32_t size(std::uint32_t first, std::uint32_t last) { return last - first + 1; }
+
+    std::uint32_t ref(std::uint32_t p) const {
+        return in_.sorted_refs.empty() ? std::uint32_t(in_.keys[p]) : in_.sorted_refs[p];
+    }
 
     void karras_node(std::int64_t i) {
         const int d = delta_(i, i + 1) > delta_(i, i - 1) ? 1 : -1;
@@ -133,48 +144,55 @@ private:
         return lo - 1;
     }
 
-    /// Box and output node count of a child range (a single primitive or an internal node).
-    Bounds child_box(std::uint32_t idx, std::uint32_t first, std::uint32_t last) const {
-        return first == last ? in_.boxes[first] : box_of(inner_[idx]);
-    }
-    std::uint32_t child_count(std::uint32_t idx, std::uint32_t first, std::uint32_t last) const {
-        return first == last ? 1u : inner_[idx].count;
+    /// A finished child: one primitive (read from the prim refs) or internal node idx.
+    Subtree child(std::uint32_t idx, std::uint32_t first, std::uint32_t last) const {
+        if (first == last) return {prims_.box(ref(first)), 1};
+        return {{inner_[idx].lo, inner_[idx].hi}, inner_[idx].count};
     }
 
-    /// Box and count of internal node idx from its children (both finished).
-    void finish(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
+    /// Records internal node idx from its two children; a subtree of at most m_ primitives
+    /// becomes one leaf.
+    Subtree store(std::uint32_t idx, std::uint32_t first, std::uint32_t last, std::uint32_t g, const Subtree& l,
+                  const Subtree& r) {
         InnerNode& node = inner_[idx];
-        const std::uint32_t g = node.split;
-        Bounds box = child_box(g, first, g);
-        box.grow(child_box(g + 1, g + 1, last));
+        Bounds box = l.box;
+        box.grow(r.box);
         node.lo = box.lo, node.hi = box.hi;
-        node.count = size(first, last) <= m_ ? 1u : 1u + child_count(g, first, g) + child_count(g + 1, g + 1, last);
+        node.split = g;
+        node.count = size(first, last) <= m_ ? 1u : 1u + l.count + r.count;
+        return {box, node.count};
     }
 
-    void top_down_node(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
-        InnerNode& node = inner_[idx];
-        if (size(first, last) <= m_) {  // a leaf: its box is all that is needed
+    Subtree top_down_node(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
+        if (size(first, last) <= m_) {  // a leaf: its box and its triangle ids are all that is needed
             Bounds box;
-            for (std::uint32_t p = first; p <= last; ++p) box.grow(in_.boxes[p]);
-            node.lo = box.lo, node.hi = box.hi;
-            node.count = 1;
-            return;
+            for (std::uint32_t p = first; p <= last; ++p) {
+                const std::uint32_t r = ref(p);
+                box.grow(prims_.box(r));
+                prim_ids_[p] = prims_.prim_ids[r];
+            }
+            if (first != last) {  // a single primitive has no internal node
+                InnerNode& node = inner_[idx];
+                node.lo = box.lo, node.hi = box.hi;
+                node.count = 1;
+            }
+            return {box, 1};
         }
         const std::uint32_t g = find_split(first, last);
-        node.split = g;
-        auto left = [&] { if (g > first) top_down_node(g, first, g); };
-        auto right = [&] { if (g + 1 < last) top_down_node(g + 1, g + 1, last); };
+        Subtree l, r;
+        auto left = [&] { l = top_down_node(g, first, g); };
+        auto right = [&] { r = top_down_node(g + 1, g + 1, last); };
         if (size(first, last) > in_.parallel_threshold) tbb::parallel_invoke(left, right);
         else left(), right();
-        finish(idx, first, last);
+        return store(idx, first, last, g, l, r);
     }
 
     /// Writes node idx (range [first, last]) at `out`; its descendants go from `desc` on.
     void emit_node(std::vector<BvhBuildNode>& nodes, std::uint32_t idx, std::uint32_t first, std::uint32_t last,
                    std::uint32_t out, std::uint32_t desc) const {
         BvhBuildNode& node = nodes[out];
-        node.box = child_box(idx, first, last);
         const std::uint32_t count = size(first, last);
+        node.box = child(idx, first, last).box;
         if (count <= m_) {
             node.first = first;
             node.count = count;
@@ -183,7 +201,7 @@ private:
         node.first = desc;
         node.count = 0;
         const std::uint32_t g = inner_[idx].split;
-        const std::uint32_t left_nodes = child_count(g, first, g);
+        const std::uint32_t left_nodes = g == first ? 1u : inner_[g].count;
         auto left = [&] { emit_node(nodes, g, first, g, desc, desc + 2); };
         auto right = [&] { emit_node(nodes, g + 1, g + 1, last, desc + 1, desc + 2 + left_nodes - 1); };
         if (count > in_.parallel_threshold) tbb::parallel_invoke(left, right);
@@ -191,33 +209,39 @@ private:
     }
 
     const RadixTreeInput& in_;
+    const PrimRefs& prims_;
+    std::vector<std::uint32_t>& prim_ids_;
     std::uint32_t n_, m_;
     Delta delta_;
-    std::unique_ptr<InnerNode[]> inner_;
-    // Karras only: each internal node's range and parent, each primitive's parent.
-    std::unique_ptr<std::uint32_t[]> first_, last_, inner_parent_, leaf_parent_;
+    ScratchArray<InnerNode> inner_;
+    // Karras only: each internal node's range, parent and visit counter, each primitive's parent.
+    ScratchArray<std::uint32_t> first_, last_, inner_parent_, leaf_parent_, visits_;
 };
 
 }  // namespace
 
 RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod method) {
-    if (in.keys.size() != in.boxes.size()) throw std::invalid_argument("build_radix_tree: keys and boxes differ in size");
+    if (!in.prims) throw std::invalid_argument("build_radix_tree: no prim refs");
+    if (!in.sorted_refs.empty() && in.sorted_refs.size() != in.keys.size())
+        throw std::invalid_argument("build_radix_tree: sorted_refs and keys differ in size");
     if (in.keys.size() >= std::size_t(1) << 31) throw std::invalid_argument("build_radix_tree: too many primitives");
     RadixTreeResult result;
     const std::uint32_t n = std::uint32_t(in.keys.size());
     if (n == 0) return result;
+    result.prim_ids.resize(n);
     if (n == 1) {
-        result.nodes.push_back({in.boxes[0], 0, 1});
+        const std::uint32_t r = in.sorted_refs.empty() ? std::uint32_t(in.keys[0]) : in.sorted_refs[0];
+        result.prim_ids[0] = in.prims->prim_ids[r];
+        result.nodes.push_back({in.prims->box(r), 0, 1});
         return result;
     }
-    TreeBuilder builder(in);
-    result.temp_bytes = builder.inner_bytes();
+    TreeBuilder builder(in, result.prim_ids);
     if (method == RadixTreeMethod::karras) {
         builder.karras();
-        result.temp_bytes += builder.karras_bytes();
     } else {
         builder.top_down();
     }
+    result.temp_bytes = builder.temp_bytes();
     result.nodes = builder.emit();
     return result;
 }

@@ -10,6 +10,7 @@
 /// the root, and an internal node's children are its split position gamma (left) and gamma + 1
 /// (right). Both methods below build the same tree, so their outputs are bit-identical.
 #include "accel/binary_bvh.h"
+#include "accel/prim_refs.h"
 
 #include <cstdint>
 #include <span>
@@ -33,8 +34,11 @@ struct RadixTreeInput {
     /// payload, e.g. the primitive index under a 30-bit code).
     std::span<const std::uint64_t> keys;
     int code_shift = 0;
-    /// Box of the primitive at each sorted position.
-    std::span<const Bounds> boxes;
+    /// The reference (index into prims) at each sorted position; when empty, the low 32 bits of
+    /// keys[i] hold it.
+    std::span<const std::uint32_t> sorted_refs;
+    /// Boxes and triangle ids of the references (read once per primitive, at the leaves).
+    const PrimRefs* prims = nullptr;
     std::uint32_t max_leaf_size = 4;        ///< collapse subtrees of at most this many primitives (>= 1)
     std::uint32_t parallel_threshold = 1024; ///< subtrees smaller than this run serially
 };
@@ -43,11 +47,14 @@ struct RadixTreeResult {
     /// Canonical layout: depth-first, siblings adjacent, children after parents. Leaf ranges are
     /// sorted positions (first, count); they tile [0, n) in order.
     std::vector<BvhBuildNode> nodes;
+    /// Triangle id of each sorted position (BinaryBvh::prim_ids).
+    std::vector<std::uint32_t> prim_ids;
     std::size_t temp_bytes = 0;  ///< temporary memory used on top of the inputs and the output
 };
 
-/// Builds the collapsed tree over keys.size() == boxes.size() primitives (empty input: no nodes;
-/// one primitive: one leaf). Deterministic: the result depends only on the input.
+/// Builds the collapsed tree over keys.size() primitives (empty input: no nodes; one primitive:
+/// one leaf). Requires prims, and sorted_refs empty or of keys.size() (std::invalid_argument).
+/// Deterministic: the result depends only on the input.
 RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod method);
 
 }  // namespace arbor::accel
