@@ -55,6 +55,8 @@ struct BenchOptions {
     /// Embree modes beyond the default (MEDIUM, not robust, every call): HIGH and ROBUST with
     /// rtcIntersect1 and the stream call.
     bool embree_variants = true;
+    /// Evaluate --accel auto on every (scene, kind, threads, budget).
+    bool evaluate_auto = true;
     std::uint64_t seed = 1;
     /// Print progress lines on stderr.
     bool verbose = true;

@@ -31,6 +31,7 @@ struct BenchRow {
     Stat3 build_ms;  ///< wall time of the build at this thread count (Embree: rtcCommitScene)
     Stat3 trace_ms;  ///< wall time of tracing all rays
     Stat3 mrays;     ///< rays / trace time, in millions per second (min from the slowest run)
+    std::vector<double> build_samples, trace_samples;  ///< every build / timed trace, ms, in run order
 
     // Structure statistics (NaN / 0 when the structure does not report them).
     double nodes = nan_value, leaves = nan_value, max_depth = nan_value, sah_cost = nan_value;
@@ -57,7 +58,15 @@ struct AutoRow {
     double budget = 0.0;
     std::string picked, best;   ///< structure auto picked, structure with the smallest measured total
     double picked_ms = 0.0, best_ms = 0.0;
-    double regret = 0.0;        ///< picked_ms / best_ms - 1
+    double regret = 0.0;        ///< picked_ms / best_ms - 1 (NaN: auto picked a structure not timed)
+    double overhead_ms = 0.0;   ///< auto's own calibration: builds on the (sub)scene + sample traces
+    double regret_with_overhead = 0.0;  ///< (picked_ms + overhead_ms) / best_ms - 1
+    /// The regret with totals from the fastest build and trace repeats instead of the medians (less
+    /// sensitive to other work on a shared machine).
+    double regret_fastest = 0.0;
+    /// Noise floor: the regret of an oracle that picks on half of the repeats and is judged on the
+    /// other half. Where this is above 10%, no predictor can be reliably within 10% in this run.
+    double oracle_split_regret = 0.0;
     std::string reason;
 };
 

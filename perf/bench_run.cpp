@@ -1,5 +1,6 @@
 #include "perf/bench_run.h"
 
+#include "accel/auto_select.h"
 #include "accel/brute_accel.h"
 #include "accel/timer.h"
 #include "engine/error.h"
@@ -186,8 +187,9 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             r.rays = nt;
             r.validated_rays = n;
             const auto bt = b.build_ms.find(t);
-            if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second);
+            if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second), r.build_samples = bt->second;
             r.trace_ms = summarize(ms[c]);
+            r.trace_samples = ms[c];
             const double mr = double(nt) * 1e-3;  // rays per ms -> Mrays/s
             r.mrays = {mr / r.trace_ms.median, mr / r.trace_ms.max, mr / r.trace_ms.min};
             if (b.accel) {
@@ -213,6 +215,88 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     }
     log("  %s: %zu rays validated (brute sample %zu), %zu timed, %zu configurations", kind_name.c_str(), n,
         sample.size(), nt, configs.size());
+}
+
+/// --accel auto against the measured rows of one (scene, kind), rows [from, end): for each thread
+/// count and budget, what auto picks when calibrated on this kind's rays, and its regret over the
+/// structure with the smallest measured build + trace total (best path). The overhead is what auto
+/// itself spent: its calibration builds plus tracing the sample.
+/// The noise floor of the measurement: the structure with the smallest total on the even-numbered
+/// repeats, judged by the odd-numbered ones (its regret there). NaN with fewer than 2 repeats.
+double split_half_regret(const std::vector<BenchRow>& rows, std::size_t from, int threads, double budget) {
+    std::map<std::string, std::pair<double, double>> half;  // structure -> (even total, odd total), best path
+    for (std::size_t i = from; i < rows.size(); ++i) {
+        const BenchRow& r = rows[i];
+        if (r.embree || r.threads != threads || r.trace_samples.size() < 2) continue;
+        std::vector<double> even, odd;
+        for (std::size_t k = 0; k < r.trace_samples.size(); ++k) (k % 2 ? odd : even).push_back(r.trace_samples[k]);
+        auto total = [&](const std::vector<double>& v) {
+            return r.build_ms.median + budget * summarize(v).median / double(r.rays);
+        };
+        const std::pair<double, double> t{total(even), total(odd)};
+        auto [it, fresh] = half.emplace(r.structure, t);
+        if (!fresh) it->second = {std::min(it->second.first, t.first), std::min(it->second.second, t.second)};
+    }
+    if (half.empty()) return nan_value;
+    const auto pick = std::min_element(half.begin(), half.end(), [](const auto& x, const auto& y) {
+        return x.second.first < y.second.first;
+    });
+    double best = pick->second.second;
+    for (const auto& [s, t] : half) best = std::min(best, t.second);
+    return pick->second.second / best - 1.0;
+}
+
+struct AutoState {
+    std::unique_ptr<accel::AutoSelector> selector;
+    double construct_ms = 0.0;
+};
+
+void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::size_t from, const BenchOptions& o,
+                   BenchResult& out) {
+    for (auto& [t, st] : autos) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
+        const double before = st.selector->calibration_ms();
+        const auto preds = st.selector->predict(in.rays, in.query == Query::any);
+        const double overhead = st.construct_ms + (st.selector->calibration_ms() - before);
+        for (std::size_t bi = 0; bi < o.budgets.size(); ++bi) {
+            const accel::AutoChoice choice = st.selector->pick(preds, o.budgets[bi]);
+            // structure -> best total over its paths, from the median and from the fastest repeat
+            std::map<std::string, double> measured, fastest;
+            for (std::size_t i = from; i < out.rows.size(); ++i) {
+                const BenchRow& r = out.rows[i];
+                if (r.embree || r.threads != t || bi >= r.total_ms.size()) continue;
+                auto [it, fresh] = measured.emplace(r.structure, r.total_ms[bi]);
+                if (!fresh) it->second = std::min(it->second, r.total_ms[bi]);
+                const double fast = r.build_ms.min + o.budgets[bi] / (r.mrays.max * 1e6) * 1e3;
+                auto [jt, fresh2] = fastest.emplace(r.structure, fast);
+                if (!fresh2) jt->second = std::min(jt->second, fast);
+            }
+            if (measured.empty()) continue;
+            AutoRow a;
+            a.scene = in.scene->name;
+            a.kind = std::string(engine::to_string(in.kind));
+            a.threads = t;
+            a.budget = o.budgets[bi];
+            a.picked = std::string(accel::to_string(choice.kind));
+            const auto best = std::min_element(measured.begin(), measured.end(),
+                                               [](const auto& x, const auto& y) { return x.second < y.second; });
+            a.best = best->first;
+            a.best_ms = best->second;
+            const auto picked = measured.find(a.picked);
+            a.picked_ms = picked == measured.end() ? nan_value : picked->second;
+            a.regret = a.picked_ms / a.best_ms - 1.0;
+            a.overhead_ms = overhead;
+            a.regret_with_overhead = (a.picked_ms + overhead) / a.best_ms - 1.0;
+            const double fastest_best =
+                std::min_element(fastest.begin(), fastest.end(), [](const auto& x, const auto& y) { return x.second < y.second; })
+                    ->second;
+            const auto fastest_picked = fastest.find(a.picked);
+            a.regret_fastest = fastest_picked == fastest.end() ? nan_value : fastest_picked->second / fastest_best - 1.0;
+            a.reason = choice.reason;
+            a.oracle_split_regret = split_half_regret(out.rows, from, t, o.budgets[bi]);
+            out.autos.push_back(std::move(a));
+        }
+    }
 }
 
 /// Ratio of each row's median Mrays/s to the best call of Embree's default mode on the same
@@ -258,7 +342,6 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
 
     // Primary hits for shadow/diffuse rays: the fastest tracer at hand (any correct one gives the
     // same rays up to ties and rounding).
-    std::unique_ptr<accel::Accel> fallback;
     const TraceConfig* gen = nullptr;
     for (const TraceConfig& c : configs)
         if (!gen || (c.built->is_embree() && !gen->built->is_embree())) gen = &c;
@@ -267,6 +350,20 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
         else accel::trace_parallel(brute, r, h, Query::closest);
     };
     const engine::RayGenScene gscene = engine::ray_gen_scene(bs.scene, bs.use_scene_camera);
+
+    // --accel auto, calibrated once per thread count (as a run of `arbor trace --accel auto` would).
+    std::map<int, AutoState> autos;
+    if (o.evaluate_auto) {
+        for (const int t : scene_threads) {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
+            AutoState st;
+            accel::AutoConfig ac;
+            ac.seed = o.seed;
+            st.selector = std::make_unique<accel::AutoSelector>(view, ac);
+            st.construct_ms = st.selector->calibration_ms();
+            autos.emplace(t, std::move(st));
+        }
+    }
 
     const std::size_t first_row = out.rows.size();
     for (const std::string& kname : o.kinds) {
@@ -289,7 +386,9 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
             out.notes.push_back(bs.name + " " + kname + ": " + e.what());
             continue;
         }
+        const std::size_t kind_from = out.rows.size();
         run_kind(in, built, configs, brute, o, scene_threads, log, out);
+        evaluate_auto(in, autos, kind_from, o, out);
     }
     fill_embree_ratios(out.rows, first_row);
 }

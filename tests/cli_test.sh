@@ -108,6 +108,19 @@ expect_error "--leaf-size" "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK
 expect_error "--sah-bins" "$ARBOR" info "$WORK/quad.obj" --accel bvh-sah --sah-bins 1
 expect_error "--leaf-size" "$ARBOR" render --leaf-size x -o "$WORK/x.exr"
 
+# --accel auto: names the structure it picked and says why in one line.
+if "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/primary.rays" --accel auto --json >"$WORK/out" 2>"$WORK/err"; then
+  python3 - "$WORK/out" <<'PY' || fail "trace --accel auto JSON: $(cat "$WORK/out")"
+import json, sys
+j = json.loads(open(sys.argv[1]).read())
+assert j["accel"] in ("brute", "bvh-median", "bvh-sah", "lbvh", "kdtree"), j["accel"]
+assert j["auto_reason"].startswith(j["accel"] + ":") and "\n" not in j["auto_reason"], j["auto_reason"]
+assert j["rays"] == 777 and j["auto_ms"] >= 0, j
+PY
+else
+  fail "trace --accel auto exited $?: $(cat "$WORK/err")"
+fi
+
 # The output of a failed run never replaces an existing file.
 echo keep >"$WORK/keep.hits"
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null

@@ -36,7 +36,10 @@ int run_render(const RenderOptions& o) {
                                           : engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
     engine::print_warnings(warnings);
     std::string reason;
-    const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason);
+    AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
+    hints.budget = double(o.width) * double(o.height) * double(o.spp) * double(1 + scene.lights.size() + o.depth);
+    hints.build = o.build;
+    const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason, hints);
     const accel::Timer build_timer;
     const auto structure = accel::make_accel(kind, scene.mesh.view(), o.build);
     const double build_ms = build_timer.ms();

@@ -31,12 +31,23 @@ int run_trace(const TraceOptions& o) {
     const engine::Mesh mesh = engine::load_obj(o.scene, warnings);
     const std::vector<accel::Ray> rays = engine::read_rays(o.rays);
     std::string reason;
-    const accel::AccelKind kind = resolve_accel(o.accel, mesh.view(), &reason);
+    std::unique_ptr<accel::Accel> prebuilt;
+    double auto_ms = 0.0;
+    AutoHints hints;
+    hints.sample = rays;
+    hints.any_hit = o.occluded;
+    hints.budget = double(rays.size()) * double(o.repeat);
+    hints.build = o.build;
+    hints.prebuilt = &prebuilt;
+    hints.auto_ms = &auto_ms;
+    const accel::AccelKind kind = resolve_accel(o.accel, mesh.view(), &reason, hints);
     const auto path = *accel::parse_trace_path(o.path);
 
+    // With auto, calibration may have built the pick already: then its own build time counts.
+    const bool was_prebuilt = prebuilt != nullptr;
     const accel::Timer build_timer;
-    const auto structure = accel::make_accel(kind, mesh.view(), o.build);
-    const double build_ms = build_timer.ms();
+    const auto structure = was_prebuilt ? std::move(prebuilt) : accel::make_accel(kind, mesh.view(), o.build);
+    const double build_ms = was_prebuilt ? structure->stats().build_ms : build_timer.ms();
 
     std::vector<accel::Hit> hits(rays.size());
     std::vector<double> times;
@@ -53,7 +64,10 @@ int run_trace(const TraceOptions& o) {
 
     nlohmann::json j;
     j["accel"] = accel::to_string(kind);
-    if (accel::parse_accel_kind(o.accel) == accel::AccelKind::automatic) j["auto_reason"] = reason;
+    if (accel::parse_accel_kind(o.accel) == accel::AccelKind::automatic) {
+        j["auto_reason"] = reason;
+        j["auto_ms"] = auto_ms;
+    }
     j["path"] = accel::to_string(path);
     j["query"] = o.occluded ? "any" : "closest";
     j["triangles"] = mesh.triangle_count();

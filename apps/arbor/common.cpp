@@ -1,5 +1,6 @@
 #include "apps/arbor/common.h"
 
+#include "accel/auto_select.h"
 #include "engine/error.h"
 
 #include <tbb/global_control.h>
@@ -37,13 +38,20 @@ int active_threads() {
     return int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
-accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView&, std::string* reason) {
+accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason,
+                               const AutoHints& hints) {
     const auto kind = accel::parse_accel_kind(name);
     if (!kind) throw engine::InputError("--accel: unknown structure '" + name + "'");
-    if (*kind == accel::AccelKind::automatic)
-        throw engine::InputError("--accel: 'auto' is not available in this build yet; name a structure");
     if (reason) reason->clear();
-    return *kind;
+    if (*kind != accel::AccelKind::automatic) return *kind;
+    accel::AutoConfig cfg;
+    cfg.build = hints.build;
+    accel::AutoSelector selector(tris, cfg);
+    const accel::AutoChoice choice = selector.choose(hints.sample, hints.any_hit, hints.budget);
+    if (reason) *reason = choice.reason;
+    if (hints.prebuilt) *hints.prebuilt = selector.take_built(choice.kind);
+    if (hints.auto_ms) *hints.auto_ms = choice.calibration_ms;
+    return choice.kind;
 }
 
 void put_stats(nlohmann::json& j, const accel::BuildStats& s) {

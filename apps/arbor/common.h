@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <span>
 #include <string>
 
 #include <tbb/global_control.h>
@@ -25,8 +26,21 @@ CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 int active_threads();
 
-/// Resolves an --accel name to a buildable kind (`auto` picks one; `reason` says why).
-accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason);
+/// What `--accel auto` knows about the work ahead (accel/auto_select.h).
+struct AutoHints {
+    std::span<const accel::Ray> sample;  ///< rays like those to be traced (empty: rays into the bounds)
+    bool any_hit = false;
+    double budget = double(1 << 20);     ///< rays to be traced
+    accel::BuildConfig build;
+    /// When set, receives the picked structure if calibration already built it on the whole scene.
+    std::unique_ptr<accel::Accel>* prebuilt = nullptr;
+    double* auto_ms = nullptr;           ///< when set, receives the time auto spent calibrating
+};
+
+/// Resolves an --accel name to a buildable kind. `auto` calibrates and picks the structure with
+/// the smallest predicted build + trace time for `hints`; `reason` gets its one-line why.
+accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason,
+                               const AutoHints& hints = {});
 
 /// Build statistics as JSON fields (nodes, leaves, max_depth, sah_cost, bytes_per_triangle, ...).
 void put_stats(nlohmann::json& j, const accel::BuildStats& s);
