@@ -4,6 +4,7 @@
 #include "accel/bvh_accel.h"
 #include "accel/bvh_build.h"
 #include "accel/lbvh_build.h"
+#include "accel/kdtree_accel.h"
 
 #include <array>
 #include <stdexcept>
@@ -67,6 +68,7 @@ std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, cons
     case AccelKind::bvh_median: return build_bvh_accel(kind, tris, cfg, build_bvh_median);
     case AccelKind::bvh_sah: return build_bvh_accel(kind, tris, cfg, build_bvh_sah);
     case AccelKind::lbvh: return build_bvh_accel(kind, tris, cfg, build_lbvh);
+    case AccelKind::kdtree: return std::make_unique<KdTreeAccel>(tris, cfg);
     case AccelKind::automatic: throw std::invalid_argument("make_accel: resolve 'auto' before building");
     default: break;
     }

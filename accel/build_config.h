@@ -18,7 +18,8 @@ struct BuildConfig {
     std::uint32_t parallel_threshold = 1024;
     /// kd-tree: clip triangles to the node box when computing split candidates (perfect splits).
     bool kd_perfect_splits = true;
-    /// kd-tree: bonus for cutting off empty space (fraction of the cost removed).
+    /// kd-tree: factor on the SAH cost of a split that cuts off empty space (one side holds no
+    /// triangle); Wald & Havran's lambda = 0.8, i.e. such splits look 20% cheaper. 1 = no bonus.
     float kd_empty_bonus = 0.8f;
     /// Upper bound on build memory in bytes (0 = no limit); a build that would exceed it throws.
     std::uint64_t max_memory = 0;

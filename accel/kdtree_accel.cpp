@@ -1,0 +1,64 @@
+#include "accel/kdtree_accel.h"
+
+#include "accel/kdtree_build.h"
+#include "accel/kdtree_traverse.h"
+#include "accel/timer.h"
+#include "simd/tri_test.h"
+
+namespace arbor::accel {
+
+KdTreeAccel::KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg) {
+    const Timer timer;
+    tree_ = build_kdtree(tris, cfg);
+    stats_.build_ms = timer.ms();
+    const KdTreeStats st = kd_tree_stats(tree_, cfg.traversal_cost, cfg.intersection_cost);
+    stats_.triangles = tris.triangle_count();
+    stats_.dropped_nonfinite = tree_.dropped_nonfinite;
+    stats_.nodes = st.nodes;
+    stats_.leaves = st.leaves;
+    stats_.max_depth = st.max_depth;
+    stats_.mean_leaf_depth = st.mean_leaf_depth;
+    stats_.sah_cost = st.sah_cost;
+    stats_.memory_bytes = tree_.memory_bytes();
+    stats_.build_peak_bytes = tree_.build_peak_bytes;
+}
+
+template <bool AnyHit> Hit KdTreeAccel::trace(const Ray& ray) const {
+    Hit best;
+    if (!ray_is_traceable(ray)) return best;
+    const simd::WoopShear shear = simd::woop_shear(ray.dir);
+    float tfar = ray.tfar;
+    const auto leaf_fn = [&](std::uint32_t leaf_index) {
+        const KdLeaf& leaf = tree_.leaves[leaf_index];
+        for (std::uint32_t i = leaf.first, end = leaf.first + leaf.count; i < end; ++i) {
+            const KdTriangle& tri = tree_.tris[tree_.refs[i]];
+            const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
+            if (!h.hit) continue;
+            if (AnyHit) {
+                best = {h.t, tri.prim, h.u, h.v};
+                return true;
+            }
+            // woop_test accepts t == tfar: on equal t the lower prim wins, as in brute.
+            if (h.t < best.t || !best.is_hit() || tri.prim < best.prim) {
+                best = {h.t, tri.prim, h.u, h.v};
+                tfar = h.t;
+            }
+        }
+        return false;
+    };
+    kd::walk_ropes<AnyHit>(tree_, ray, best.t, leaf_fn);
+    return best;
+}
+
+template Hit KdTreeAccel::trace<false>(const Ray&) const;
+template Hit KdTreeAccel::trace<true>(const Ray&) const;
+
+void KdTreeAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<false>(rays[i]);
+}
+
+void KdTreeAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<true>(rays[i]);
+}
+
+}  // namespace arbor::accel

@@ -1,0 +1,56 @@
+#pragma once
+/// Oracle comparison for the kd-tree tests: closest and any hit against `brute`.
+#include "accel/brute_accel.h"
+#include "accel/kdtree_accel.h"
+#include "simd/tri_test.h"
+#include "testing.h"
+
+#include <doctest/doctest.h>
+
+namespace arbor::testing {
+
+struct OracleResult {
+    std::size_t rays = 0, hits = 0;
+    std::size_t closest_bad = 0;  ///< closest hits disagreeing by the rayfile.md rule
+    std::size_t any_bad = 0;      ///< any-hit answers that are not a real hit exactly when brute hits
+};
+
+/// Traces `rays` through `kd` and `brute`; an any-hit answer must hit iff brute does, and its
+/// (t, prim) must be a real hit of that triangle in [tnear, tfar] (re-checked with the watertight test).
+inline OracleResult compare_with_brute(const accel::KdTreeAccel& kd, const accel::BruteAccel& brute,
+                                       const accel::TriangleView& view, const std::vector<Ray>& rays) {
+    OracleResult r;
+    r.rays = rays.size();
+    std::vector<Hit> a(rays.size()), b(rays.size()), any(rays.size());
+    kd.intersect(rays, a, accel::TracePath::scalar);
+    brute.intersect(rays, b, accel::TracePath::scalar);
+    kd.occluded(rays, any, accel::TracePath::scalar);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        r.hits += b[i].is_hit();
+        r.closest_bad += !accel::hits_agree(a[i], b[i]);
+        bool ok = any[i].is_hit() == b[i].is_hit();
+        if (ok && any[i].is_hit()) {
+            const Ray& ray = rays[i];
+            const auto h = simd::woop_test(ray.org, simd::woop_shear(ray.dir), ray.tnear, ray.tfar,
+                                           view.corner(any[i].prim, 0), view.corner(any[i].prim, 1),
+                                           view.corner(any[i].prim, 2));
+            ok = h.hit && h.t == any[i].t;
+        }
+        r.any_bad += !ok;
+    }
+    return r;
+}
+
+/// Builds both structures over `mesh` and requires full agreement on `rays`.
+inline void require_agreement(const engine::Mesh& mesh, const std::vector<Ray>& rays,
+                              const accel::BuildConfig& cfg = {}) {
+    const accel::KdTreeAccel kd(mesh.view(), cfg);
+    const accel::BruteAccel brute(mesh.view());
+    const OracleResult r = compare_with_brute(kd, brute, mesh.view(), rays);
+    CAPTURE(r.rays);
+    CAPTURE(r.hits);
+    CHECK(r.closest_bad == 0);
+    CHECK(r.any_bad == 0);
+}
+
+}  // namespace arbor::testing

@@ -1,0 +1,146 @@
+// kd-tree stiff cases against brute: axis-parallel rays with +0/-0 components, rays along the
+// lines of integer-grid meshes (inside split planes, through leaf edges and corners), origins
+// exactly on split planes and on leaf corners, far and tiny scenes.
+#include "accel/kdtree_build.h"
+#include "engine/procedural.h"
+#include "kdtree_checks.h"
+#include "kdtree_oracle.h"
+
+#include <random>
+
+using namespace arbor;
+using accel::Hit;
+using accel::Ray;
+using accel::Vec3f;
+
+namespace {
+
+const float inf = std::numeric_limits<float>::infinity();
+
+/// The six axis directions with every sign combination of the two zero components.
+std::vector<Vec3f> axis_directions() {
+    std::vector<Vec3f> dirs;
+    for (int k = 0; k < 3; ++k)
+        for (const float s : {1.0f, -1.0f})
+            for (int z = 0; z < 4; ++z) {
+                Vec3f d{0.0f, 0.0f, 0.0f};
+                d[(k + 1) % 3] = (z & 1) ? -0.0f : 0.0f;
+                d[(k + 2) % 3] = (z & 2) ? -0.0f : 0.0f;
+                d[k] = s;
+                dirs.push_back(d);
+            }
+    return dirs;
+}
+
+}  // namespace
+
+TEST_CASE("kdtree stiff: integer grid mesh, rays along and through the grid lines") {
+    const engine::Mesh grid = testing::integer_grid(6);
+    std::vector<Ray> rays;
+    const auto dirs = axis_directions();
+    for (int j = -1; j <= 7; ++j)
+        for (int i = -1; i <= 7; ++i)
+            for (const float h : {0.0f, 0.5f}) {
+                const float x = float(i) + h, y = float(j);
+                for (const Vec3f& d : dirs) {
+                    // Perpendicular rays hit at vertices and edges; in-plane rays run along grid lines.
+                    const Vec3f o{x - 8.0f * d.x, y - 8.0f * d.y, -8.0f * d.z};
+                    rays.push_back({o, 0.0f, d, inf});
+                    rays.push_back({{y, x, 0.0f}, 0.0f, d, inf});  // origin on the mesh, on grid lines
+                }
+                // Diagonal rays through grid vertices: x, y and z planes are crossed at one point.
+                rays.push_back({{x - 1.0f, y - 1.0f, 1.0f}, 0.0f, {1.0f, 1.0f, -1.0f}, inf});
+                rays.push_back({{x + 2.0f, y - 2.0f, -2.0f}, 0.0f, {-1.0f, 1.0f, 1.0f}, inf});
+                rays.push_back({{x - 1.0f, y - 1.0f, 0.0f}, 0.0f, {1.0f, 1.0f, 0.0f}, inf});
+            }
+    for (const bool perfect : {true, false}) {
+        accel::BuildConfig cfg;
+        cfg.kd_perfect_splits = perfect;
+        CAPTURE(perfect);
+        testing::require_agreement(grid, rays, cfg);
+    }
+}
+
+TEST_CASE("kdtree stiff: integer cubes, rays along cube edges and through cube corners") {
+    const engine::Mesh cubes = testing::integer_cubes(4);
+    std::vector<Ray> rays;
+    const auto dirs = axis_directions();
+    for (int a = -1; a <= 5; ++a)
+        for (int b = -1; b <= 5; ++b) {
+            for (const Vec3f& d : dirs) {
+                const int k = d.x != 0.0f ? 0 : (d.y != 0.0f ? 1 : 2);
+                Vec3f o;
+                o[k] = d[k] > 0 ? -1.0f : 5.0f;
+                o[(k + 1) % 3] = float(a);
+                o[(k + 2) % 3] = float(b);
+                rays.push_back({o, 0.0f, d, inf});
+                o[(k + 2) % 3] = float(b) + 0.5f;  // along a face, through edges
+                rays.push_back({o, 0.0f, d, inf});
+                o[k] = 2.0f;  // starting inside, on a cube face plane
+                rays.push_back({o, 0.0f, d, inf});
+            }
+            rays.push_back({{float(a) - 2.0f, float(b) - 2.0f, -2.0f}, 0.0f, {1.0f, 1.0f, 1.0f}, inf});
+            rays.push_back({{float(a) - 2.0f, float(b), -1.0f}, 0.0f, {1.0f, 0.0f, 1.0f}, inf});
+            rays.push_back({{float(a) - 2.0f, float(b) + 2.0f, 1.0f}, 0.0f, {1.0f, -1.0f, -0.0f}, inf});
+        }
+    for (const bool perfect : {true, false}) {
+        accel::BuildConfig cfg;
+        cfg.kd_perfect_splits = perfect;
+        CAPTURE(perfect);
+        testing::require_agreement(cubes, rays, cfg);
+    }
+}
+
+TEST_CASE("kdtree stiff: origins exactly on split planes and on leaf corners, rays inside split planes") {
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.15f, 5);
+    mesh.append(testing::random_soup(400, 0.15f, 3));
+    const accel::KdTree tree = accel::build_kdtree(mesh.view());
+    const auto boxes = testing::kd_node_boxes(tree);
+    std::mt19937 rng(99);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    std::vector<Ray> rays;
+    const auto dirs = axis_directions();
+    for (std::size_t i = 0; i < tree.nodes.size() && rays.size() < 6000; i += 7) {
+        const accel::KdNode n = tree.nodes[i];
+        const accel::Bounds& b = boxes[i];
+        if (n.is_leaf()) {
+            // From a corner of the leaf: every plane through the corner is crossed at t = 0.
+            const Vec3f corner{(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.lo.z : b.hi.z};
+            rays.push_back({corner, 0.0f, simd::normalize(Vec3f{g(rng), g(rng), g(rng)}), inf});
+            rays.push_back({corner, 0.0f, dirs[i % dirs.size()], inf});
+            continue;
+        }
+        const int k = n.axis();
+        Vec3f o{b.lo.x + u(rng) * (b.hi.x - b.lo.x), b.lo.y + u(rng) * (b.hi.y - b.lo.y),
+                b.lo.z + u(rng) * (b.hi.z - b.lo.z)};
+        o[k] = n.split;
+        Vec3f d = simd::normalize(Vec3f{g(rng), g(rng), g(rng)});
+        rays.push_back({o, 0.0f, d, inf});
+        d[k] = (i & 8) ? -0.0f : 0.0f;  // lying in the split plane
+        rays.push_back({o, 0.0f, d, inf});
+        rays.push_back({o - d * 3.0f, 0.0f, d, inf});
+    }
+    CHECK(rays.size() > 500);
+    testing::require_agreement(mesh, rays);
+}
+
+TEST_CASE("kdtree stiff: far from the origin and tiny scenes") {
+    for (const auto& [offset, scale] : {std::pair{1.0e6f, 1.0f}, std::pair{1.0e7f, 10.0f}, std::pair{0.0f, 1e-6f},
+                                        std::pair{1e-3f, 1e-6f}}) {
+        CAPTURE(offset);
+        CAPTURE(scale);
+        engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 2);
+        mesh.append(testing::random_soup(300, 0.2f, 5));
+        for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
+            mesh.x[i] = mesh.x[i] * scale + offset;
+            mesh.y[i] = mesh.y[i] * scale - offset;
+            mesh.z[i] = mesh.z[i] * scale + 0.5f * offset;
+        }
+        mesh.compute_bounds();
+        std::vector<Ray> rays = testing::random_rays_into(mesh.bounds, 800, 6);
+        const auto inside = testing::random_rays_inside(mesh.bounds, 800, 7);
+        rays.insert(rays.end(), inside.begin(), inside.end());
+        testing::require_agreement(mesh, rays);
+    }
+}
