@@ -4,6 +4,7 @@
 #include "accel/kdtree_ropes.h"
 #include "accel/kdtree_split.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
@@ -61,30 +62,50 @@ struct Builder {
     bool perfect_splits;
     std::uint32_t depth_limit;
     std::size_t parallel_threshold;
+    std::size_t exact_below;
     MemoryMeter& meter;
+    tbb::enumerable_thread_specific<kd::SplitScratch>& scratch;
 
     void make_leaf(const NodeWork& w, Subtree& out) const {
         KdLeaf leaf;
         leaf.box = w.box;
         leaf.first = std::uint32_t(out.refs.size());
         leaf.count = std::uint32_t(w.size());
-        out.refs.insert(out.refs.end(), w.ids.begin(), w.ids.end());
+        out.refs.insert(out.refs.end(), w.ids(), w.ids() + w.size());
         out.nodes.push_back(KdNode::leaf(std::uint32_t(out.leaves.size())));
         out.leaves.push_back(leaf);
+    }
+
+    kd::Split find_split(const NodeWork& w) const {
+        if (w.has_events() && w.size() < parallel_threshold) return kd::find_split(w, costs);
+        // Big nodes search the three axes in parallel; the reduction keeps the serial order.
+        kd::Split s[3];
+        tbb::parallel_for(0, 3, [&](int k) {
+            const IeeeFpGuard guard;
+            s[k] = w.has_events() ? kd::find_split_on_axis(w, k, costs) : kd::find_split_binned(w, k, costs);
+        });
+        kd::Split best;
+        for (const kd::Split& c : s)
+            if (c.axis >= 0 && (best.axis < 0 || c.cost < best.cost)) best = c;
+        return best;
     }
 
     /// Builds the subtree of `w` (consumed) at `depth`, appending it to `out`.
     void build(NodeWork& w, std::uint32_t depth, Subtree& out) const {
         kd::Split s;
-        if (depth < depth_limit) s = kd::find_split(w, costs);
+        if (depth < depth_limit) s = find_split(w);
         if (s.axis < 0 || !(s.cost < costs.intersection * double(w.size()))) {
             make_leaf(w, out);
             release(w);
             return;
         }
         NodeWork left, right;
-        kd::split_node(w, s, tris, perfect_splits, left, right);
-        meter.add(left.bytes() + right.bytes());
+        kd::SplitScratch& sc = scratch.local();
+        const std::size_t scratch_before = sc.bytes();
+        kd::split_node(w, s, tris, perfect_splits, sc, left, right);
+        for (NodeWork* c : {&left, &right})
+            if (!c->has_events() && c->size() <= exact_below) kd::make_events(*c);
+        meter.add(left.bytes() + right.bytes() + (sc.bytes() - scratch_before));
         const std::size_t n = w.size();
         release(w);
         const auto me = std::uint32_t(out.nodes.size());
@@ -145,29 +166,38 @@ KdTree build_kdtree(const TriangleView& view, const BuildConfig& cfg) {
     MemoryMeter meter;
     kd::BuildTriangles tris;
     tris.v.resize(3 * n);
-    NodeWork root;
-    root.ids.resize(n);
-    root.boxes.resize(n);
+    NodeWork root(n, false);
+    std::uint32_t* ids = root.ids();
+    Bounds* boxes = root.boxes();
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
         for (int k = 0; k < 3; ++k) tris.v[3 * i + k] = view.corner(finite[i], k);
-        root.ids[i] = std::uint32_t(i);
-        root.boxes[i] = view.triangle_bounds(finite[i]);
+        ids[i] = std::uint32_t(i);
+        boxes[i] = view.triangle_bounds(finite[i]);
     });
-    for (std::size_t i = 0; i < n; ++i) {
-        root.box.grow(root.boxes[i]);
-        kd::add_events(root, root.boxes[i], std::uint32_t(i));
+    for (std::size_t i = 0; i < n; ++i) root.box.grow(boxes[i]);
+    if (n <= cfg.kd_exact_below) {
+        root.allocate_events();
+        tbb::parallel_for(0, 3, [&](int k) {
+            const IeeeFpGuard task_guard;
+            kd::Event* e = root.events(k);
+            for (std::size_t i = 0; i < n; ++i) e = kd::put_events(e, boxes[i], k, std::uint32_t(i));
+            root.set_event_count(k, std::size_t(e - root.events(k)));
+            std::sort(root.events(k), e);
+        });
     }
-    tbb::parallel_for(0, 3, [&](int k) { std::sort(root.events[k].begin(), root.events[k].end()); });
     meter.add(root.bytes() + tris.v.capacity() * sizeof(Vec3f) + finite.capacity() * sizeof(std::uint32_t));
 
     tree.box = root.box;
     tree.depth_limit = kd_depth_limit(n);
+    tbb::enumerable_thread_specific<kd::SplitScratch> scratch;
     const Builder builder{tris,
-                          {double(cfg.traversal_cost), double(cfg.intersection_cost), double(cfg.kd_empty_bonus)},
+                          {double(cfg.kd_traversal_cost), double(cfg.intersection_cost), double(cfg.kd_empty_bonus)},
                           cfg.kd_perfect_splits,
                           tree.depth_limit,
                           std::max<std::size_t>(cfg.parallel_threshold, 1),
-                          meter};
+                          cfg.kd_exact_below,
+                          meter,
+                          scratch};
     Subtree out;
     builder.build(root, 0, out);
 

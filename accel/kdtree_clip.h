@@ -9,19 +9,29 @@
 /// exact clipped triangle, and it is empty only when the triangle exactly misses the box.
 #include "accel/geometry.h"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace arbor::accel {
 
 namespace detail {
-/// Largest float <= x (x finite, within float range up to rounding).
+/// The next float below / above f (f not NaN; -inf and +inf stay).
+inline float step_down(float f) {
+    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    const auto u = std::bit_cast<std::uint32_t>(f);
+    return f == -INFINITY ? f : std::bit_cast<float>(f > 0.0f ? u - 1 : u + 1);
+}
+inline float step_up(float f) { return -step_down(-f); }
+/// Largest float <= x and smallest float >= x.
 inline float float_down(double x) {
     const float f = float(x);
-    return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+    return double(f) > x ? step_down(f) : f;
 }
 inline float float_up(double x) {
     const float f = float(x);
-    return double(f) < x ? std::nextafter(f, INFINITY) : f;
+    return double(f) < x ? step_up(f) : f;
 }
 }  // namespace detail
 
@@ -79,8 +89,13 @@ inline Bounds clip_triangle_bounds(const Vec3f& a, const Vec3f& b, const Vec3f& 
     Bounds r = intersect(known, box);
     if (r.empty()) return Bounds{};
     r = intersect(r, clip_triangle_to_slab(a, b, c, axis, box.lo[axis], box.hi[axis]));
-    for (int j = 0; j < 3 && !r.empty(); ++j)
-        if (j != axis) r = intersect(r, clip_triangle_to_slab(a, b, c, j, r.lo[j], r.hi[j]));
+    for (int j = 0; j < 3 && !r.empty(); ++j) {
+        if (j == axis) continue;
+        // A triangle wholly inside this slab gains nothing from clipping to it.
+        const float lo = r.lo[j], hi = r.hi[j];
+        if (a[j] >= lo && a[j] <= hi && b[j] >= lo && b[j] <= hi && c[j] >= lo && c[j] <= hi) continue;
+        r = intersect(r, clip_triangle_to_slab(a, b, c, j, lo, hi));
+    }
     return r.empty() ? Bounds{} : r;
 }
 

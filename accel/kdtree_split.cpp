@@ -3,172 +3,262 @@
 #include "accel/kdtree_clip.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace arbor::accel::kd {
 
-std::size_t NodeWork::bytes() const {
-    std::size_t b = ids.capacity() * sizeof(std::uint32_t) + boxes.capacity() * sizeof(Bounds);
-    for (const auto& e : events) b += e.capacity() * sizeof(Event);
-    return b;
-}
-
 namespace {
-void add_axis_events(std::vector<Event>& out, const Bounds& b, int axis, std::uint32_t local) {
-    if (b.lo[axis] == b.hi[axis]) {
-        out.push_back(make_event(b.lo[axis], event_planar, local));
-    } else {
-        out.push_back(make_event(b.lo[axis], event_start, local));
-        out.push_back(make_event(b.hi[axis], event_end, local));
-    }
-}
+constexpr std::size_t align8(std::size_t b) { return (b + 7) & ~std::size_t(7); }
 
-/// Merges the sorted `extra` into the sorted `v` in place (v grows by extra.size()).
-void merge_into(std::vector<Event>& v, const std::vector<Event>& extra) {
-    if (extra.empty()) return;
-    std::size_t i = v.size(), j = extra.size();
-    v.resize(v.size() + extra.size());
-    std::size_t out = v.size();
-    while (j > 0) {
-        if (i > 0 && v[i - 1] > extra[j - 1]) v[--out] = v[--i];
-        else v[--out] = extra[--j];
+/// Merges sorted extra[0, x) into sorted v[0, f), in place (v has room for f + x).
+void merge_back(Event* v, std::size_t f, const Event* extra, std::size_t x) {
+    std::size_t out = f + x;
+    while (x > 0) {
+        if (f > 0 && v[f - 1] > extra[x - 1]) v[--out] = v[--f];
+        else v[--out] = extra[--x];
     }
 }
 }  // namespace
 
-void add_events(NodeWork& w, const Bounds& b, std::uint32_t local) {
-    for (int k = 0; k < 3; ++k) add_axis_events(w.events[k], b, k, local);
+NodeWork::NodeWork(std::size_t n, bool with_events) : n_(n) {
+    // One allocation: ids, boxes, then (with events) 2n + 1 events per axis, the extra slot being
+    // slack for branchless writes.
+    const std::size_t ids_bytes = align8(n * sizeof(std::uint32_t)), box_bytes = align8(n * sizeof(Bounds));
+    const std::size_t ev_bytes = with_events ? 3 * (2 * n + 1) * sizeof(Event) : 0;
+    bytes_ = ids_bytes + box_bytes + ev_bytes;
+    mem_ = std::make_unique_for_overwrite<std::byte[]>(bytes_);
+    ids_ = reinterpret_cast<std::uint32_t*>(mem_.get());
+    boxes_ = reinterpret_cast<Bounds*>(mem_.get() + ids_bytes);
+    if (with_events)
+        for (int a = 0; a < 3; ++a) events_[a] = reinterpret_cast<Event*>(mem_.get() + ids_bytes + box_bytes) + a * (2 * n + 1);
 }
 
-void sort_events(NodeWork& w) {
-    for (auto& e : w.events) std::sort(e.begin(), e.end());
+void NodeWork::allocate_events() {
+    const std::size_t per_axis = 2 * n_ + 1;
+    event_mem_ = std::make_unique_for_overwrite<std::byte[]>(3 * per_axis * sizeof(Event));
+    bytes_ += 3 * per_axis * sizeof(Event);
+    for (int a = 0; a < 3; ++a) events_[a] = reinterpret_cast<Event*>(event_mem_.get()) + a * per_axis;
 }
 
-Split find_split(const NodeWork& w, const SahCosts& costs) {
+void make_events(NodeWork& w) {
+    if (!w.has_events()) w.allocate_events();
+    for (int k = 0; k < 3; ++k) {
+        Event* e = w.events(k);
+        for (std::size_t i = 0; i < w.size(); ++i) e = put_events(e, w.boxes()[i], k, std::uint32_t(i));
+        w.set_event_count(k, std::size_t(e - w.events(k)));
+        std::sort(w.events(k), e);
+    }
+}
+
+std::size_t SplitScratch::bytes() const {
+    return side.capacity() + (lmap.capacity() + rmap.capacity() + straddlers.capacity()) * sizeof(std::uint32_t) +
+           (lbox.capacity() + rbox.capacity()) * sizeof(Bounds) + extra.capacity() * sizeof(Event);
+}
+
+Split find_split_binned(const NodeWork& w, int k, const SahCosts& costs) {
     Split best;
     const std::size_t n = w.size();
-    if (n == 0) return best;
+    const float lo = w.box.lo[k], hi = w.box.hi[k];
+    if (n == 0 || !(lo < hi)) return best;
     double ext[3];
-    for (int k = 0; k < 3; ++k) ext[k] = double(w.box.hi[k]) - double(w.box.lo[k]);
+    for (int j = 0; j < 3; ++j) ext[j] = double(w.box.hi[j]) - double(w.box.lo[j]);
     const double area = 2.0 * (ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0]);
     if (!(area > 0.0) || !std::isfinite(area)) return best;
-    const double inv_area = 1.0 / area;
-    for (int k = 0; k < 3; ++k) {
-        const float lo = w.box.lo[k], hi = w.box.hi[k];
-        if (!(lo < hi)) continue;
-        // Area of a child box whose extent along k is x: 2 * (cap + x * per).
-        const double cap = ext[(k + 1) % 3] * ext[(k + 2) % 3];
-        const double per = ext[(k + 1) % 3] + ext[(k + 2) % 3];
-        const std::uint32_t lo_key = float_key(lo), hi_key = float_key(hi);
-        const std::vector<Event>& ev = w.events[k];
-        std::size_t nl = 0, nr = n;
-        std::size_t i = 0;
-        while (i < ev.size()) {
-            const std::uint32_t pk = event_pos_key(ev[i]);
-            std::size_t counts[3] = {0, 0, 0};  // end, planar, start at this position
-            while (i < ev.size() && event_pos_key(ev[i]) == pk) ++counts[event_type(ev[i++])];
-            const std::size_t np = counts[event_planar];
-            nr -= np + counts[event_end];
-            if (pk > lo_key && pk < hi_key) {
-                const double p = key_float(pk);
-                const double al = 2.0 * (cap + (p - lo) * per) * inv_area;
-                const double ar = 2.0 * (cap + (hi - p) * per) * inv_area;
-                const auto cost = [&](std::size_t l, std::size_t r) {
-                    const double c = costs.traversal + costs.intersection * (al * double(l) + ar * double(r));
-                    return (l == 0 || r == 0) ? c * costs.empty_factor : c;
-                };
-                const double cl = cost(nl + np, nr), cr = cost(nl, nr + np);
-                const bool left = cl <= cr;
-                const double c = left ? cl : cr;
-                if (best.axis < 0 || c < best.cost) best = {k, key_float(pk), left, c};
-            }
-            nl += np + counts[event_start];
-        }
+    const double cap = ext[(k + 1) % 3] * ext[(k + 2) % 3];
+    const double per = ext[(k + 1) % 3] + ext[(k + 2) % 3];
+    const double scale = 2.0 * costs.intersection / area;
+    // starts[b]: triangles whose bounds begin in bin b; ends[b]: end in bin b. Plane b (between bins
+    // b - 1 and b) then has sum(starts[< b]) triangles reaching left and sum(ends[>= b]) right.
+    std::uint32_t starts[split_bins] = {}, ends[split_bins] = {};
+    const double to_bin = double(split_bins) / ext[k];
+    const auto bin = [&](float x) {
+        const double b = (double(x) - lo) * to_bin;
+        return b <= 0.0 ? 0 : (b >= split_bins - 1 ? split_bins - 1 : int(b));
+    };
+    const Bounds* boxes = w.boxes();
+    for (std::size_t i = 0; i < n; ++i) {
+        ++starts[bin(boxes[i].lo[k])];
+        ++ends[bin(boxes[i].hi[k])];
+    }
+    std::size_t nl = 0, nr = n;
+    for (int b = 1; b < split_bins; ++b) {
+        nl += starts[b - 1];
+        nr -= ends[b - 1];
+        const float p = float(double(lo) + ext[k] * double(b) / split_bins);
+        if (!(p > lo && p < hi)) continue;
+        const double al = (cap + (double(p) - lo) * per) * scale, ar = (cap + (double(hi) - p) * per) * scale;
+        double c = costs.traversal + al * double(nl) + ar * double(nr);
+        if (nl == 0 || nr == 0) c *= costs.empty_factor;
+        if (best.axis < 0 || c < best.cost) best = {k, p, true, c};
     }
     return best;
 }
 
-void split_node(const NodeWork& w, const Split& s, const BuildTriangles& tris, bool perfect_splits, NodeWork& left,
-                NodeWork& right) {
+Split find_split_on_axis(const NodeWork& w, int k, const SahCosts& costs) {
+    Split best;
+    const std::size_t n = w.size();
+    const float lo = w.box.lo[k], hi = w.box.hi[k];
+    if (n == 0 || !(lo < hi)) return best;
+    double ext[3];
+    for (int j = 0; j < 3; ++j) ext[j] = double(w.box.hi[j]) - double(w.box.lo[j]);
+    const double area = 2.0 * (ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0]);
+    if (!(area > 0.0) || !std::isfinite(area)) return best;
+    // A child whose extent along k is x has area 2 * (cap + x * per); costs are relative to `area`.
+    const double cap = ext[(k + 1) % 3] * ext[(k + 2) % 3];
+    const double per = ext[(k + 1) % 3] + ext[(k + 2) % 3];
+    const double scale = 2.0 * costs.intersection / area;
+    const std::uint32_t lo_key = float_key(lo), hi_key = float_key(hi);
+    const std::span<const Event> ev = w.event_span(k);
+    const std::size_t m = ev.size();
+    std::size_t nl = 0, nr = n;
+    std::size_t i = 0;
+    while (i < m) {
+        const std::uint32_t pk = event_pos_key(ev[i]);
+        // Events at this position: ends, then planars, then starts (their order in the key).
+        std::size_t ne = 0, np = 0, nst = 0;
+        do {
+            const EventType t = event_type(ev[i]);
+            ne += t == event_end;
+            np += t == event_planar;
+            nst += t == event_start;
+        } while (++i < m && event_pos_key(ev[i]) == pk);
+        nr -= np + ne;
+        if (pk > lo_key && pk < hi_key) {
+            const double p = key_float(pk);
+            const double al = (cap + (p - lo) * per) * scale, ar = (cap + (hi - p) * per) * scale;
+            const auto cost = [&](std::size_t l, std::size_t r) {
+                const double c = costs.traversal + al * double(l) + ar * double(r);
+                return (l == 0 || r == 0) ? c * costs.empty_factor : c;
+            };
+            double c = cost(nl + np, nr);
+            bool left = true;
+            if (np != 0) {
+                const double cr = cost(nl, nr + np);
+                if (cr < c) c = cr, left = false;
+            }
+            if (best.axis < 0 || c < best.cost) best = {k, key_float(pk), left, c};
+        }
+        nl += np + nst;
+    }
+    return best;
+}
+
+Split find_split(const NodeWork& w, const SahCosts& costs) {
+    Split best;
+    for (int k = 0; k < 3; ++k) {
+        const Split s = find_split_on_axis(w, k, costs);
+        if (s.axis >= 0 && (best.axis < 0 || s.cost < best.cost)) best = s;
+    }
+    return best;
+}
+
+void split_node(const NodeWork& w, const Split& s, const BuildTriangles& tris, bool perfect_splits,
+                SplitScratch& sc, NodeWork& left, NodeWork& right) {
     const int k = s.axis;
     const float p = s.pos;
     const std::size_t n = w.size();
-    left = NodeWork{};
-    right = NodeWork{};
-    left.box = right.box = w.box;
-    left.box.hi[k] = p;
-    right.box.lo[k] = p;
+    const std::uint32_t* ids = w.ids();
+    const Bounds* boxes = w.boxes();
+    Bounds lnode = w.box, rnode = w.box;
+    lnode.hi[k] = p;
+    rnode.lo[k] = p;
 
     // side: bit 0 left, bit 1 right, bit 2 straddles (its events are regenerated from new bounds).
-    std::vector<std::uint8_t> side(n);
-    std::vector<std::uint32_t> straddlers;
+    sc.side.resize(n);
+    sc.straddlers.clear();
+    std::uint8_t* side = sc.side.data();
+    const std::uint8_t planar_side = s.planar_left ? 1 : 2;
     for (std::size_t i = 0; i < n; ++i) {
-        const Bounds& b = w.boxes[i];
-        if (b.lo[k] == p && b.hi[k] == p) side[i] = s.planar_left ? 1 : 2;
-        else if (b.hi[k] <= p) side[i] = 1;
-        else if (b.lo[k] >= p) side[i] = 2;
-        else side[i] = 4, straddlers.push_back(std::uint32_t(i));
+        const float blo = boxes[i].lo[k], bhi = boxes[i].hi[k];
+        if (blo == p && bhi == p) side[i] = planar_side;
+        else if (bhi <= p) side[i] = 1;
+        else if (blo >= p) side[i] = 2;
+        else side[i] = 4, sc.straddlers.push_back(std::uint32_t(i));
     }
-    std::vector<Bounds> lbox(straddlers.size()), rbox(straddlers.size());
-    for (std::size_t j = 0; j < straddlers.size(); ++j) {
-        const std::uint32_t i = straddlers[j];
-        const Bounds& b = w.boxes[i];
+    const std::size_t ns = sc.straddlers.size();
+    sc.lbox.resize(ns);
+    sc.rbox.resize(ns);
+    for (std::size_t j = 0; j < ns; ++j) {
+        const std::uint32_t i = sc.straddlers[j];
+        const Bounds& b = boxes[i];
+        Bounds& lb = sc.lbox[j];
+        Bounds& rb = sc.rbox[j];
         if (perfect_splits) {
-            const std::uint32_t id = w.ids[i];
+            const std::uint32_t id = ids[i];
             const Vec3f a = tris.corner(id, 0), bb = tris.corner(id, 1), c = tris.corner(id, 2);
-            lbox[j] = clip_triangle_bounds(a, bb, c, b, left.box, k);
-            rbox[j] = clip_triangle_bounds(a, bb, c, b, right.box, k);
-            // Both empty cannot happen for a triangle that meets the node; keep it safe anyway.
-            if (lbox[j].empty() && rbox[j].empty()) lbox[j] = intersect(b, left.box), rbox[j] = intersect(b, right.box);
+            lb = clip_triangle_bounds(a, bb, c, b, lnode, k);
+            rb = clip_triangle_bounds(a, bb, c, b, rnode, k);
+            // Both empty cannot happen for a triangle that meets the node; stay safe anyway.
+            if (lb.empty() && rb.empty()) lb = intersect(b, lnode), rb = intersect(b, rnode);
         } else {
-            lbox[j] = intersect(b, left.box);
-            rbox[j] = intersect(b, right.box);
+            lb = intersect(b, lnode);
+            rb = intersect(b, rnode);
         }
-        side[i] = std::uint8_t(4 | (lbox[j].empty() ? 0 : 1) | (rbox[j].empty() ? 0 : 2));
+        side[i] = std::uint8_t(4 | (lb.empty() ? 0 : 1) | (rb.empty() ? 0 : 2));
     }
 
     // Children's triangle lists in the parent's order: local numbers stay monotone, so filtered
     // events stay sorted.
-    std::vector<std::uint32_t> lmap(n), rmap(n);
     std::size_t nl = 0, nr = 0;
     for (std::size_t i = 0; i < n; ++i) nl += side[i] & 1, nr += (side[i] >> 1) & 1;
-    left.ids.reserve(nl), left.boxes.reserve(nl);
-    right.ids.reserve(nr), right.boxes.reserve(nr);
+    const bool events = w.has_events();
+    left = NodeWork(nl, events);
+    right = NodeWork(nr, events);
+    left.box = lnode;
+    right.box = rnode;
+    sc.lmap.resize(n);
+    sc.rmap.resize(n);
+    std::uint32_t* lmap = sc.lmap.data();
+    std::uint32_t* rmap = sc.rmap.data();
+    std::uint32_t* lids = left.ids();
+    std::uint32_t* rids = right.ids();
+    Bounds* lboxes = left.boxes();
+    Bounds* rboxes = right.boxes();
+    std::uint32_t cl = 0, cr = 0;
     for (std::size_t i = 0, j = 0; i < n; ++i) {
-        const bool st = side[i] & 4;
-        if (side[i] & 1) {
-            lmap[i] = std::uint32_t(left.ids.size());
-            left.ids.push_back(w.ids[i]);
-            left.boxes.push_back(st ? lbox[j] : w.boxes[i]);
+        const std::uint8_t sd = side[i];
+        const bool st = sd & 4;
+        if (sd & 1) {
+            lmap[i] = cl;
+            lids[cl] = ids[i];
+            lboxes[cl++] = st ? sc.lbox[j] : boxes[i];
         }
-        if (side[i] & 2) {
-            rmap[i] = std::uint32_t(right.ids.size());
-            right.ids.push_back(w.ids[i]);
-            right.boxes.push_back(st ? rbox[j] : w.boxes[i]);
+        if (sd & 2) {
+            rmap[i] = cr;
+            rids[cr] = ids[i];
+            rboxes[cr++] = st ? sc.rbox[j] : boxes[i];
         }
         j += st;
     }
 
-    std::vector<Event> extra;
-    for (int a = 0; a < 3; ++a) {
-        std::vector<Event>& le = left.events[a];
-        std::vector<Event>& re = right.events[a];
-        le.reserve(2 * nl);
-        re.reserve(2 * nr);
-        for (const Event e : w.events[a]) {
+    for (int a = 0; a < 3 && events; ++a) {
+        // Events of one-sided triangles keep their order; writes are branchless (each buffer has
+        // a slot of slack at the end).
+        Event* lp = left.events(a);
+        Event* rp = right.events(a);
+        for (const Event e : w.event_span(a)) {
             const std::uint32_t i = event_local(e);
-            const Event head = e & ~Event(0x3FFFFFFFu);
-            if (side[i] == 1) le.push_back(head | lmap[i]);
-            else if (side[i] == 2) re.push_back(head | rmap[i]);
+            const Event head = e & ~event_local_mask;
+            const std::uint8_t sd = side[i];
+            *lp = head | lmap[i];
+            lp += sd == 1;
+            *rp = head | rmap[i];
+            rp += sd == 2;
         }
         for (int child = 0; child < 2; ++child) {
-            extra.clear();
-            for (std::size_t j = 0; j < straddlers.size(); ++j) {
-                const std::uint32_t i = straddlers[j];
-                if (!(side[i] & (1 << child))) continue;
-                add_axis_events(extra, child == 0 ? lbox[j] : rbox[j], a, child == 0 ? lmap[i] : rmap[i]);
+            NodeWork& cw = child == 0 ? left : right;
+            const std::size_t filtered = std::size_t((child == 0 ? lp : rp) - cw.events(a));
+            sc.extra.resize(2 * ns);
+            Event* x = sc.extra.data();
+            for (std::size_t j = 0; j < ns; ++j) {
+                const std::uint32_t i = sc.straddlers[j];
+                if (side[i] & (1 << child))
+                    x = put_events(x, child == 0 ? sc.lbox[j] : sc.rbox[j], a, child == 0 ? lmap[i] : rmap[i]);
             }
-            std::sort(extra.begin(), extra.end());
-            merge_into(child == 0 ? le : re, extra);
+            const std::size_t added = std::size_t(x - sc.extra.data());
+            std::sort(sc.extra.data(), x);
+            merge_back(cw.events(a), filtered, sc.extra.data(), added);
+            cw.set_event_count(a, filtered + added);
         }
     }
 }

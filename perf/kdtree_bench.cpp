@@ -40,6 +40,7 @@ struct Options {
     bool perfect = true;
     float kt = -1.0f, ki = -1.0f;
     bool build_only = false;
+    long exact_below = -1;
     bool embree = true;
 };
 
@@ -101,8 +102,9 @@ double median(std::vector<double> v) {
 void run(const Options& o, const engine::Mesh& mesh, const char* label) {
     accel::BuildConfig cfg;
     cfg.kd_perfect_splits = o.perfect;
-    if (o.kt > 0) cfg.traversal_cost = o.kt;
+    if (o.kt > 0) cfg.kd_traversal_cost = o.kt;
     if (o.ki > 0) cfg.intersection_cost = o.ki;
+    if (o.exact_below >= 0) cfg.kd_exact_below = std::uint32_t(std::min<long>(o.exact_below, 0xFFFFFFFFL));
     std::printf("== %s: %zu triangles, %d threads\n", label, mesh.triangle_count(), o.threads);
 
     // Builds, interleaved with Embree's so that machine noise hits both alike.
@@ -188,6 +190,7 @@ int main(int argc, char** argv) {
         else if (a == "--no-perfect-splits") o.perfect = false;
         else if (a == "--kt") o.kt = std::stof(next());
         else if (a == "--build-only") o.build_only = true;
+        else if (a == "--exact-below") o.exact_below = std::stol(next());
         else if (a == "--no-embree") o.embree = false;
         else if (a == "--ki") o.ki = std::stof(next());
         else {

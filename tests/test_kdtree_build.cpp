@@ -65,7 +65,7 @@ TEST_CASE("kdtree build: leaves stay within the depth limit 8 + 1.3 log2 N") {
     CHECK(accel::kd_depth_limit(1024) == 21);
     CHECK(accel::kd_depth_limit(std::size_t(1) << 40) == accel::kd_max_depth);
     BuildConfig cfg;
-    cfg.traversal_cost = 0.01f;  // splitting looks almost free: only the limit stops it
+    cfg.kd_traversal_cost = 0.01f;  // splitting looks almost free: only the limit stops it
     const engine::Mesh mesh = testing::random_soup(500, 0.2f, 4);
     const KdTree tree = accel::build_kdtree(mesh.view(), cfg);
     const auto st = accel::kd_tree_stats(tree);
@@ -184,7 +184,7 @@ TEST_CASE("kdtree build: statistics") {
     CHECK(st.sah_cost > 1.0);
     CHECK(st.sah_cost < 0.25 * double(tree.tris.size()));
     BuildConfig leaf_only;
-    leaf_only.traversal_cost = 1e9f;
+    leaf_only.kd_traversal_cost = 1e9f;
     const accel::KdTreeAccel root_leaf(mesh.view(), leaf_only);
     CHECK(root_leaf.stats().leaves == 1);
     CHECK(root_leaf.stats().sah_cost == doctest::Approx(double(tree.tris.size())));
