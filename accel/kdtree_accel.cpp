@@ -23,18 +23,21 @@ KdTreeAccel::KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg) {
     stats_.build_peak_bytes = tree_.build_peak_bytes;
 }
 
-template <bool AnyHit> Hit KdTreeAccel::trace(const Ray& ray) const {
+template <bool AnyHit, bool Count> Hit KdTreeAccel::trace(const Ray& ray, TraceCounters* counters) const {
     Hit best;
     if (!ray_is_traceable(ray)) return best;
     const simd::WoopShear shear = simd::woop_shear(ray.dir);
     float tfar = ray.tfar;
+    std::uint64_t visited = 0, tested = 0;
     const auto leaf_fn = [&](std::uint32_t leaf_index) {
         const KdLeaf& leaf = tree_.leaves[leaf_index];
+        if constexpr (Count) ++visited;
         for (std::uint32_t i = leaf.first, end = leaf.first + leaf.count; i < end; ++i) {
             const KdTriangle& tri = tree_.tris[tree_.refs[i]];
+            if constexpr (Count) ++tested;
             const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
             if (!h.hit) continue;
-            if (AnyHit) {
+            if constexpr (AnyHit) {
                 best = {h.t, tri.prim, h.u, h.v};
                 return true;
             }
@@ -46,12 +49,24 @@ template <bool AnyHit> Hit KdTreeAccel::trace(const Ray& ray) const {
         }
         return false;
     };
-    kd::walk_ropes<AnyHit>(tree_, ray, best.t, leaf_fn);
+    kd::walk_ropes<AnyHit, Count>(tree_, ray, best.t, leaf_fn, visited);
+    if constexpr (Count) {
+        counters->nodes_visited += visited;
+        counters->triangles_tested += tested;
+    }
     return best;
 }
 
-template Hit KdTreeAccel::trace<false>(const Ray&) const;
-template Hit KdTreeAccel::trace<true>(const Ray&) const;
+template Hit KdTreeAccel::trace<false, false>(const Ray&, TraceCounters*) const;
+template Hit KdTreeAccel::trace<true, false>(const Ray&, TraceCounters*) const;
+
+bool KdTreeAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
+                                TraceCounters& counters) const {
+    counters.rays += rays.size();
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        hits[i] = any_hit ? trace<true, true>(rays[i], &counters) : trace<false, true>(rays[i], &counters);
+    return true;
+}
 
 void KdTreeAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<false>(rays[i]);

@@ -16,8 +16,12 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
 
-    /// One ray along the ropes: the closest hit (on equal t the lower prim), or any hit.
-    template <bool AnyHit> Hit trace(const Ray& ray) const;
+    bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
+                       TraceCounters& counters) const override;
+
+    /// One ray along the ropes: the closest hit (on equal t the lower prim), or any hit. Count:
+    /// adds nodes (interior nodes tested, leaves entered) and triangle tests to `counters`.
+    template <bool AnyHit, bool Count = false> Hit trace(const Ray& ray, TraceCounters* counters = nullptr) const;
     const KdTree& tree() const { return tree_; }
 
 private:

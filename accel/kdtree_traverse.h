@@ -51,11 +51,15 @@ inline bool near_plane(const RopeRay& s, int k, double tp, double t) { return st
 
 /// From `node` down to the leaf the ray is in just after distance t: a crossing at exactly t goes
 /// to the side the ray moves into, flat axes compare the origin (tie: tie_right). Sets `near` when
-/// the point at t is within the tolerance of a split plane on the way.
-inline std::uint32_t descend(const KdNode* nodes, const RopeRay& s, std::uint32_t node, double t, bool& near) {
+/// the point at t is within the tolerance of a split plane on the way. Count: adds the interior
+/// nodes passed to `visited`.
+template <bool Count = false>
+inline std::uint32_t descend(const KdNode* nodes, const RopeRay& s, std::uint32_t node, double t, bool& near,
+                             std::uint64_t& visited) {
     for (;;) {
         const KdNode n = nodes[node];
         if (n.is_leaf()) return node;
+        if constexpr (Count) ++visited;
         const int k = n.axis();
         bool right;
         if (s.flat[k]) {
@@ -71,7 +75,8 @@ inline std::uint32_t descend(const KdNode* nodes, const RopeRay& s, std::uint32_
 
 /// Calls leaf_fn for every leaf whose closed box, grown by the point tolerance, holds the ray's
 /// point at distance t. Returns true when leaf_fn asks to stop.
-template <class LeafFn> bool visit_point(const KdNode* nodes, const RopeRay& s, double t, LeafFn& leaf_fn) {
+template <bool Count, class LeafFn>
+bool visit_point(const KdNode* nodes, const RopeRay& s, double t, LeafFn& leaf_fn, std::uint64_t& visited) {
     std::uint32_t stack[kd_max_depth + 2];
     int sp = 0;
     std::uint32_t node = 0;
@@ -83,6 +88,7 @@ template <class LeafFn> bool visit_point(const KdNode* nodes, const RopeRay& s, 
             node = stack[--sp];
             continue;
         }
+        if constexpr (Count) ++visited;
         const int k = n.axis();
         bool left, right;
         if (s.flat[k]) {
@@ -102,14 +108,14 @@ template <class LeafFn> bool visit_point(const KdNode* nodes, const RopeRay& s, 
 /// One walk from distance t0 with the current tie sides. Returns true when leaf_fn stopped it.
 /// `touched` gets bit k when a visited leaf has a face (not on the scene box) in the plane of a
 /// flat axis k, i.e. leaves on the other side of that plane touch the ray too.
-template <bool AnyHit, class LeafFn>
+template <bool AnyHit, bool Count, class LeafFn>
 bool walk_pass(const KdTree& tree, const RopeRay& s, double t0, const float& best_t, LeafFn& leaf_fn,
-               unsigned& touched) {
+               unsigned& touched, std::uint64_t& visited) {
     const KdNode* nodes = tree.nodes.data();
     double t = t0;
     bool near = false;
-    std::uint32_t node = descend(nodes, s, 0, t, near);
-    if (near && visit_point(nodes, s, t, leaf_fn)) return true;
+    std::uint32_t node = descend<Count>(nodes, s, 0, t, near, visited);
+    if (near && visit_point<Count>(nodes, s, t, leaf_fn, visited)) return true;
     // Every step moves t forward (see the header comment); the bound is only a safety net.
     const std::size_t max_steps = 2 * tree.leaves.size() + 64;
     for (std::size_t step = 0; step < max_steps; ++step) {
@@ -141,10 +147,10 @@ bool walk_pass(const KdTree& tree, const RopeRay& s, double t0, const float& bes
         }
         t = t_exit;
         const std::uint32_t rope = leaf.rope[kd_face(axis, s.up[axis])];
-        if (rope == kd_no_rope) return near_exit && visit_point(nodes, s, t, leaf_fn);
+        if (rope == kd_no_rope) return near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited);
         // Leaving exactly through an edge or corner, the next leaf is not across the exit face.
-        node = descend(nodes, s, corner ? 0u : rope, t, near_exit);
-        if (near_exit && visit_point(nodes, s, t, leaf_fn)) return true;
+        node = descend<Count>(nodes, s, corner ? 0u : rope, t, near_exit, visited);
+        if (near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited)) return true;
     }
     return false;
 }
@@ -153,8 +159,9 @@ bool walk_pass(const KdTree& tree, const RopeRay& s, double t0, const float& bes
 /// any hit). For closest hit, `best_t` is the distance of the best hit so far (+inf while none),
 /// updated by leaf_fn; the walk ends after the leaf whose exit is not before it. Untraceable rays
 /// (ray_is_traceable) and an empty tree visit nothing. Leaves may be visited more than once.
-template <bool AnyHit, class LeafFn>
-void walk_ropes(const KdTree& tree, const Ray& r, const float& best_t, LeafFn&& leaf_fn) {
+/// Count: adds the interior nodes whose split plane the walk tested to `visited`.
+template <bool AnyHit, bool Count = false, class LeafFn>
+void walk_ropes(const KdTree& tree, const Ray& r, const float& best_t, LeafFn&& leaf_fn, std::uint64_t& visited) {
     if (tree.empty() || !ray_is_traceable(r)) return;
     RopeRay s;
     double t0 = r.tnear, t1 = r.tfar;
@@ -178,7 +185,7 @@ void walk_ropes(const KdTree& tree, const Ray& r, const float& best_t, LeafFn&& 
     if (t0 > t1) return;
     s.t_end = t1;
     unsigned touched = 0;
-    if (walk_pass<AnyHit>(tree, s, t0, best_t, leaf_fn, touched) || touched == 0) return;
+    if (walk_pass<AnyHit, Count>(tree, s, t0, best_t, leaf_fn, touched, visited) || touched == 0) return;
     // The ray lies in a leaf face plane of a flat axis: walk the other sides too.
     int flat_axes[3], nf = 0;
     for (int k = 0; k < 3; ++k)
@@ -188,7 +195,7 @@ void walk_ropes(const KdTree& tree, const Ray& r, const float& best_t, LeafFn&& 
         for (int i = 0; i < nf; ++i)
             if (combo & (1u << i)) other.tie_right[flat_axes[i]] = !s.tie_right[flat_axes[i]];
         unsigned unused = 0;
-        if (walk_pass<AnyHit>(tree, other, t0, best_t, leaf_fn, unused)) return;
+        if (walk_pass<AnyHit, Count>(tree, other, t0, best_t, leaf_fn, unused, visited)) return;
     }
 }
 

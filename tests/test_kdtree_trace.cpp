@@ -141,3 +141,25 @@ TEST_CASE("kdtree trace: tracing in parallel gives the same answers as one threa
         CHECK(serial[i].t == parallel[i].t);
     }
 }
+
+TEST_CASE("kdtree trace: the counted walk gives the same answers and plausible counts") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
+    const accel::KdTreeAccel kd(mesh.view());
+    const auto rays = testing::random_rays_into(mesh.bounds, 500, 12);
+    for (const bool any : {false, true}) {
+        std::vector<Hit> plain(rays.size()), counted(rays.size());
+        if (any) kd.occluded(rays, plain, accel::TracePath::scalar);
+        else kd.intersect(rays, plain, accel::TracePath::scalar);
+        accel::TraceCounters c;
+        REQUIRE(kd.trace_counted(rays, counted, any, c));
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            CHECK(plain[i].prim == counted[i].prim);
+            CHECK(plain[i].t == counted[i].t);
+        }
+        CAPTURE(any);
+        CHECK(c.rays == rays.size());
+        CHECK(c.nodes_visited > rays.size());              // every ray descends from the root at least
+        CHECK(c.triangles_tested > rays.size() / 2);       // most rays hit, so they test something
+        CHECK(c.triangles_tested < 50 * rays.size());      // and the tree culls (1280 triangles)
+    }
+}
