@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace arbor::accel {
 
@@ -27,8 +28,11 @@ using kd::NodeWork;
 /// Current and peak bytes of build temporaries (accounting only; placement never depends on it).
 struct MemoryMeter {
     std::atomic<std::size_t> current{0}, peak{0};
+    std::size_t limit = 0;  // BuildConfig::max_memory; 0 = none
     void add(std::size_t b) {
         const std::size_t now = current.fetch_add(b) + b;
+        if (limit != 0 && now > limit)
+            throw std::length_error("kdtree: the build needs more than max_memory = " + std::to_string(limit) + " bytes");
         std::size_t p = peak.load();
         while (now > p && !peak.compare_exchange_weak(p, now)) {}
     }
@@ -164,6 +168,7 @@ KdTree build_kdtree(const TriangleView& view, const BuildConfig& cfg) {
     if (n > kd_max_index) throw std::length_error("kdtree: more than 2^30 triangles");
 
     MemoryMeter meter;
+    meter.limit = cfg.max_memory;
     kd::BuildTriangles tris;
     tris.v.resize(3 * n);
     NodeWork root(n, false);

@@ -14,6 +14,7 @@ std::uint32_t kd_depth_limit(std::size_t n);
 /// and counted. Deterministic: the same tree, bit for bit, for any number of TBB threads (children
 /// are built in parallel above cfg.parallel_threshold triangles and laid out depth-first after).
 /// Exact float comparisons run under IeeeFpGuard, so the caller's FTZ/DAZ mode does not matter.
+/// Throws std::length_error when the build's temporaries would exceed cfg.max_memory (0: no limit).
 KdTree build_kdtree(const TriangleView& tris, const BuildConfig& cfg = {});
 
 /// Statistics of a built tree (SAH cost normalized to the scene box area: sum over interior nodes

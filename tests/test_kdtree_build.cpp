@@ -12,6 +12,7 @@
 #include <xmmintrin.h>
 
 #include <cstring>
+#include <stdexcept>
 #include <random>
 
 using namespace arbor;
@@ -188,4 +189,15 @@ TEST_CASE("kdtree build: statistics") {
     const accel::KdTreeAccel root_leaf(mesh.view(), leaf_only);
     CHECK(root_leaf.stats().leaves == 1);
     CHECK(root_leaf.stats().sah_cost == doctest::Approx(double(tree.tris.size())));
+}
+
+TEST_CASE("kdtree build: max_memory is honoured") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4);
+    BuildConfig cfg;
+    const KdTree tree = accel::build_kdtree(mesh.view(), cfg);
+    REQUIRE(tree.build_peak_bytes > 0);
+    cfg.max_memory = tree.build_peak_bytes / 2;
+    CHECK_THROWS_AS(accel::build_kdtree(mesh.view(), cfg), std::length_error);
+    cfg.max_memory = tree.build_peak_bytes * 2;
+    CHECK(same_tree(tree, accel::build_kdtree(mesh.view(), cfg)));
 }
