@@ -5,6 +5,8 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace arbor::perf {
@@ -43,8 +45,10 @@ std::vector<accel::AccelKind> bench_structures(const BenchOptions& o) {
 }
 
 std::vector<Built> build_structures(const accel::TriangleView& tris, const BenchOptions& o,
-                                    const std::vector<int>& threads, int repeats, std::vector<std::string>& notes) {
+                                    const std::vector<int>& threads, int repeats, std::vector<std::string>& notes,
+                                    BuildHistory& history) {
     std::vector<Built> built;
+    const std::size_t n = tris.triangle_count();
     for (const accel::AccelKind k : bench_structures(o)) {
         Built b;
         b.name = std::string(accel::to_string(k));
@@ -66,10 +70,23 @@ std::vector<Built> build_structures(const accel::TriangleView& tris, const Bench
         }
     }
 #endif
+    for (Built& b : built) {
+        const auto h = history.find(b.name);
+        if (h == history.end() || h->second.first >= n || h->second.first < 2) continue;
+        const double m = double(h->second.first);
+        const double predicted_s =
+            h->second.second * 1e-3 * (double(n) / m) * std::log2(double(n)) / std::log2(m);
+        if (predicted_s > o.max_build_seconds) {
+            notes.push_back(b.name + ": skipped on " + std::to_string(n) + " triangles (one build predicted to take " +
+                            std::to_string(int(predicted_s)) + " s > " + std::to_string(int(o.max_build_seconds)) + " s)");
+            b.unavailable = true;
+        }
+    }
     for (const int t : threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
         for (int rep = 0; rep < repeats; ++rep) {
             for (Built& b : built) {
+                if (b.unavailable) continue;
 #ifdef ARBOR_HAVE_EMBREE
                 if (b.is_embree()) {
                     b.peer.reset();
@@ -78,7 +95,6 @@ std::vector<Built> build_structures(const accel::TriangleView& tris, const Bench
                     continue;
                 }
 #endif
-                if (b.unavailable) continue;
                 const auto kind = *accel::parse_accel_kind(b.name);
                 b.accel.reset();
                 const accel::Timer timer;
@@ -94,6 +110,13 @@ std::vector<Built> build_structures(const accel::TriangleView& tris, const Bench
         }
     }
     std::erase_if(built, [](const Built& b) { return b.unavailable; });
+    const int all = *std::max_element(threads.begin(), threads.end());
+    for (const Built& b : built) {
+        const auto it = b.build_ms.find(all);
+        if (it == b.build_ms.end() || it->second.empty()) continue;
+        auto& h = history[b.name];
+        if (n >= h.first) h = {n, *std::min_element(it->second.begin(), it->second.end())};
+    }
     return built;
 }
 

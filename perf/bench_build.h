@@ -48,11 +48,17 @@ struct TraceConfig {
 /// --structures for an unknown one, or for "auto").
 std::vector<accel::AccelKind> bench_structures(const BenchOptions& o);
 
+/// The largest build measured so far per structure (triangles, ms at all threads), to skip builds
+/// predicted to take longer than BenchOptions::max_build_seconds on bigger scenes.
+using BuildHistory = std::map<std::string, std::pair<std::size_t, double>>;
+
 /// Builds every structure of `o` (and the Embree modes when built) over `tris`, `repeats` times at
 /// each thread count of `threads` (interleaved: every structure once, then again). Structures that
-/// make_accel cannot build are left out and reported in `notes`.
+/// make_accel cannot build, or whose single build `history` predicts (N log N from the largest
+/// earlier build) to exceed o.max_build_seconds, are left out and reported in `notes`.
 std::vector<Built> build_structures(const accel::TriangleView& tris, const BenchOptions& o,
-                                    const std::vector<int>& threads, int repeats, std::vector<std::string>& notes);
+                                    const std::vector<int>& threads, int repeats, std::vector<std::string>& notes,
+                                    BuildHistory& history);
 
 /// The configurations to trace: every path each arbor structure has (has_path: scalar first),
 /// and for Embree the default mode with every call, the other modes with rtcIntersect1 and 1M.

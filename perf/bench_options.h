@@ -36,6 +36,9 @@ struct BenchOptions {
     /// Scenes above this many triangles are built once, timed at all threads only, and run Embree's
     /// default mode only.
     std::size_t big_scene = 2000000;
+    /// A structure whose build on a scene is predicted (from its largest earlier build at all
+    /// threads, scaled by N log N) to take longer than this many seconds is skipped there (noted).
+    double max_build_seconds = 60.0;
     /// Timed repeats per configuration (median, min, max); builds repeat `build_repeats` times
     /// (once on scenes above 2M triangles).
     int repeats = 5;

@@ -234,7 +234,7 @@ std::string to_json(const BenchResult& r) {
                              {"oracle_split_regret", num(a.oracle_split_regret)},
                              {"reason", a.reason}});
     j["notes"] = r.notes;
-    return j.dump(1) + "\n";
+    return j.dump() + "\n";
 }
 
 std::string to_csv(const BenchResult& r) {

@@ -315,7 +315,7 @@ void fill_embree_ratios(std::vector<BenchRow>& rows, std::size_t from) {
 }
 
 void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<int>& threads, const Progress& log,
-               BenchResult& out) {
+               BuildHistory& history, BenchResult& out) {
     const accel::TriangleView view = bs.scene.mesh.view();
     const std::size_t tris = view.triangle_count();
     const bool scaling = bs.family == "replicated";
@@ -332,7 +332,7 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
                             " threads only, Embree default mode only");
     }
     const int build_repeats = big ? 1 : std::max(o.build_repeats, 1);
-    std::vector<Built> built = build_structures(view, so, scene_threads, build_repeats, out.notes);
+    std::vector<Built> built = build_structures(view, so, scene_threads, build_repeats, out.notes, history);
     for (const Built& b : built) {
         const auto& v = b.build_ms.at(all);
         log("  built %s: %.1f ms (median of %zu at %d threads)", b.name.c_str(), summarize(v).median, v.size(), all);
@@ -416,10 +416,11 @@ BenchResult run_bench(const BenchOptions& o) {
     out.load_before = load_average();
     out.budgets = o.budgets;
     out.hardware_threads = tbb::info::default_concurrency();
+    BuildHistory history;
     for (const SceneSource& src : plan) {
         try {
             const BenchScene scene = src.make();
-            run_scene(scene, o, threads, log, out);
+            run_scene(scene, o, threads, log, history, out);
         } catch (const std::bad_alloc&) {
             out.notes.push_back(src.name + ": out of memory, skipped");
         }

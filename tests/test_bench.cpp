@@ -4,6 +4,7 @@
 #include "accel/brute_accel.h"
 #include "engine/error.h"
 #include "engine/ray_gen.h"
+#include "perf/bench_build.h"
 #include "perf/bench_plan.h"
 #include "perf/bench_report.h"
 #include "perf/bench_run.h"
@@ -91,6 +92,24 @@ TEST_CASE("bench plan: scene names, optional models, and errors") {
     CHECK_THROWS_AS(perf::plan_scenes(o), engine::InputError);
     o.scenes = {"replicated-1e9"};
     CHECK_THROWS_AS(perf::plan_scenes(o), engine::InputError);
+}
+
+TEST_CASE("bench: builds predicted to take too long are skipped and noted; history grows") {
+    const auto s = perf::replicated(10000);
+    perf::BenchOptions o;
+    o.structures = {"bvh-median", "bvh-sah"};
+    o.embree = false;
+    o.max_build_seconds = 1.0;
+    perf::BuildHistory history{{"bvh-sah", {1000, 1000.0}}};  // 1 s for 1000 triangles: 13 s predicted here
+    std::vector<std::string> notes;
+    const auto built = perf::build_structures(s.scene.mesh.view(), o, {1}, 1, notes, history);
+    REQUIRE(built.size() == 1);
+    CHECK(built[0].name == "bvh-median");
+    REQUIRE(notes.size() == 1);
+    CHECK(notes[0].find("bvh-sah: skipped on 10000 triangles") == 0);
+    REQUIRE(history.count("bvh-median") == 1);
+    CHECK(history["bvh-median"].first == 10000);
+    CHECK(history["bvh-sah"].first == 1000);  // not built: unchanged
 }
 
 TEST_CASE("bench: summarize gives median, min, max") {
