@@ -160,9 +160,17 @@ std::vector<AutoPrediction> AutoSelector::predict(std::span<const Ray> sample, b
     std::vector<Ray> rays;
     if (sample.empty()) {
         rays = rays_into_bounds(s.bounds, s.cfg.sample_rays, s.cfg.seed);
+    } else if (sample.size() <= s.cfg.sample_rays) {
+        rays.assign(sample.begin(), sample.end());
     } else {
-        const std::size_t k = std::min(sample.size(), std::max<std::size_t>(s.cfg.sample_rays, 1));
-        for (std::size_t i = 0; i < k; ++i) rays.push_back(sample[i * sample.size() / k]);
+        // Runs of consecutive rays spread over the sample: rays from one image tile stay together,
+        // so coherent rays are timed as coherent (a strided pick would make them incoherent).
+        const std::size_t run = std::clamp<std::size_t>(s.cfg.sample_rays, 1, 256);  // < sample.size()
+        const std::size_t runs = (s.cfg.sample_rays + run - 1) / run;
+        for (std::size_t r = 0; r < runs; ++r) {
+            const std::size_t first = r * (sample.size() - run) / std::max<std::size_t>(runs - 1, 1);
+            rays.insert(rays.end(), sample.begin() + std::ptrdiff_t(first), sample.begin() + std::ptrdiff_t(first + run));
+        }
     }
     s.last_sample = rays.size();
 

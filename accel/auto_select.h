@@ -25,7 +25,9 @@ namespace arbor::accel {
 struct AutoConfig {
     /// Scenes up to this many triangles are calibrated whole; bigger ones on a subset this large.
     std::size_t full_triangles = 32768;
-    /// Rays of the sample traced by each calibration structure (spread evenly over the given rays).
+    /// Rays of the sample traced by each calibration structure: a longer sample is cut into
+    /// ceil(sample_rays / 256) runs of 256 consecutive rays spread evenly over it (coherent rays
+    /// stay coherent).
     std::size_t sample_rays = 4096;
     /// Timed traces of the sample per structure; the fastest counts (the least disturbed).
     int repeats = 3;

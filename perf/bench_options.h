@@ -36,6 +36,8 @@ struct BenchOptions {
     /// Scenes above this many triangles are built once, timed at all threads only, and run Embree's
     /// default mode only.
     std::size_t big_scene = 2000000;
+    /// Scenes above this many triangles are built once per thread count (no repeats).
+    std::size_t single_build_above = 500000;
     /// A structure whose build on a scene is predicted (from its largest earlier build at all
     /// threads, scaled by N log N) to take longer than this many seconds is skipped there (noted).
     double max_build_seconds = 60.0;

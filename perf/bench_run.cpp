@@ -331,7 +331,7 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
                             " triangles: one build per structure, " + std::to_string(all) +
                             " threads only, Embree default mode only");
     }
-    const int build_repeats = big ? 1 : std::max(o.build_repeats, 1);
+    const int build_repeats = tris > o.single_build_above ? 1 : std::max(o.build_repeats, 1);
     std::vector<Built> built = build_structures(view, so, scene_threads, build_repeats, out.notes, history);
     for (const Built& b : built) {
         const auto& v = b.build_ms.at(all);

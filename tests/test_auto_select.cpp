@@ -82,6 +82,13 @@ TEST_CASE("auto: subset calibration builds only the anchor whole and extrapolate
         CHECK(p.ns_per_ray > 0.0);
     }
     CHECK(whole == 1);  // the anchor (lbvh when available)
+    // A given sample longer than sample_rays is cut into runs of consecutive rays (any size works).
+    const auto rays = testing::camera_rays(scene.scene.mesh.bounds, 64, 48);
+    for (const std::size_t n : {std::size_t(1), std::size_t(100), std::size_t(600), rays.size()}) {
+        const auto c2 = sel.choose(std::span(rays).first(n), false, 1e6);
+        const std::size_t expect = n <= 500 ? n : 512;  // 2 runs of 256
+        CHECK(c2.reason.find(", " + std::to_string(expect) + " rays") != std::string::npos);
+    }
 }
 
 TEST_CASE("auto: brute is a candidate for tiny scenes only") {
