@@ -29,29 +29,38 @@ struct Subtree {
     std::uint32_t count;
 };
 
-/// Length of the common prefix of the augmented keys at sorted positions i and j; -1 when j is
-/// outside [0, n).
+/// Length of the common prefix of the augmented keys at sorted positions i and j (a monotone
+/// stand-in: code bits, then fine code bits, then position bits); -1 when j is outside [0, n).
 class Delta {
 public:
-    Delta(std::span<const std::uint64_t> keys, int shift) : keys_(keys.data()), n_(std::int64_t(keys.size())), shift_(shift) {}
+    Delta(const RadixTreeInput& in)
+        : keys_(in.keys.data()), fine_(in.fine_codes.empty() ? nullptr : in.fine_codes.data()),
+          n_(std::int64_t(in.keys.size())), shift_(in.code_shift), mask_(fine_ ? ~refined_bit : ~std::uint64_t(0)) {}
     int operator()(std::int64_t i, std::int64_t j) const {
         if (j < 0 || j >= n_) return -1;
-        const std::uint64_t a = keys_[i] >> shift_, b = keys_[j] >> shift_;
+        const std::uint64_t a = (keys_[i] & mask_) >> shift_, b = (keys_[j] & mask_) >> shift_;
         if (a != b) return std::countl_zero(a ^ b);
-        return 64 + std::countl_zero(std::uint32_t(i ^ j));
+        if (fine_ && (keys_[i] & refined_bit)) {
+            const std::uint64_t fa = fine_[std::uint32_t(keys_[i])], fb = fine_[std::uint32_t(keys_[j])];
+            if (fa != fb) return 64 + std::countl_zero(fa ^ fb);
+        }
+        return 128 + std::countl_zero(std::uint32_t(i ^ j));
     }
 
 private:
     const std::uint64_t* keys_;
+    const std::uint64_t* fine_;
     std::int64_t n_;
     int shift_;
+    std::uint64_t mask_;
+    static constexpr std::uint64_t refined_bit = std::uint64_t(1) << 62;
 };
 
 class TreeBuilder {
 public:
     TreeBuilder(const RadixTreeInput& in, std::vector<std::uint32_t>& prim_ids)
         : in_(in), prims_(*in.prims), prim_ids_(prim_ids), n_(std::uint32_t(in.keys.size())),
-          m_(std::max<std::uint32_t>(in.max_leaf_size, 1)), delta_(in.keys, in.code_shift), inner_(n_ - 1) {}
+          m_(std::max<std::uint32_t>(in.max_leaf_size, 1)), delta_(in), inner_(n_ - 1) {}
 
     std::size_t temp_bytes() const {
         return inner_.bytes() + first_.bytes() + last_.bytes() + inner_parent_.bytes() + leaf_parent_.bytes() + visits_.bytes();
@@ -224,6 +233,8 @@ RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod metho
     if (!in.prims) throw std::invalid_argument("build_radix_tree: no prim refs");
     if (!in.sorted_refs.empty() && in.sorted_refs.size() != in.keys.size())
         throw std::invalid_argument("build_radix_tree: sorted_refs and keys differ in size");
+    if (!in.fine_codes.empty() && (!in.sorted_refs.empty() || in.code_shift != 32 || in.fine_codes.size() != in.prims->size()))
+        throw std::invalid_argument("build_radix_tree: fine codes need the references in the keys, one per reference");
     if (in.keys.size() >= std::size_t(1) << 31) throw std::invalid_argument("build_radix_tree: too many primitives");
     RadixTreeResult result;
     const std::uint32_t n = std::uint32_t(in.keys.size());

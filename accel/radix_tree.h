@@ -3,8 +3,8 @@
 /// at most max_leaf_size primitives and written in the canonical BinaryBvh layout.
 ///
 /// Keys are augmented with their sorted position, so duplicate codes are told apart: the prefix
-/// length of positions i and j is clz(code_i ^ code_j) when the codes differ, and 64 +
-/// clz32(i ^ j) when they are equal. A run of equal codes therefore splits on the position bits
+/// length of positions i and j is clz(code_i ^ code_j) when the codes differ, and 128 +
+/// clz32(i ^ j) when they are equal (64 + clz of the fine codes in between, in marked runs). A run of equal codes therefore splits on the position bits
 /// (at a power-of-two boundary near the middle), which bounds the depth by 64 + log2(n) and never
 /// makes a leaf larger than max_leaf_size. Internal nodes are named as in Karras 2012: node 0 is
 /// the root, and an internal node's children are its split position gamma (left) and gamma + 1
@@ -37,6 +37,11 @@ struct RadixTreeInput {
     /// The reference (index into prims) at each sorted position; when empty, the low 32 bits of
     /// keys[i] hold it.
     std::span<const std::uint32_t> sorted_refs;
+    /// Optional finer codes per reference (indexed by the reference, not the position). Requires
+    /// the references in the keys (sorted_refs empty) and code_shift 32; bit 62 of a key then marks
+    /// a run of equal codes that is sorted by (fine code, position): there the fine codes decide
+    /// before the position. Unmarked runs are ordered by position only.
+    std::span<const std::uint64_t> fine_codes;
     /// Boxes and triangle ids of the references (read once per primitive, at the leaves).
     const PrimRefs* prims = nullptr;
     std::uint32_t max_leaf_size = 4;        ///< collapse subtrees of at most this many primitives (>= 1)

@@ -205,14 +205,15 @@ int main(int argc, char** argv) {
     }
     std::vector<Variant> variants;
     for (auto method : {accel::RadixTreeMethod::top_down, accel::RadixTreeMethod::karras})
-        for (int bits : {30, 63})
+        for (auto codes : {accel::MortonSort::bits30, accel::MortonSort::bits63, accel::MortonSort::bits63_refined})
             for (int digits : {8, 11}) {
                 if (!all_variants && digits != 8) continue;
                 Variant v;
                 v.is_lbvh = true;
-                v.lbvh = {method, bits, digits};
-                v.name = std::string("lbvh-") + (method == accel::RadixTreeMethod::karras ? "karras" : "topdown") + "-" +
-                         std::to_string(bits) + "b-d" + std::to_string(digits);
+                v.lbvh = {method, codes, digits};
+                v.name = std::string("lbvh-") + (method == accel::RadixTreeMethod::karras ? "karras" : "topdown") +
+                         (codes == accel::MortonSort::bits30 ? "-30b" : codes == accel::MortonSort::bits63 ? "-63b" : "-63r") +
+                         "-d" + std::to_string(digits);
                 variants.push_back(v);
             }
     variants.push_back({"bvh-sah", false, {}, accel::build_bvh_sah, false});

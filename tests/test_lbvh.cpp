@@ -4,6 +4,7 @@
 #include "accel/brute_accel.h"
 #include "accel/bvh_accel.h"
 #include "accel/lbvh_build.h"
+#include "accel/morton.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "testing.h"
@@ -13,6 +14,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -21,6 +23,7 @@ using namespace arbor;
 using accel::BinaryBvh;
 using accel::Hit;
 using accel::LbvhOptions;
+using accel::MortonSort;
 using accel::Ray;
 using accel::RadixTreeMethod;
 using accel::Vec3f;
@@ -37,25 +40,49 @@ bool same_tree(const BinaryBvh& a, const BinaryBvh& b) {
            std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(accel::BvhBuildNode)) == 0;
 }
 
-/// Every variant (both hierarchies, 30 and 63 bits, both digit widths unless `quick`) is valid,
-/// and the two hierarchy methods agree bit for bit for a given code width. Returns the default build.
+/// The same nodes, and the same triangles in each leaf in any order. (Box bounds compare with ==:
+/// the union of a leaf's boxes may pick +0 or -0 depending on the order.)
+bool same_tree_up_to_leaf_order(const BinaryBvh& a, BinaryBvh b) {
+    if (a.nodes.size() != b.nodes.size() || a.prim_ids.size() != b.prim_ids.size()) return false;
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const auto &x = a.nodes[i], &y = b.nodes[i];
+        if (x.first != y.first || x.count != y.count) return false;
+        if (!(x.box.lo.x == y.box.lo.x && x.box.lo.y == y.box.lo.y && x.box.lo.z == y.box.lo.z &&
+              x.box.hi.x == y.box.hi.x && x.box.hi.y == y.box.hi.y && x.box.hi.z == y.box.hi.z))
+            return false;
+    }
+    BinaryBvh sorted = a;
+    for (const auto& n : a.nodes)
+        if (n.is_leaf()) {
+            std::sort(sorted.prim_ids.begin() + n.first, sorted.prim_ids.begin() + n.first + n.count);
+            std::sort(b.prim_ids.begin() + n.first, b.prim_ids.begin() + n.first + n.count);
+        }
+    return sorted.prim_ids == b.prim_ids;
+}
+
+/// Every variant (both hierarchies, 30-bit codes, 63-bit codes sorted in full or refined, both
+/// digit widths unless `quick`) is valid; for a code width, all variants build the same tree bit
+/// for bit (the refined 63-bit order may permute the triangles inside a leaf). Returns the default
+/// build.
 BinaryBvh check_all_variants(const engine::Mesh& mesh, const accel::BuildConfig& cfg, bool quick = false) {
-    BinaryBvh result;
-    for (int bits : {30, 63}) {
-        BinaryBvh first;
+    BinaryBvh result, first30, first63;
+    for (MortonSort codes : {MortonSort::bits30, MortonSort::bits63, MortonSort::bits63_refined}) {
         for (RadixTreeMethod method : {RadixTreeMethod::top_down, RadixTreeMethod::karras}) {
             for (int digits : {8, 11}) {
                 if (quick && digits != LbvhOptions{}.digit_bits) continue;
-                CAPTURE(bits);
+                CAPTURE(int(codes));
                 CAPTURE(int(method));
                 CAPTURE(digits);
-                BinaryBvh bvh = build(mesh, cfg, {method, bits, digits});
+                BinaryBvh bvh = build(mesh, cfg, {method, codes, digits});
                 CHECK(accel::validate_bvh(bvh, mesh.view(), cfg.max_leaf_size) == "");
+                BinaryBvh& first = codes == MortonSort::bits30 ? first30 : first63;
                 if (first.nodes.empty()) first = bvh;
+                else if (codes == MortonSort::bits63_refined) CHECK(same_tree_up_to_leaf_order(first, bvh));
                 else CHECK(same_tree(first, bvh));
+                if (codes == LbvhOptions{}.codes && method == LbvhOptions{}.hierarchy && digits == LbvhOptions{}.digit_bits)
+                    result = bvh;
             }
         }
-        if (bits == LbvhOptions{}.morton_bits) result = std::move(first);
     }
     return result;
 }
@@ -141,7 +168,7 @@ TEST_CASE("lbvh: all centroids equal (100k copies of one triangle): bounded dept
     mesh.compute_bounds();
     accel::BuildConfig cfg;
     for (RadixTreeMethod method : {RadixTreeMethod::top_down, RadixTreeMethod::karras}) {
-        const BinaryBvh bvh = build(mesh, cfg, {method, 63, 8});
+        const BinaryBvh bvh = build(mesh, cfg, {method, MortonSort::bits63_refined, 8});
         CHECK(accel::validate_bvh(bvh, mesh.view(), cfg.max_leaf_size) == "");
         const auto stats = accel::bvh_tree_stats(bvh);
         CHECK(stats.max_depth <= 17);  // ceil(log2(100000)) = 17: the position bits split the run
@@ -156,6 +183,29 @@ TEST_CASE("lbvh: all centroids equal (100k copies of one triangle): bounded dept
     for (int i = 0; i < 8; ++i) rays.push_back({{0.1f * float(i), 0.1f, 5}, 0, {0, 0, -1}, INFINITY});
     rays.push_back({{2, 2, 5}, 0, {0, 0, -1}, INFINITY});  // misses
     check_oracle(mesh, *lbvh, rays);
+}
+
+TEST_CASE("lbvh: a dense cluster in a huge scene: the refined 63-bit order is the full 63-bit order") {
+    // 5120 triangles in one 30-bit cell: one long run of equal top bits (radix-refined), plus a few
+    // short runs of big triangles; the 30-bit tree can only split that run by position.
+    engine::Mesh mesh = engine::make_icosphere({0.9765625f, 0.9765625f, 0.9765625f}, 1e-3f, 4);
+    for (float s : {-1000.0f, 1000.0f})
+        for (float t : {-1000.0f, 1000.0f}) mesh.append(engine::make_box({s, t, s}, {s + 1, t + 1, s + 1}));
+    mesh.compute_bounds();
+    const auto refs = accel::make_prim_refs(mesh.view());
+    const accel::MortonQuantizer q10(refs.centroid_bounds, 10);
+    std::size_t in_cell = 0;
+    for (std::size_t i = 0; i < refs.size(); ++i) in_cell += q10.code30(refs.centroid(i)) == q10.code30(refs.centroid(0));
+    CHECK(in_cell == 5120);
+    const BinaryBvh full = accel::build_lbvh(refs, {}, {RadixTreeMethod::top_down, MortonSort::bits63, 8});
+    const BinaryBvh refined = accel::build_lbvh(refs, {}, {RadixTreeMethod::top_down, MortonSort::bits63_refined, 8});
+    const BinaryBvh karras = accel::build_lbvh(refs, {}, {RadixTreeMethod::karras, MortonSort::bits63_refined, 11});
+    const BinaryBvh coarse = accel::build_lbvh(refs, {}, {RadixTreeMethod::top_down, MortonSort::bits30, 8});
+    CHECK(accel::validate_bvh(refined, mesh.view(), 4) == "");
+    CHECK(same_tree_up_to_leaf_order(full, refined));
+    CHECK(same_tree(refined, karras));
+    CHECK(accel::bvh_tree_stats(refined).sah_cost < accel::bvh_tree_stats(coarse).sah_cost);
+    check_oracle_all_kinds(mesh, *make_lbvh(mesh), 300, 12);
 }
 
 TEST_CASE("lbvh: degenerate inputs: one plane, one triangle, zero-area and sliver triangles") {
@@ -284,13 +334,13 @@ TEST_CASE("lbvh: bit-identical tree with 1 and 2 threads") {
     mesh.append(copies);
     accel::BuildConfig cfg;
     cfg.parallel_threshold = 64;
-    for (int bits : {30, 63}) {
+    for (MortonSort codes : {MortonSort::bits30, MortonSort::bits63, MortonSort::bits63_refined}) {
         for (RadixTreeMethod method : {RadixTreeMethod::top_down, RadixTreeMethod::karras}) {
-            CAPTURE(bits);
+            CAPTURE(int(codes));
             CAPTURE(int(method));
             auto run = [&](int threads) {
                 tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-                return build(mesh, cfg, {method, bits, 8});
+                return build(mesh, cfg, {method, codes, 8});
             };
             const BinaryBvh one = run(1), two = run(2);
             CHECK(same_tree(one, two));
