@@ -19,14 +19,20 @@ struct Bvh2StackEntry {
 /// Stack entries a traversal of `layout` may need.
 inline std::size_t bvh2_stack_size(const Bvh2Layout& layout) { return std::size_t(layout.max_depth) + 1; }
 
+/// No-op node hook of traverse_bvh2.
+struct NoNodeHook {
+    void operator()() const {}
+};
+
 /// Walks `layout` for the ray (org, dir, tnear, tfar). `tfar` is read after every leaf, so the leaf
 /// work shortens the ray by lowering it. `leaf(first_slot, count)` tests triangle slots
 /// [first_slot, first_slot + count) and returns true when it found a hit; with AnyHit that ends
-/// the walk. `stack` must hold bvh2_stack_size(layout) entries. The caller checks
-/// ray_is_traceable first.
-template <bool AnyHit, class LeafFn>
+/// the walk. `node_hook()` is called for every interior node whose child boxes are tested (the
+/// statistics mode counts with it; the default does nothing and compiles away). `stack` must hold
+/// bvh2_stack_size(layout) entries. The caller checks ray_is_traceable first.
+template <bool AnyHit, class LeafFn, class NodeHook = NoNodeHook>
 inline void traverse_bvh2(const Bvh2Layout& layout, const Vec3f& org, const Vec3f& dir, float tnear, float& tfar,
-                          std::span<Bvh2StackEntry> stack, LeafFn&& leaf) {
+                          std::span<Bvh2StackEntry> stack, LeafFn&& leaf, NodeHook&& node_hook = {}) {
     if (layout.empty()) return;
     const simd::SlabRay r = simd::slab_ray(org, dir);
     float t_entry;
@@ -41,6 +47,7 @@ inline void traverse_bvh2(const Bvh2Layout& layout, const Vec3f& org, const Vec3
             if (leaf(child, count) && AnyHit) return;
         } else {
             const Bvh2Node& n = nodes[child];
+            node_hook();
             float t[2];
             bool hit[2];
             for (int c = 0; c < 2; ++c) {

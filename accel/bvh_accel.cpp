@@ -31,7 +31,9 @@ BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, co
     stats_.build_ms = build_ms + timer.ms();
 }
 
-template <bool AnyHit> void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits) const {
+template <bool AnyHit, bool Count>
+void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits, TraceCounters* counters) const {
+    std::uint64_t nodes = 0, tests = 0;
     std::array<Bvh2StackEntry, 64> small;
     std::vector<Bvh2StackEntry> large;
     std::span<Bvh2StackEntry> stack(small);
@@ -46,8 +48,10 @@ template <bool AnyHit> void BvhAccel::trace_batch(std::span<const Ray> rays, std
             const simd::WoopShear shear = simd::woop_shear(ray.dir);
             float tfar = ray.tfar;
             auto leaf = [&](std::uint32_t first, std::uint32_t count) {
+                if constexpr (Count) ++nodes;
                 bool found = false;
                 for (std::uint32_t s = first; s < first + count; ++s) {
+                    if constexpr (Count) ++tests;
                     const TriBlock4& b = layout_.blocks[s / tri_block_width];
                     const std::uint32_t l = s % tri_block_width;
                     const simd::TriHit<float> h = simd::woop_test(
@@ -63,9 +67,15 @@ template <bool AnyHit> void BvhAccel::trace_batch(std::span<const Ray> rays, std
                 }
                 return found;
             };
-            traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf);
+            if constexpr (Count) traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf, [&] { ++nodes; });
+            else traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf);
         }
         hits[i] = best;
+    }
+    if constexpr (Count) {
+        counters->rays += rays.size();
+        counters->nodes_visited += nodes;
+        counters->triangles_tested += tests;
     }
 }
 
@@ -82,6 +92,12 @@ void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePa
 
 void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
     trace_batch<true>(rays, hits);
+}
+
+bool BvhAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceCounters& counters) const {
+    if (any_hit) trace_batch<true, true>(rays, hits, &counters);
+    else trace_batch<false, true>(rays, hits, &counters);
+    return true;
 }
 
 std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,

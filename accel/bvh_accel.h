@@ -22,13 +22,17 @@ public:
     const BuildStats& stats() const override { return stats_; }
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
+                       TraceCounters& counters) const override;
 
     /// One ray through the scalar loop: closest hit, or with any_hit the first hit found.
     Hit trace(const Ray& ray, bool any_hit) const;
     const Bvh2Layout& layout() const { return layout_; }
 
 private:
-    template <bool AnyHit> void trace_batch(std::span<const Ray> rays, std::span<Hit> hits) const;
+    /// The scalar loop over a batch; with Count, what it did is added to *counters.
+    template <bool AnyHit, bool Count = false>
+    void trace_batch(std::span<const Ray> rays, std::span<Hit> hits, TraceCounters* counters = nullptr) const;
 
     AccelKind kind_;
     Bvh2Layout layout_;

@@ -2,8 +2,9 @@
 // that model replicated on a grid (millions of triangles). A benchmark, not a test: it validates
 // every structure against brute on a subset of the rays first, then times. Usage:
 //   bench_bvh [--model OBJ] [--copies N] [--repeat K] [--threads T] [--rays N] [--sweep-max N] [--build-only 1]
-// Times are medians of K runs; the builders are run interleaved (A B A B ...) so that machine
-// noise hits them alike.
+// Times are medians of K runs; the builders (and Embree's default build, rtcCommitScene at
+// RTC_BUILD_QUALITY_MEDIUM, when the peer is built) are run interleaved (A B C A B C ...) so that
+// machine noise hits them alike; ratios to Embree are medians of the per-round ratios.
 #include "accel/accel.h"
 #include "accel/brute_accel.h"
 #include "accel/bvh_accel.h"
@@ -12,6 +13,9 @@
 #include "accel/trace.h"
 #include "engine/obj_loader.h"
 #include "engine/ray_gen.h"
+#if ARBOR_HAVE_EMBREE
+#include "perf/embree_peer.h"
+#endif
 
 #include <tbb/global_control.h>
 
@@ -99,13 +103,24 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
     std::map<std::string, std::vector<double>> times;
     std::map<std::string, std::unique_ptr<accel::Accel>> built;
     std::vector<double> t_refs, t_build, t_convert;
+    std::vector<double> t_embree;
+    std::map<std::string, std::vector<double>> ratio;  // per round: build ms / Embree's build ms
+#if ARBOR_HAVE_EMBREE
+    std::unique_ptr<perf::EmbreePeer> embree;
+#endif
     for (int r = 0; r < o.repeat; ++r) {
+#if ARBOR_HAVE_EMBREE
+        embree.reset();
+        embree = std::make_unique<perf::EmbreePeer>(view);
+        t_embree.push_back(embree->build_ms());
+#endif
         for (const auto& [kname, kind] : kinds) {
             if (o.build_only) break;
             try {
                 const accel::Timer t;
                 auto a = accel::make_accel(kind, view, cfg);
                 times[kname].push_back(t.ms());
+                if (!t_embree.empty()) ratio[kname].push_back(times[kname].back() / t_embree.back());
                 built[kname] = std::move(a);
             } catch (const std::invalid_argument&) {  // not in this build yet
             }
@@ -126,18 +141,19 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
     const auto sets = make_rays(mesh, o.rays);
     const accel::BruteAccel brute(view);
     const std::size_t check = std::max<std::size_t>(16, std::size_t(2e8 / double(mesh.triangle_count()) / 2));
-    std::printf("| structure | build ms | SAH cost | nodes | depth | B/tri | brute disagreements (%zu rays) |",
+    std::printf("| structure | build ms | build / Embree's | SAH cost | nodes | depth | B/tri | brute disagreements (%zu rays) |",
                 std::min(check, o.rays) * 2);
     for (const auto& s : sets) std::printf(" %s Mrays/s |", s.name.c_str());
-    std::printf("\n|---|---|---|---|---|---|---|");
+    std::printf("\n|---|---|---|---|---|---|---|---|");
     for (std::size_t i = 0; i < sets.size(); ++i) std::printf("---|");
     std::printf("\n");
     for (const auto& [kname, kind] : kinds) {
         if (!built.count(kname)) continue;
         const accel::Accel& a = *built[kname];
         const std::size_t bad = validate(a, brute, sets, check);
-        std::printf("| %s | %.1f | %.2f | %zu | %u | %.1f | %zu |", kname.c_str(), median(times[kname]), a.stats().sah_cost,
-                    a.stats().nodes, a.stats().max_depth, a.stats().bytes_per_triangle(), bad);
+        std::printf("| %s | %.1f | %s | %.2f | %zu | %u | %.1f | %zu |", kname.c_str(), median(times[kname]),
+                    ratio.count(kname) ? std::to_string(median(ratio[kname])).substr(0, 4).c_str() : "-",
+                    a.stats().sah_cost, a.stats().nodes, a.stats().max_depth, a.stats().bytes_per_triangle(), bad);
         for (const auto& s : sets) {
             std::vector<accel::Hit> hits(s.rays.size());
             std::vector<double> tt;
@@ -150,6 +166,23 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
         }
         std::printf("\n");
     }
+#if ARBOR_HAVE_EMBREE
+    std::printf("| embree (medium, %s) | %.1f | 1 | - | - | - | %.1f | - |", perf::embree_config_name(embree->config()).c_str(),
+                median(t_embree), double(embree->memory_bytes()) / double(mesh.triangle_count()));
+    for (const auto& s : sets) {
+        std::vector<accel::Hit> hits(s.rays.size());
+        std::vector<double> tt;
+        for (int r = 0; r < o.repeat; ++r) {
+            const accel::Timer t;
+            embree->trace_parallel(s.rays, hits, accel::Query::closest, perf::EmbreeCall::single, s.name == "primary");
+            tt.push_back(t.ms());
+        }
+        std::printf(" %.2f |", double(s.rays.size()) / median(tt) * 1e-3);
+    }
+    std::printf("\n");
+#else
+    std::printf("(Embree peer not built: no Embree row)\n");
+#endif
     if (mesh.triangle_count() <= o.sweep_max) {
         const accel::Timer t;
         const accel::BinaryBvh sweep = accel::build_bvh_sah_sweep(accel::make_prim_refs(view), cfg);

@@ -153,3 +153,33 @@ TEST_CASE("bvh accel: a root that is a leaf, an empty scene, untraceable rays") 
         }
     }
 }
+
+TEST_CASE("bvh accel: statistics mode gives the same answers and counts nodes and triangle tests") {
+    const engine::Mesh box = engine::make_box({-1, -1, -1}, {1, 1, 1});
+    auto rays = testing::random_rays_into(box.bounds, 300, 8);
+    rays.push_back({{0, 0, 0}, 0.0f, {0, 0, 0}, INFINITY});  // untraceable: counted as a ray only
+    // A root that is a leaf of all 12 triangles: every traceable ray enters it and tests all 12.
+    accel::BvhAccel leaf(accel::AccelKind::bvh_sah, index_split_tree(box.view(), 16), box.view(), {}, 0.0);
+    std::vector<Hit> counted(rays.size()), plain(rays.size());
+    accel::TraceCounters c;
+    REQUIRE(leaf.trace_counted(rays, counted, false, c));
+    leaf.intersect(rays, plain, accel::TracePath::scalar);
+    CHECK(testing::count_disagreements(counted, plain) == 0);
+    CHECK(c.rays == rays.size());
+    CHECK(c.nodes_visited == rays.size() - 1);
+    CHECK(c.triangles_tested == 12 * (rays.size() - 1));
+
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
+    accel::BvhAccel tree(accel::AccelKind::bvh_sah, index_split_tree(mesh.view(), 2), mesh.view(), {}, 0.0);
+    const auto many = testing::random_rays_into(mesh.bounds, 500, 9);
+    std::vector<Hit> closest(many.size()), any(many.size()), ref(many.size());
+    accel::TraceCounters cc, ca;
+    REQUIRE(tree.trace_counted(many, closest, false, cc));
+    REQUIRE(tree.trace_counted(many, any, true, ca));
+    tree.intersect(many, ref, accel::TracePath::scalar);
+    CHECK(testing::count_disagreements(closest, ref) == 0);
+    CHECK(testing::count_occlusion_disagreements(any, ref) == 0);
+    CHECK(cc.nodes_visited > many.size());                                  // the tree is walked
+    CHECK(cc.triangles_tested < many.size() * mesh.triangle_count() / 10);  // and prunes
+    CHECK(ca.triangles_tested <= cc.triangles_tested);
+}
