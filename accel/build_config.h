@@ -11,6 +11,9 @@ struct BuildConfig {
     std::uint32_t max_leaf_size = 4;
     /// Binned SAH: number of bins per axis (16..32 is the useful range).
     std::uint32_t sah_bins = 16;
+    /// Binned SAH: from this depth on only median splits are made (each halves its range, so the
+    /// tree stays shallower than sah_depth_limit + 32 whatever the input).
+    std::uint32_t sah_depth_limit = 48;
     /// SAH costs, relative: traversal step vs one ray/triangle test.
     float traversal_cost = 1.0f;
     float intersection_cost = 1.0f;

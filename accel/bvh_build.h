@@ -18,7 +18,8 @@ BinaryBvh build_bvh_median(const PrimRefs& refs, const BuildConfig& cfg);
 /// Ranges of at most 16 primitives are split by an exact SAH sweep over their centroids sorted on
 /// the longest axis of the centroid bounds instead (cheaper than binning them).
 /// Degenerate centroid bounds, or a binning that cannot separate the range, fall back to a median
-/// split; below depth 48 only median splits are made, so the depth stays under 48 + 32.
+/// split; from depth cfg.sah_depth_limit on only median splits are made, so the depth stays under
+/// that limit + 32.
 BinaryBvh build_bvh_sah(const PrimRefs& refs, const BuildConfig& cfg);
 
 /// Full-sweep SAH (every split position between sorted centroids on all three axes), the quality

@@ -23,8 +23,6 @@ constexpr std::uint32_t max_bins = 32;
 /// on the longest axis of the centroid bounds: a third of the cost of binning them (measured with
 /// callgrind on the bunny: 178M instead of 210M instructions for the whole build, SAH cost +0.6%).
 constexpr std::uint32_t small_range = 16;
-/// From this depth on only median splits are made (each halves the range: at most 32 more levels).
-constexpr std::uint32_t sah_depth_limit = 48;
 /// Ranges of at least this many primitives are binned by several tasks (tbb::parallel_reduce).
 constexpr std::uint32_t parallel_binning = 32 * 1024;
 
@@ -248,7 +246,7 @@ struct SahSplitter {
             if (n <= max_leaf) return std::nullopt;
             return detail::index_median_split(prims, t);
         }
-        if (t.depth >= sah_depth_limit) {
+        if (t.depth >= cfg.sah_depth_limit) {
             if (n <= max_leaf) return std::nullopt;
             return detail::object_median_split(prims, t, longest);
         }

@@ -117,6 +117,34 @@ TEST_CASE("bvh degenerate: a single triangle; coordinates near FLT_MAX") {
     CHECK(check_all(huge, rays, 4) >= 200);
 }
 
+TEST_CASE("bvh degenerate: exponentially spaced triangles: valid trees of bounded depth") {
+    // Centroids at 2^k: the binning peels the few farthest off at every level.
+    engine::Mesh mesh;
+    for (int k = 0; k < 120; ++k) {
+        const float x = std::ldexp(1.0f, k);
+        const auto a = mesh.add_vertex({x, 0, 0}), b = mesh.add_vertex({x * 1.001f, 0, 0}), c = mesh.add_vertex({x, 1, 0});
+        mesh.add_triangle(a, b, c);
+    }
+    mesh.compute_bounds();
+    for (const auto& k : testing::bvh_kinds()) {
+        CAPTURE(k.name);
+        BuildConfig cfg;
+        cfg.max_leaf_size = 1;
+        const accel::BinaryBvh tree = k.builder(accel::make_prim_refs(mesh.view()), cfg);
+        CHECK(accel::validate_bvh(tree, mesh.view(), 1) == "");
+        CHECK(accel::bvh_tree_stats(tree).max_depth <= 48 + 7);
+        // With a low depth limit, bvh-sah switches to median splits early: still valid, shallower.
+        cfg.sah_depth_limit = 3;
+        const accel::BinaryBvh capped = k.builder(accel::make_prim_refs(mesh.view()), cfg);
+        CHECK(accel::validate_bvh(capped, mesh.view(), 1) == "");
+        CHECK(accel::bvh_tree_stats(capped).max_depth <= 3 + 7);  // 3 SAH levels, then halving 120
+    }
+    // The triangle test itself overflows far from the origin (t ~ size^3): aim at the near ones.
+    std::vector<Ray> rays;
+    for (int k = 0; k < 30; ++k) rays.push_back({{std::ldexp(1.0002f, k), 0.2f, 2.0f}, 0, {0, 0, -1}, INFINITY});
+    CHECK(check_all(mesh, rays, 1) == rays.size());
+}
+
 TEST_CASE("bvh degenerate: zero-area, collinear and sliver triangles among normal ones") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.1f, 2);
     const auto p = mesh.add_vertex({0.1f, 0.1f, 0.1f});
