@@ -1,33 +1,29 @@
 #pragma once
-/// Tile renderer: TBB over 16x16 tiles; each tile traces its rays as batches through the Accel
-/// (primary, then shadow, then mirror bounces), so the structure picks its fastest path per batch.
-/// Random numbers depend only on (pixel, sample, dimension): the image is the same for any
-/// number of threads.
+/// The tile renderer. tbb::parallel_for over a blocked_range2d of 16x16 tiles; each tile runs the
+/// integrator, which hands the structure whole batches per tile (camera rays, then shadow rays,
+/// then bounce rays), so the structure can trace coherent batches as packets. Random numbers
+/// depend only on (seed, pixel, sample, dimension) and every tile is summed in a fixed order, so
+/// the image is bit-identical for any number of threads.
 #include "accel/accel.h"
 #include "engine/image.h"
+#include "engine/lights.h"
+#include "engine/plan.h"
+#include "engine/render_settings.h"
 #include "engine/scene.h"
-
-#include <atomic>
-#include <cstdint>
 
 namespace arbor::engine {
 
-struct RenderSettings {
-    int width = 640, height = 480;
-    int spp = 4;          ///< samples per pixel, stratified jitter
-    int max_depth = 3;    ///< mirror bounces
-    int tile = 16;
-    bool progress = false;  ///< a progress line on stderr
-};
+/// Renders `scene` with `accel` (built over scene.mesh) following `plan` (from make_plan with the
+/// same settings). The image has channels R, G, B, then Z, N.X N.Y N.Z, A.R A.G A.B as the plan's
+/// layers say. `stats` (optional) receives the rays traced per kind and the times.
+Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
+             const RenderSettings& settings, RenderStats* stats = nullptr);
 
-/// Rays traced, by kind; and what the plan left out.
-struct RenderStats {
-    double seconds = 0.0;
-    std::uint64_t primary = 0, shadow = 0, bounce = 0;
-    std::uint64_t total() const { return primary + shadow + bounce; }
-};
+/// Same, making the light set and the plan itself.
+Image render(const Scene& scene, const accel::Accel& accel, const RenderSettings& settings,
+             RenderStats* stats = nullptr);
 
-/// Renders `scene` with `accel` (built over scene.mesh) into channels R, G, B.
-Image render(const Scene& scene, const accel::Accel& accel, const RenderSettings& settings, RenderStats* stats = nullptr);
+/// The channel names of an image rendered with `layers`.
+std::vector<std::string> channel_names(const Layers& layers);
 
 }  // namespace arbor::engine

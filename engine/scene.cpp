@@ -30,12 +30,16 @@ Scene scene_from_mesh(Mesh mesh, std::string name) {
     const Vec3f ext = mesh.bounds.extent();
     const float size = std::max(ext.x, std::max(ext.y, ext.z));
     const Vec3f c = mesh.bounds.center();
-    // A light above and in front, at about two model sizes; intensity so that irradiance at the
-    // model is about 1.
-    const Vec3f light = c + Vec3f{0.5f * size, 1.5f * size, 1.5f * size};
-    const Vec3f d = light - c;
-    const float d2 = simd::dot(d, d);
-    s.lights.push_back({light, Vec3f{1.0f} * (3.0f * d2)});
+    // Models with emissive materials are lit by them. Others get a light above and in front, at
+    // about two model sizes, with an intensity that makes the irradiance at the model about 3.
+    bool emissive = false;
+    for (const Material& m : mesh.materials) emissive |= m.emission.x > 0.0f || m.emission.y > 0.0f || m.emission.z > 0.0f;
+    if (!emissive) {
+        const Vec3f light = c + Vec3f{0.5f * size, 1.5f * size, 1.5f * size};
+        const Vec3f d = light - c;
+        const float d2 = simd::dot(d, d);
+        s.lights.push_back({light, Vec3f{1.0f} * (3.0f * d2)});
+    }
     s.background = {0.2f, 0.2f, 0.22f};
     s.mesh = std::move(mesh);
     return s;

@@ -24,8 +24,8 @@ struct Scene {
 /// The embedded default scene: a ground plane, a jittered sphere, a mirror torus and a box,
 /// under one point light (~10k triangles).
 Scene make_default_scene();
-/// A scene around a loaded mesh: camera framed on its bounds, one light above-front, a grey
-/// background.
+/// A scene around a loaded mesh: camera framed on its bounds, a grey background, and one point
+/// light above-front unless some material emits (then its triangles are the lights).
 Scene scene_from_mesh(Mesh mesh, std::string name);
 
 }  // namespace arbor::engine

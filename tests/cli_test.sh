@@ -126,5 +126,50 @@ echo keep >"$WORK/keep.hits"
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null
 [ "$(cat "$WORK/keep.hits")" = keep ] || fail "failed trace touched the existing hits file"
 
+# Rendering: option errors name the option; builtin scenes by name; the plan line; EXR + PNG.
+expect_error "--integrator" "$ARBOR" render --integrator magic -o "$WORK/x.exr"
+expect_error "--eye" "$ARBOR" render --eye 1,2 -o "$WORK/x.exr"
+expect_error "--look-at" "$ARBOR" render --eye 1,1,1 --look-at 1,1,1 -o "$WORK/x.exr"
+expect_error "--up" "$ARBOR" render --eye 0,5,0 --look-at 0,0,0 --up 0,1,0 -o "$WORK/x.exr"
+expect_error "--layers" "$ARBOR" render --layers z,q -o "$WORK/x.exr"
+expect_error "--light" "$ARBOR" render --light 1,2,3,4,5 -o "$WORK/x.exr"
+expect_error "builtin:nope" "$ARBOR" render builtin:nope -o "$WORK/x.exr"
+expect_error "builtin:scaling:0" "$ARBOR" render builtin:scaling:0 -o "$WORK/x.exr"
+expect_error "--out" "$ARBOR" converge "$WORK/quad.obj" --out /proc/forbidden/dir
+expect_error "--accel" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c" --accel brute,warp
+expect_error "--integrator" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c" --integrator path,nope
+
+if "$ARBOR" render "$WORK/quad.obj" -o "$WORK/quad.exr" --width 16 --height 12 --spp 2 --integrator primary -v \
+    --eye 0.5,0.5,3 --look-at 0.5,0.5,0 --fov 30 >"$WORK/out" 2>"$WORK/err"; then
+  grep -q "^plan: primary, 2 spp" "$WORK/out" || fail "render printed no plan line: $(cat "$WORK/out")"
+  grep -q "^skipped: " "$WORK/out" || fail "render -v listed nothing skipped"
+  grep -q "^rays: .*primary 384 at" "$WORK/out" || fail "render summary lacks the primary ray count: $(cat "$WORK/out")"
+  [ -s "$WORK/quad.exr" ] && [ -s "$WORK/quad.png" ] || fail "render wrote no EXR/PNG"
+else
+  fail "render exited $?: $(cat "$WORK/err")"
+fi
+# A scene without lights traces no shadow rays (the summary names only the kinds traced).
+"$ARBOR" render "$WORK/quad.obj" -o "$WORK/dark.exr" --width 8 --height 8 --no-point-lights --no-png >"$WORK/out" 2>&1 \
+  || fail "render --no-point-lights failed: $(cat "$WORK/out")"
+grep -q "shadow" "$WORK/out" && fail "a scene without lights traced shadow rays: $(cat "$WORK/out")"
+
+# Error against time: CSV with the spec's columns, one row per (accel, spp); the plot is optional.
+if ARBOR_PYTHON=/nonexistent/python3 "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/conv" --max-spp 4 \
+    --width 8 --height 6 --accel brute,brute --integrator direct >"$WORK/out" 2>"$WORK/err"; then
+  head -1 "$WORK/conv/converge.csv" | grep -q "^accel,integrator,spp,seconds,rays,rmse,rel_mse" || fail "converge.csv header"
+  [ "$(wc -l <"$WORK/conv/converge.csv")" -eq 7 ] || fail "converge.csv should have 6 rows: $(cat "$WORK/conv/converge.csv")"
+  grep -q "plot skipped: no Python interpreter" "$WORK/out" || fail "converge without python gave no note: $(cat "$WORK/out")"
+  [ -s "$WORK/conv/reference-direct.exr" ] || fail "converge wrote no reference"
+else
+  fail "converge exited $?: $(cat "$WORK/err")"
+fi
+if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/conv2" --max-spp 2 --width 8 --height 6 \
+    --reference "$WORK/conv/reference-direct.exr" >"$WORK/out" 2>&1 || fail "converge --reference failed: $(cat "$WORK/out")"
+  [ -s "$WORK/conv2/converge.png" ] || fail "converge drew no plot: $(cat "$WORK/out")"
+fi
+expect_error "--reference" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c3" --width 9 --height 6 \
+  --reference "$WORK/conv/reference-direct.exr"
+
 [ $fails -eq 0 ] && echo "cli tests passed"
 exit $fails

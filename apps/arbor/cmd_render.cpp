@@ -1,13 +1,13 @@
-/// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W] [--height H]
-///  [--threads N]`.
+/// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W]
+/// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
+/// rendering (--verbose: also what was skipped and why) and a summary line after.
 #include "accel/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
-#include "engine/log.h"
-#include "engine/obj_loader.h"
+#include "apps/arbor/render_options.h"
+#include "apps/arbor/scene_options.h"
+#include "engine/image.h"
 #include "engine/renderer.h"
-
-#include <tbb/global_control.h>
 
 #include <cstdio>
 
@@ -15,11 +15,13 @@ namespace arbor::app {
 
 namespace {
 
-struct RenderOptions {
-    std::string scene, out = "arbor.exr", accel = "bvh-sah";
+struct RenderCommand {
+    SceneOptions scene;
+    RenderOptions render;
+    std::string out = "arbor.exr", accel = "bvh-sah";
     accel::BuildConfig build;
-    int spp = 4, width = 640, height = 480, threads = 0, depth = 3;
-    bool no_png = false;
+    int threads = 0;
+    bool no_png = false, verbose = false, quiet = false;
 };
 
 std::string png_path_for(const std::string& exr) {
@@ -29,58 +31,57 @@ std::string png_path_for(const std::string& exr) {
     return exr.substr(0, dot) + ".png";
 }
 
-int run_render(const RenderOptions& o) {
+int run_render(const RenderCommand& o) {
     const auto limit = limit_threads(o.threads);
-    engine::Warnings warnings;
-    engine::Scene scene = o.scene.empty() ? engine::make_default_scene()
-                                          : engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
-    engine::print_warnings(warnings);
+    const engine::RenderSettings base = to_settings(o.render, parse_integrator_option(o.render.integrator));
+    engine::RenderSettings set = base;
+    set.progress = !o.quiet;
+    const engine::Scene scene = load_scene(o.scene);
     std::string reason;
     AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
-    hints.budget = double(o.width) * double(o.height) * double(o.spp) * double(1 + scene.lights.size() + o.depth);
+    hints.budget = double(set.width) * double(set.height) * double(set.spp) *
+                   double(1 + scene.lights.size() + std::max(set.max_depth, 0));
     hints.build = o.build;
     const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason, hints);
+    const engine::LightSet lights(scene);
+    const engine::RenderPlan plan = engine::make_plan(scene, lights, set);
+    const std::string accel_name(accel::to_string(kind));
+    std::printf("%s\n", plan.line(accel_name).c_str());
+    if (o.verbose) std::printf("%s", plan.skipped_lines().c_str());
+    std::fflush(stdout);
+
     const accel::Timer build_timer;
     const auto structure = accel::make_accel(kind, scene.mesh.view(), o.build);
     const double build_ms = build_timer.ms();
-
-    engine::RenderSettings set;
-    set.width = o.width;
-    set.height = o.height;
-    set.spp = o.spp;
-    set.max_depth = o.depth;
-    set.progress = true;
     engine::RenderStats stats;
-    const engine::Image img = engine::render(scene, *structure, set, &stats);
+    const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats);
     engine::write_exr(o.out, img);
     std::string png;
     if (!o.no_png) {
         png = png_path_for(o.out);
         engine::write_png_preview(png, img);
     }
-    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d at %d spp rendered in %.3f s, "
-                "%.2f Mrays/s (%llu primary, %llu shadow, %llu bounce), %d threads -> %s%s%s\n",
-                scene.name.c_str(), scene.mesh.triangle_count(), std::string(accel::to_string(kind)).c_str(),
-                reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, o.width,
-                o.height, o.spp, stats.seconds, double(stats.total()) / stats.seconds * 1e-6,
-                (unsigned long long)stats.primary, (unsigned long long)stats.shadow, (unsigned long long)stats.bounce,
-                active_threads(), o.out.c_str(), png.empty() ? "" : ", ", png.c_str());
+    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d threads -> %s%s%s\n",
+                scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
+                reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, set.width,
+                set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
+                stats.threads, o.out.c_str(), png.empty() ? "" : ", ", png.c_str());
+    std::printf("rays: %s\n", stats.summary().c_str());
     return 0;
 }
 
 }  // namespace
 
 Run add_render(CLI::App& cmd) {
-    auto o = std::make_shared<RenderOptions>();
-    cmd.add_option("SCENE", o->scene, "OBJ file (default: the embedded default scene)");
+    auto o = std::make_shared<RenderCommand>();
+    add_scene_options(cmd, o->scene);
     cmd.add_option("-o,--output", o->out, "OpenEXR output; a PNG preview is written beside it")->capture_default_str();
     add_accel_option(cmd, o->accel)->capture_default_str();
     add_build_options(cmd, o->build);
-    cmd.add_option("--spp", o->spp, "samples per pixel")->check(CLI::Range(1, 1 << 16))->capture_default_str();
-    cmd.add_option("--width", o->width, "image width")->check(CLI::Range(1, 1 << 15))->capture_default_str();
-    cmd.add_option("--height", o->height, "image height")->check(CLI::Range(1, 1 << 15))->capture_default_str();
-    cmd.add_option("--depth", o->depth, "mirror bounces")->check(CLI::Range(0, 64))->capture_default_str();
+    add_render_options(cmd, o->render, false);
     cmd.add_flag("--no-png", o->no_png, "do not write the PNG preview");
+    cmd.add_flag("-v,--verbose", o->verbose, "also list what the plan skipped and why");
+    cmd.add_flag("-q,--quiet", o->quiet, "no progress bar");
     add_threads_option(cmd, o->threads);
     return [o] { return run_render(*o); };
 }

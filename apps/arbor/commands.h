@@ -13,5 +13,6 @@ Run add_info(CLI::App& app);
 Run add_trace(CLI::App& app);
 Run add_render(CLI::App& app);
 Run add_rays(CLI::App& app);
+Run add_converge(CLI::App& app);
 
 }  // namespace arbor::app

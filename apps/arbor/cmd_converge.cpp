@@ -1,0 +1,199 @@
+/// `arbor converge [SCENE] --out DIR [--max-spp N] [--reference REF.exr] [--accel NAME[,NAME…]]`
+/// (spec/cli.md), plus --integrator NAME[,NAME…]: error against run time. Renders (or reads) a
+/// reference per integrator, then renders at 1, 2, 4, … spp up to --max-spp with every structure
+/// and integrator, timing each, and writes DIR/converge.csv and the plot DIR/converge.png.
+#include "accel/timer.h"
+#include "apps/arbor/commands.h"
+#include "apps/arbor/common.h"
+#include "apps/arbor/render_options.h"
+#include "apps/arbor/scene_options.h"
+#include "engine/error.h"
+#include "engine/file_io.h"
+#include "engine/image.h"
+#include "engine/image_metrics.h"
+#include "engine/renderer.h"
+#include "plot_script.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sys/wait.h>
+
+namespace arbor::app {
+
+namespace {
+
+struct ConvergeCommand {
+    SceneOptions scene;
+    RenderOptions render;
+    std::string out_dir, reference, accels = "bvh-sah", integrators = "direct";
+    int max_spp = 64, ref_spp = 0, repeat = 1, threads = 0;
+    bool no_plot = false, verbose = false;
+    bool size_given = false;
+    accel::BuildConfig build;
+};
+
+std::vector<std::string> split_list(const std::string& s) {
+    std::vector<std::string> out;
+    std::size_t b = 0;
+    while (true) {
+        const std::size_t e = s.find(',', b);
+        out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+        if (e == std::string::npos) return out;
+        b = e + 1;
+    }
+}
+
+std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+/// Writes the plot script beside the CSV and runs it. Returns a note for the user; never throws
+/// for a missing python or matplotlib (the CSV is the result, the plot a convenience).
+std::string make_plot(const std::filesystem::path& dir, const std::string& title) {
+    const auto script = dir / "plot_converge.py", csv = dir / "converge.csv", png = dir / "converge.png";
+    const auto log = dir / "plot.log";
+    engine::write_file_atomic(script.string(), plot_converge_py);
+    const char* env = std::getenv("ARBOR_PYTHON");
+    std::string python = env && *env ? env : (std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3");
+    const std::string cmd = shell_quote(python) + " " + shell_quote(script.string()) + " " + shell_quote(csv.string()) +
+                            " " + shell_quote(png.string()) + " " + shell_quote(title) + " >" +
+                            shell_quote(log.string()) + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    const int code = status == -1 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    if (code == 0) return "plot: " + png.string();
+    if (code == 127 || code == 126) return "plot skipped: no Python interpreter '" + python + "' (install python3 and python3-matplotlib, then run " + script.string() + ")";
+    if (code == 3) return "plot skipped: matplotlib is missing (install python3-matplotlib, then run " + script.string() + ")";
+    return "plot skipped: the plot script failed (exit " + std::to_string(code) + "), see " + log.string();
+}
+
+int run_converge(ConvergeCommand& o) {
+    const auto limit = limit_threads(o.threads);
+    std::vector<accel::AccelKind> kinds;
+    for (const std::string& name : split_list(o.accels)) {
+        const auto k = accel::parse_accel_kind(name);
+        if (!k) throw engine::InputError("--accel: unknown structure '" + name + "' (expected one of " + accel::accel_kind_names() + ")");
+        kinds.push_back(*k);
+    }
+    std::vector<engine::IntegratorKind> integrators;
+    for (const std::string& name : split_list(o.integrators)) integrators.push_back(parse_integrator_option(name));
+    if (o.max_spp < 1) throw engine::InputError("--max-spp: must be at least 1");
+
+    engine::Image given_reference;
+    if (!o.reference.empty()) {
+        given_reference = engine::read_exr(o.reference);
+        if (given_reference.channel("R") < 0 || given_reference.channel("G") < 0 || given_reference.channel("B") < 0)
+            throw engine::InputError(o.reference + ": no R, G, B channels");
+        if (!o.size_given) o.render.width = given_reference.width, o.render.height = given_reference.height;
+        if (given_reference.width != o.render.width || given_reference.height != o.render.height)
+            throw engine::InputError("--reference: " + o.reference + " is " + std::to_string(given_reference.width) + "x" +
+                                     std::to_string(given_reference.height) + " but the renders are " +
+                                     std::to_string(o.render.width) + "x" + std::to_string(o.render.height));
+    }
+    const std::filesystem::path dir(o.out_dir);
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) throw engine::InputError("--out: cannot create directory '" + o.out_dir + "'");
+
+    const engine::Scene scene = load_scene(o.scene);
+    const engine::LightSet lights(scene);
+    const int ref_spp = o.ref_spp > 0 ? o.ref_spp : 8 * o.max_spp;
+    std::vector<engine::Image> references(integrators.size());
+    std::string csv = "accel,integrator,spp,seconds,rays,rmse,rel_mse,mean,mrays_per_s,build_ms,threads,width,height\n";
+    std::printf("%-10s %-8s %6s %10s %12s %12s %12s\n", "accel", "integr.", "spp", "seconds", "rays", "rmse", "rel_mse");
+    for (std::size_t a = 0; a < kinds.size(); ++a) {
+        std::string reason;
+        const auto kind = resolve_accel(std::string(accel::to_string(kinds[a])), scene.mesh.view(), &reason);
+        const accel::Timer build_timer;
+        const auto structure = accel::make_accel(kind, scene.mesh.view(), o.build);
+        const double build_ms = build_timer.ms();
+        for (std::size_t i = 0; i < integrators.size(); ++i) {
+            engine::RenderSettings set = to_settings(o.render, integrators[i]);
+            const std::string iname(engine::to_string(integrators[i]));
+            if (references[i].width == 0) {
+                if (!o.reference.empty()) {
+                    references[i] = given_reference;
+                } else {
+                    // The reference uses other random streams than the renders it judges.
+                    engine::RenderSettings ref = set;
+                    ref.spp = ref_spp;
+                    ref.seed = set.seed + 0x9E3779B9u;
+                    ref.progress = true;
+                    const engine::RenderPlan plan = engine::make_plan(scene, lights, ref);
+                    std::printf("reference: %s\n", plan.line(std::string(accel::to_string(kind))).c_str());
+                    std::fflush(stdout);
+                    references[i] = engine::render(scene, lights, plan, *structure, ref);
+                    const std::string path = (dir / ("reference-" + iname + ".exr")).string();
+                    engine::write_exr(path, references[i]);
+                    engine::write_png_preview((dir / ("reference-" + iname + ".png")).string(), references[i]);
+                }
+            }
+            for (int spp = 1; spp <= o.max_spp; spp *= 2) {
+                set.spp = spp;
+                const engine::RenderPlan plan = engine::make_plan(scene, lights, set);
+                if (spp == 1 && o.verbose) std::printf("%s\n%s", plan.line(std::string(accel::to_string(kind))).c_str(), plan.skipped_lines().c_str());
+                std::vector<double> times;
+                engine::Image img;
+                engine::RenderStats stats;
+                for (int r = 0; r < o.repeat; ++r) {
+                    img = engine::render(scene, lights, plan, *structure, set, &stats);
+                    times.push_back(stats.seconds);
+                }
+                std::sort(times.begin(), times.end());
+                const double seconds = times[times.size() / 2];
+                const engine::ImageError err = engine::compare_rgb(img, references[i], o.reference.empty() ? "reference" : o.reference);
+                char row[512];
+                std::snprintf(row, sizeof row, "%s,%s,%d,%.6f,%llu,%.6g,%.6g,%.6g,%.4f,%.3f,%d,%d,%d\n",
+                              std::string(accel::to_string(kind)).c_str(), iname.c_str(), spp, seconds,
+                              (unsigned long long)stats.total(), err.rmse, err.rel_mse, err.mean,
+                              seconds > 0 ? double(stats.total()) / seconds * 1e-6 : 0.0, build_ms, stats.threads,
+                              set.width, set.height);
+                csv += row;
+                std::printf("%-10s %-8s %6d %10.4f %12llu %12.5g %12.5g\n", std::string(accel::to_string(kind)).c_str(),
+                            iname.c_str(), spp, seconds, (unsigned long long)stats.total(), err.rmse, err.rel_mse);
+                std::fflush(stdout);
+                if (spp > o.max_spp / 2) break;  // also stops the doubling before it could overflow
+            }
+        }
+    }
+    engine::write_file_atomic((dir / "converge.csv").string(), csv);
+    std::printf("wrote %s\n", (dir / "converge.csv").string().c_str());
+    if (!o.no_plot) std::printf("%s\n", make_plot(dir, "arbor converge: " + scene.name).c_str());
+    return 0;
+}
+
+}  // namespace
+
+Run add_converge(CLI::App& cmd) {
+    auto o = std::make_shared<ConvergeCommand>();
+    o->render.width = 320;
+    o->render.height = 240;
+    add_scene_options(cmd, o->scene);
+    cmd.add_option("--out", o->out_dir, "output folder for converge.csv, converge.png and the references")->required();
+    cmd.add_option("--max-spp", o->max_spp, "largest samples per pixel (1, 2, 4, ... up to this)")
+        ->check(CLI::Range(1, 1 << 16))->capture_default_str();
+    cmd.add_option("--reference", o->reference, "reference OpenEXR image (default: rendered at --ref-spp)");
+    cmd.add_option("--ref-spp", o->ref_spp, "samples per pixel of the rendered reference (default 8 x --max-spp)")
+        ->check(CLI::Range(1, 1 << 20));
+    cmd.add_option("--accel", o->accels, "structures to compare, comma-separated: " + accel::accel_kind_names())
+        ->capture_default_str();
+    add_build_options(cmd, o->build);
+    cmd.add_option("--integrator", o->integrators, "integrators to compare, comma-separated: " + engine::integrator_names())
+        ->capture_default_str();
+    cmd.add_option("--repeat", o->repeat, "render each point K times and keep the median time")
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    add_render_options(cmd, o->render, true);
+    cmd.add_flag("--no-plot", o->no_plot, "write the CSV only");
+    cmd.add_flag("-v,--verbose", o->verbose, "print each plan and what it skipped");
+    add_threads_option(cmd, o->threads);
+    CLI::App* app = &cmd;
+    return [o, app] {
+        o->size_given = app->count("--width") > 0 || app->count("--height") > 0;
+        return run_converge(*o);
+    };
+}
+
+}  // namespace arbor::app

@@ -1,0 +1,94 @@
+#include "apps/arbor/scene_options.h"
+
+#include "engine/builtin_scenes.h"
+#include "engine/error.h"
+#include "engine/log.h"
+#include "engine/obj_loader.h"
+
+#include <charconv>
+#include <cmath>
+
+namespace arbor::app {
+
+namespace {
+
+std::vector<float> parse_floats(const std::string& option, const std::string& text) {
+    std::vector<float> out;
+    std::size_t b = 0;
+    while (true) {
+        const std::size_t e = text.find(',', b);
+        const std::string part = text.substr(b, e == std::string::npos ? std::string::npos : e - b);
+        float v = 0.0f;
+        const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
+        if (part.empty() || ec != std::errc() || end != part.data() + part.size() || !std::isfinite(v))
+            throw engine::InputError(option + ": '" + text + "' is not a list of finite numbers separated by commas");
+        out.push_back(v);
+        if (e == std::string::npos) break;
+        b = e + 1;
+    }
+    return out;
+}
+
+}  // namespace
+
+engine::Vec3f parse_vec3(const std::string& option, const std::string& text) {
+    const auto v = parse_floats(option, text);
+    if (v.size() != 3) throw engine::InputError(option + ": expected x,y,z (three numbers), got '" + text + "'");
+    return {v[0], v[1], v[2]};
+}
+
+void add_scene_options(CLI::App& cmd, SceneOptions& o) {
+    cmd.add_option("SCENE", o.scene, "OBJ file, or " + engine::builtin_scene_names() + " (default: builtin:default)");
+    cmd.add_option("--eye", o.eye, "camera position x,y,z (default: the scene's, or framed on the model)");
+    cmd.add_option("--look-at", o.look_at, "point the camera looks at, x,y,z");
+    cmd.add_option("--up", o.up, "camera up vector x,y,z (default 0,1,0)");
+    cmd.add_option("--fov", o.fov, "vertical field of view in degrees")->check(CLI::Range(0.01f, 179.0f));
+    cmd.add_option("--light", o.lights, "add a point light x,y,z[,I | ,R,G,B] (radiant intensity, W/sr; repeatable)");
+    cmd.add_flag("--no-point-lights", o.no_point_lights, "remove the scene's point lights (emissive triangles stay)");
+    cmd.add_option("--background", o.background, "radiance of rays that leave the scene: V or R,G,B");
+}
+
+engine::Scene load_scene(const SceneOptions& o, bool print_warnings) {
+    engine::Scene scene;
+    if (o.scene.empty()) {
+        scene = engine::make_default_scene();
+    } else if (engine::is_builtin_scene(o.scene)) {
+        scene = engine::make_builtin_scene(o.scene);
+    } else {
+        engine::Warnings warnings;
+        scene = engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
+        if (print_warnings) engine::print_warnings(warnings);
+    }
+    engine::Camera& cam = scene.camera;
+    if (!o.eye.empty()) cam.eye = parse_vec3("--eye", o.eye);
+    if (!o.look_at.empty()) cam.look_at = parse_vec3("--look-at", o.look_at);
+    if (!o.up.empty()) cam.up = parse_vec3("--up", o.up);
+    if (o.fov > 0.0f) cam.vfov_degrees = o.fov;
+    const engine::Vec3f view = cam.look_at - cam.eye;
+    if (!(simd::dot(view, view) > 0.0f)) throw engine::InputError("--look-at: the camera looks at its own position");
+    const engine::Vec3f side = simd::cross(view, cam.up);
+    if (!(simd::dot(side, side) > 1e-12f * simd::dot(view, view) * simd::dot(cam.up, cam.up)))
+        throw engine::InputError("--up: the up vector is zero or parallel to the viewing direction");
+    if (o.no_point_lights) scene.lights.clear();
+    for (const std::string& l : o.lights) {
+        const auto v = parse_floats("--light", l);
+        if (v.size() != 3 && v.size() != 4 && v.size() != 6)
+            throw engine::InputError("--light: expected x,y,z or x,y,z,I or x,y,z,R,G,B, got '" + l + "'");
+        engine::Vec3f intensity{1.0f};
+        if (v.size() == 4) intensity = engine::Vec3f{v[3]};
+        if (v.size() == 6) intensity = {v[3], v[4], v[5]};
+        if (intensity.x < 0.0f || intensity.y < 0.0f || intensity.z < 0.0f)
+            throw engine::InputError("--light: intensity must not be negative in '" + l + "'");
+        scene.lights.push_back({{v[0], v[1], v[2]}, intensity});
+    }
+    if (!o.background.empty()) {
+        const auto v = parse_floats("--background", o.background);
+        if (v.size() != 1 && v.size() != 3) throw engine::InputError("--background: expected V or R,G,B, got '" + o.background + "'");
+        scene.background = v.size() == 1 ? engine::Vec3f{v[0]} : engine::Vec3f{v[0], v[1], v[2]};
+        if (scene.background.x < 0.0f || scene.background.y < 0.0f || scene.background.z < 0.0f)
+            throw engine::InputError("--background: radiance must not be negative");
+    }
+    return scene;
+}
+
+}  // namespace arbor::app

@@ -1,0 +1,125 @@
+#include "engine/integrator.h"
+
+#include "accel/offset_ray.h"
+
+#include <algorithm>
+#include <numbers>
+
+namespace arbor::engine {
+
+using accel::Hit;
+using accel::Ray;
+using simd::dot;
+
+TileFilm::TileFilm(const Tile& t, const Layers& layers) : tile(t), color(std::size_t(t.pixels()), Vec3f{0.0f}) {
+    if (layers.depth) depth.assign(std::size_t(t.pixels()), std::numeric_limits<float>::infinity());
+    if (layers.normal) normal.assign(std::size_t(t.pixels()), Vec3f{0.0f});
+    if (layers.albedo) albedo.assign(std::size_t(t.pixels()), Vec3f{0.0f});
+}
+
+RenderContext::RenderContext(const Scene& s, const Camera& c, const LightSet& l, const RenderPlan& p,
+                             const RenderSettings& set)
+    : scene(s), camera(c), lights(l), plan(p), settings(set) {
+    const Mesh& m = s.mesh;
+    if (m.materials.empty()) single_ = &fallback_;
+    else if (!p.material || m.material.empty()) single_ = &m.materials[m.material.empty() ? 0 : m.material[0]];
+}
+
+int samples_per_pass(const Tile& tile, int spp) { return std::clamp(4096 / std::max(1, tile.pixels()), 1, spp); }
+
+void camera_batch(const RenderContext& ctx, const Tile& tile, int s0, int s1, std::vector<Ray>& rays,
+                  std::vector<PathState>& paths) {
+    rays.clear();
+    paths.clear();
+    const PixelStrata strata(ctx.settings.spp);
+    const int image_width = ctx.settings.width;
+    for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const auto local = std::uint32_t((y - tile.y0) * tile.width() + (x - tile.x0));
+            const auto global = std::uint32_t(y * image_width + x);
+            for (int s = s0; s < s1; ++s) {
+                PathState p;
+                p.pixel = local;
+                p.rng = SampleStream(ctx.settings.seed, global, std::uint32_t(s));
+                float jx = 0.5f, jy = 0.5f;
+                if (ctx.settings.jitter) {
+                    const float u = p.rng.next(), v = p.rng.next();
+                    strata.position(s, u, v, jx, jy);
+                }
+                rays.push_back(ctx.camera.ray(float(x) + jx, float(y) + jy));
+                paths.push_back(p);
+            }
+        }
+}
+
+Surface surface_at(const RenderContext& ctx, const Ray& ray, const Hit& hit) {
+    Surface s;
+    const auto view = ctx.scene.mesh.view();
+    const Vec3f v0 = view.corner(hit.prim, 0), v1 = view.corner(hit.prim, 1), v2 = view.corner(hit.prim, 2);
+    Vec3f n = simd::cross(v1 - v0, v2 - v0);
+    const float len = simd::length(n);
+    if (!(len > 0.0f) || !std::isfinite(len)) return s;  // zero-area or overflowing: ignore the hit
+    n = n / len;
+    s.normal = dot(n, ray.dir) > 0.0f ? -n : n;
+    if (ctx.plan.position) s.position = v0 * (1.0f - hit.u - hit.v) + v1 * hit.u + v2 * hit.v;
+    s.material = &ctx.material(hit.prim);
+    s.valid = true;
+    return s;
+}
+
+void record_layers(const RenderContext& ctx, TileFilm& film, std::uint32_t pixel, const Hit& hit, const Surface& s) {
+    const Layers& l = ctx.plan.layers;
+    // The camera's ray direction has a unit component along the view axis, so t is the
+    // camera-space depth.
+    if (l.depth) film.depth[pixel] = std::min(film.depth[pixel], hit.t);
+    if (l.normal) film.normal[pixel] += s.normal;
+    if (l.albedo) film.albedo[pixel] += s.material->diffuse;
+}
+
+void ShadowBatch::resolve(Tracer& tracer, TileFilm& film) {
+    hits.resize(rays.size());
+    tracer.any(rays, hits, RayKind::shadow);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        if (!hits[i].is_hit()) film.color[pixel[i]] += contribution[i];
+}
+
+void sample_direct_light(const RenderContext& ctx, const Surface& s, const Vec3f& weight, PathState& path,
+                         ShadowBatch& shadows) {
+    const Material& m = *s.material;
+    if (is_black(m.diffuse)) return;
+    const Vec3f f = m.diffuse * weight * (1.0f / std::numbers::pi_v<float>);
+    const Vec3f origin = accel::offset_ray_origin(s.position, s.normal);
+    if (ctx.plan.point_shadows) {
+        for (const PointLight& light : ctx.lights.points()) {
+            const Vec3f to = light.position - origin;
+            const float dn = dot(s.normal, to);
+            if (!(dn > 0.0f)) continue;  // behind the surface: no shadow ray needed
+            const float d2 = dot(to, to);
+            shadows.add({origin, 0.0f, to, 1.0f}, path.pixel, f * light.intensity * (dn / (d2 * std::sqrt(d2))));
+        }
+    }
+    if (ctx.plan.area_shadows) {
+        const float u0 = path.rng.next(), u1 = path.rng.next(), u2 = path.rng.next();
+        const AreaSample a = ctx.lights.sample_area(u0, u1, u2);
+        // End the shadow ray just in front of the emitter, on the side of the receiver.
+        const Vec3f nl = dot(a.normal, origin - a.point) > 0.0f ? a.normal : -a.normal;
+        const Vec3f to = accel::offset_ray_origin(a.point, nl) - origin;
+        const float d2 = dot(to, to);
+        const float d = std::sqrt(d2);
+        const float cos_s = dot(s.normal, to) / d, cos_l = dot(nl, to) / -d;
+        if (cos_s > 0.0f && cos_l > 0.0f && a.pdf_area > 0.0f && d2 > 0.0f)
+            shadows.add({origin, 0.0f, to, 1.0f}, path.pixel, f * a.radiance * (cos_s * cos_l / (d2 * a.pdf_area)));
+    }
+}
+
+std::unique_ptr<Integrator> make_integrator(IntegratorKind kind) {
+    switch (kind) {
+    case IntegratorKind::primary: return make_primary_integrator();
+    case IntegratorKind::ao: return make_ao_integrator();
+    case IntegratorKind::direct: return make_direct_integrator();
+    case IntegratorKind::path: return make_path_integrator();
+    }
+    return nullptr;
+}
+
+}  // namespace arbor::engine
