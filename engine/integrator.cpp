@@ -78,7 +78,7 @@ void record_layers(const RenderContext& ctx, TileFilm& film, std::uint32_t pixel
 
 void ShadowBatch::resolve(Tracer& tracer, TileFilm& film) {
     hits.resize(rays.size());
-    tracer.any(rays, hits, RayKind::shadow);
+    tracer.any(rays, hits, RenderRayKind::shadow);
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (!hits[i].is_hit()) film.color[pixel[i]] += contribution[i];
 }

@@ -22,7 +22,7 @@ public:
         for (int s0 = 0; s0 < spp; s0 += pass) {
             camera_batch(ctx, film.tile, s0, std::min(spp, s0 + pass), rays, paths);
             hits.resize(rays.size());
-            tracer.closest(rays, hits, RayKind::primary);
+            tracer.closest(rays, hits, RenderRayKind::primary);
             ao_rays.clear();
             owner.clear();
             for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -46,7 +46,7 @@ public:
                 }
             }
             ao_hits.resize(ao_rays.size());
-            tracer.any(ao_rays, ao_hits, RayKind::ao);
+            tracer.any(ao_rays, ao_hits, RenderRayKind::ao);
             for (std::size_t k = 0; k < ao_rays.size(); ++k)
                 if (!ao_hits[k].is_hit()) film.color[owner[k]] += Vec3f{weight};
         }

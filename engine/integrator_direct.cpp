@@ -25,7 +25,7 @@ public:
             camera_batch(ctx, film.tile, s0, std::min(spp, s0 + pass), rays, paths);
             for (int depth = 0; !rays.empty(); ++depth) {
                 hits.resize(rays.size());
-                tracer.closest(rays, hits, depth == 0 ? RayKind::primary : RayKind::mirror);
+                tracer.closest(rays, hits, depth == 0 ? RenderRayKind::primary : RenderRayKind::mirror);
                 shadows.clear();
                 next_rays.clear();
                 next_paths.clear();

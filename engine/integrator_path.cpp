@@ -33,10 +33,10 @@ public:
                 const std::span<const accel::Ray> all(rays);
                 const std::span<accel::Hit> all_hits(hits);
                 if (depth == 0) {
-                    tracer.closest(all, all_hits, RayKind::primary);
+                    tracer.closest(all, all_hits, RenderRayKind::primary);
                 } else {
-                    tracer.closest(all.first(mirror_count), all_hits.first(mirror_count), RayKind::mirror);
-                    tracer.closest(all.subspan(mirror_count), all_hits.subspan(mirror_count), RayKind::diffuse);
+                    tracer.closest(all.first(mirror_count), all_hits.first(mirror_count), RenderRayKind::mirror);
+                    tracer.closest(all.subspan(mirror_count), all_hits.subspan(mirror_count), RenderRayKind::diffuse);
                 }
                 shadows.clear();
                 mirror_rays.clear(), diffuse_rays.clear(), mirror_paths.clear(), diffuse_paths.clear();

@@ -17,7 +17,7 @@ public:
         for (int s0 = 0; s0 < spp; s0 += pass) {
             camera_batch(ctx, film.tile, s0, std::min(spp, s0 + pass), rays, paths);
             hits.resize(rays.size());
-            tracer.closest(rays, hits, RayKind::primary);
+            tracer.closest(rays, hits, RenderRayKind::primary);
             for (std::size_t i = 0; i < rays.size(); ++i) {
                 const std::uint32_t px = paths[i].pixel;
                 if (!hits[i].is_hit()) {

@@ -6,7 +6,7 @@ namespace arbor::engine {
 
 namespace {
 constexpr std::array<std::string_view, 4> integrator_name{"primary", "ao", "direct", "path"};
-constexpr std::array<std::string_view, ray_kind_count> ray_kind_name{"primary", "shadow", "mirror", "diffuse", "ao"};
+constexpr std::array<std::string_view, render_ray_kind_count> ray_kind_name{"primary", "shadow", "mirror", "diffuse", "ao"};
 }  // namespace
 
 std::string_view to_string(IntegratorKind k) { return integrator_name[std::size_t(k)]; }
@@ -23,7 +23,7 @@ std::string integrator_names() {
     return out;
 }
 
-std::string_view to_string(RayKind k) { return ray_kind_name[std::size_t(k)]; }
+std::string_view to_string(RenderRayKind k) { return ray_kind_name[std::size_t(k)]; }
 
 std::uint64_t RenderStats::total() const {
     std::uint64_t n = 0;
@@ -36,7 +36,7 @@ std::string RenderStats::summary() const {
     std::snprintf(buf, sizeof buf, "%.3g Mrays/s overall (%.3g rays in %.3f s)",
                   seconds > 0 ? double(total()) / seconds * 1e-6 : 0.0, double(total()), seconds);
     std::string out = buf;
-    for (std::size_t k = 0; k < ray_kind_count; ++k) {
+    for (std::size_t k = 0; k < render_ray_kind_count; ++k) {
         if (rays[k] == 0) continue;
         const double per_thread = trace_seconds[k] / double(threads > 0 ? threads : 1);
         std::snprintf(buf, sizeof buf, "; %s %.3g at %.3g Mrays/s", ray_kind_name[k].data(), double(rays[k]),

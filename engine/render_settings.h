@@ -51,17 +51,17 @@ struct RenderSettings {
 };
 
 /// The kinds of rays a renderer traces, counted separately.
-enum class RayKind { primary, shadow, mirror, diffuse, ao, count };
-constexpr std::size_t ray_kind_count = std::size_t(RayKind::count);
-std::string_view to_string(RayKind k);
+enum class RenderRayKind { primary, shadow, mirror, diffuse, ao, count };
+constexpr std::size_t render_ray_kind_count = std::size_t(RenderRayKind::count);
+std::string_view to_string(RenderRayKind k);
 
 struct RenderStats {
     double seconds = 0.0;  ///< wall time of the render (not the structure's build)
-    std::array<std::uint64_t, ray_kind_count> rays{};
-    std::array<double, ray_kind_count> trace_seconds{};  ///< time inside the structure, summed over threads
+    std::array<std::uint64_t, render_ray_kind_count> rays{};
+    std::array<double, render_ray_kind_count> trace_seconds{};  ///< time inside the structure, summed over threads
     int threads = 1;
 
-    std::uint64_t count(RayKind k) const { return rays[std::size_t(k)]; }
+    std::uint64_t count(RenderRayKind k) const { return rays[std::size_t(k)]; }
     std::uint64_t total() const;
     /// One line: "12.3 Mrays/s overall; primary 1.0M at 40.2 Mrays/s, shadow ..." (kinds traced only).
     /// Per kind, the rate is rays / (time inside the structure / threads).

@@ -71,7 +71,7 @@ Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan,
         stats->seconds = timer.seconds();
         stats->threads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
         for (const Tracer& t : tracers)
-            for (std::size_t k = 0; k < ray_kind_count; ++k) {
+            for (std::size_t k = 0; k < render_ray_kind_count; ++k) {
                 stats->rays[k] += t.counts[k];
                 stats->trace_seconds[k] += t.seconds[k];
             }

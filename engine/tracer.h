@@ -12,11 +12,11 @@
 namespace arbor::engine {
 
 /// Coherent kinds (camera rays, shadow rays of a tile) go to packets; the others to single rays.
-inline bool is_coherent(RayKind k) { return k == RayKind::primary || k == RayKind::shadow; }
+inline bool is_coherent(RenderRayKind k) { return k == RenderRayKind::primary || k == RenderRayKind::shadow; }
 
 /// The trace path for rays of kind `k` on `accel`: packet or single when the structure has its
 /// own implementation, otherwise `best`.
-inline accel::TracePath trace_path_for(const accel::Accel& a, RayKind k) {
+inline accel::TracePath trace_path_for(const accel::Accel& a, RenderRayKind k) {
     const accel::TracePath want = is_coherent(k) ? accel::TracePath::packet : accel::TracePath::single;
     return a.has_path(want) ? want : accel::TracePath::best;
 }
@@ -26,25 +26,25 @@ public:
     explicit Tracer(const accel::Accel& a) : accel_(a) {}
 
     /// Closest hits of `rays` (all of kind k) into `hits`.
-    void closest(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, RayKind k) {
+    void closest(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, RenderRayKind k) {
         if (rays.empty()) return;
         const accel::Timer t;
         accel_.intersect(rays, hits, trace_path_for(accel_, k));
         add(k, rays.size(), t.seconds());
     }
     /// Any-hit (occlusion) queries of `rays` into `hits`.
-    void any(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, RayKind k) {
+    void any(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, RenderRayKind k) {
         if (rays.empty()) return;
         const accel::Timer t;
         accel_.occluded(rays, hits, trace_path_for(accel_, k));
         add(k, rays.size(), t.seconds());
     }
 
-    std::array<std::uint64_t, ray_kind_count> counts{};  ///< rays traced per kind
-    std::array<double, ray_kind_count> seconds{};       ///< time inside the structure per kind
+    std::array<std::uint64_t, render_ray_kind_count> counts{};  ///< rays traced per kind
+    std::array<double, render_ray_kind_count> seconds{};       ///< time inside the structure per kind
 
 private:
-    void add(RayKind k, std::size_t n, double s) {
+    void add(RenderRayKind k, std::size_t n, double s) {
         counts[std::size_t(k)] += n;
         seconds[std::size_t(k)] += s;
     }

@@ -10,7 +10,7 @@
 
 using namespace arbor;
 using engine::IntegratorKind;
-using engine::RayKind;
+using engine::RenderRayKind;
 using testing::render_brute;
 using testing::small_scene;
 using testing::tiny_settings;
@@ -66,44 +66,44 @@ TEST_CASE("render: rays per kind follow the plan") {
 
     SUBCASE("primary traces camera rays only") {
         render_brute(full_scene(), tiny_settings(IntegratorKind::primary, w, h, spp), 2, &st);
-        CHECK(st.count(RayKind::primary) == camera);
+        CHECK(st.count(RenderRayKind::primary) == camera);
         CHECK(st.total() == camera);
     }
     SUBCASE("ao traces ao_samples rays per camera hit") {
         auto set = tiny_settings(IntegratorKind::ao, w, h, spp);
         set.ao_samples = 3;
         render_brute(full_scene(), set, 2, &st);
-        CHECK(st.count(RayKind::primary) == camera);
-        CHECK(st.count(RayKind::ao) > 0);
-        CHECK(st.count(RayKind::ao) % 3 == 0);
-        CHECK(st.count(RayKind::ao) <= 3 * camera);
-        CHECK(st.count(RayKind::shadow) + st.count(RayKind::mirror) + st.count(RayKind::diffuse) == 0);
+        CHECK(st.count(RenderRayKind::primary) == camera);
+        CHECK(st.count(RenderRayKind::ao) > 0);
+        CHECK(st.count(RenderRayKind::ao) % 3 == 0);
+        CHECK(st.count(RenderRayKind::ao) <= 3 * camera);
+        CHECK(st.count(RenderRayKind::shadow) + st.count(RenderRayKind::mirror) + st.count(RenderRayKind::diffuse) == 0);
     }
     SUBCASE("direct with a light and a mirror traces shadow and mirror rays, no diffuse bounces") {
         render_brute(small_scene(), tiny_settings(IntegratorKind::direct, w, h, spp), 2, &st);
-        CHECK(st.count(RayKind::shadow) > 0);
-        CHECK(st.count(RayKind::mirror) > 0);
-        CHECK(st.count(RayKind::diffuse) == 0);
+        CHECK(st.count(RenderRayKind::shadow) > 0);
+        CHECK(st.count(RenderRayKind::mirror) > 0);
+        CHECK(st.count(RenderRayKind::diffuse) == 0);
     }
     SUBCASE("a scene without lights traces no shadow rays") {
         auto s = small_scene();
         s.lights.clear();
         render_brute(s, tiny_settings(IntegratorKind::direct, w, h, spp), 2, &st);
-        CHECK(st.count(RayKind::primary) == camera);
-        CHECK(st.count(RayKind::shadow) == 0);
-        CHECK(st.count(RayKind::mirror) > 0);  // the mirror still shows the sky
+        CHECK(st.count(RenderRayKind::primary) == camera);
+        CHECK(st.count(RenderRayKind::shadow) == 0);
+        CHECK(st.count(RenderRayKind::mirror) > 0);  // the mirror still shows the sky
         render_brute(s, tiny_settings(IntegratorKind::path, w, h, spp), 2, &st);
-        CHECK(st.count(RayKind::shadow) == 0);
-        CHECK(st.count(RayKind::diffuse) > 0);  // the sky lights the scene
+        CHECK(st.count(RenderRayKind::shadow) == 0);
+        CHECK(st.count(RenderRayKind::diffuse) > 0);  // the sky lights the scene
     }
     SUBCASE("a scene without mirrors traces no mirror rays") {
         auto s = small_scene();
         for (auto& m : s.mesh.materials) m.mirror = {0, 0, 0};
         render_brute(s, tiny_settings(IntegratorKind::direct, w, h, spp), 2, &st);
-        CHECK(st.count(RayKind::mirror) == 0);
-        CHECK(st.count(RayKind::shadow) > 0);
+        CHECK(st.count(RenderRayKind::mirror) == 0);
+        CHECK(st.count(RenderRayKind::shadow) > 0);
         render_brute(s, tiny_settings(IntegratorKind::path, w, h, spp), 2, &st);
-        CHECK(st.count(RayKind::mirror) == 0);
+        CHECK(st.count(RenderRayKind::mirror) == 0);
     }
     SUBCASE("nothing emits: path traces camera rays only") {
         auto s = small_scene();
@@ -117,15 +117,15 @@ TEST_CASE("render: rays per kind follow the plan") {
         auto set = tiny_settings(IntegratorKind::path, w, h, spp);
         set.max_depth = 0;
         render_brute(full_scene(), set, 2, &st);
-        CHECK(st.count(RayKind::mirror) + st.count(RayKind::diffuse) == 0);
-        CHECK(st.count(RayKind::shadow) > 0);
+        CHECK(st.count(RenderRayKind::mirror) + st.count(RenderRayKind::diffuse) == 0);
+        CHECK(st.count(RenderRayKind::shadow) > 0);
     }
     SUBCASE("area lights alone: one NEE shadow ray per diffuse hit at most") {
         auto s = full_scene();
         s.lights.clear();
         render_brute(s, tiny_settings(IntegratorKind::direct, w, h, spp), 2, &st);
-        CHECK(st.count(RayKind::shadow) > 0);
-        CHECK(st.count(RayKind::shadow) <= st.count(RayKind::primary) + st.count(RayKind::mirror));
+        CHECK(st.count(RenderRayKind::shadow) > 0);
+        CHECK(st.count(RenderRayKind::shadow) <= st.count(RenderRayKind::primary) + st.count(RenderRayKind::mirror));
     }
 }
 

@@ -59,8 +59,8 @@ TEST_CASE("white furnace: albedo 1 gives the environment radiance in every pixel
     const auto img = testing::render_brute(s, set, 2, &st);
     for (int c = 0; c < 3; ++c)
         for (float v : img.planes[std::size_t(c)]) REQUIRE(v == doctest::Approx(s.background[c]).epsilon(1e-6));
-    CHECK(st.count(engine::RayKind::shadow) == 0);  // no lights, no emitters
-    CHECK(st.count(engine::RayKind::diffuse) > 0);
+    CHECK(st.count(engine::RenderRayKind::shadow) == 0);  // no lights, no emitters
+    CHECK(st.count(engine::RenderRayKind::diffuse) > 0);
 }
 
 TEST_CASE("white furnace: albedo a gives a x L where every sample hits the sphere, L where none does") {

@@ -37,8 +37,8 @@ TEST_CASE("render stats: summary names every kind traced, and only those") {
     engine::RenderStats st;
     st.seconds = 2.0;
     st.threads = 2;
-    st.rays[std::size_t(engine::RayKind::primary)] = 4000000;
-    st.trace_seconds[std::size_t(engine::RayKind::primary)] = 2.0;
+    st.rays[std::size_t(engine::RenderRayKind::primary)] = 4000000;
+    st.trace_seconds[std::size_t(engine::RenderRayKind::primary)] = 2.0;
     const std::string s = st.summary();
     CHECK(s.find("2 Mrays/s overall") != std::string::npos);
     CHECK(s.find("primary 4e+06 at 4 Mrays/s") != std::string::npos);
