@@ -40,7 +40,7 @@ int run_render(const RenderCommand& o) {
     std::string reason;
     AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
     hints.budget = double(set.width) * double(set.height) * double(set.spp) *
-                   double(1 + scene.lights.size() + std::max(set.max_depth, 0));
+                   double(1 + scene.lights.size() + set.depth());
     hints.build = o.build;
     const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason, hints);
     const engine::LightSet lights(scene);
