@@ -3,6 +3,7 @@
 // Not a test: it validates against brute on a subset of rays first, then times.
 //
 //   kdtree_bench [--model FILE] [--replicate N] [--repeat R] [--threads T] [--rays N] [--validate N]
+//                [--build-only] [--no-embree] [--compare-bvh] [--no-perfect-splits] [--kt K_T] [--exact-below N]
 #include "accel/brute_accel.h"
 #include "accel/kdtree_accel.h"
 #include "accel/kdtree_build.h"
@@ -42,6 +43,7 @@ struct Options {
     bool build_only = false;
     long exact_below = -1;
     bool embree = true;
+    bool compare = false;
 };
 
 engine::Mesh replicate(const engine::Mesh& m, int n) {
@@ -152,18 +154,26 @@ void run(const Options& o, const engine::Mesh& mesh, const char* label) {
             std::printf("validate       %zu rays vs brute: %zu closest and %zu any-hit disagreements\n", n, bad, bad_any);
         }
     }
+    // The same rays through bvh-sah's scalar path, interleaved, for context.
+    const std::unique_ptr<accel::Accel> bvh = o.compare ? accel::make_accel(accel::AccelKind::bvh_sah, mesh.view()) : nullptr;
     for (const auto& [name, set] : {std::pair{"coherent", &coherent}, std::pair{"incoherent", &incoherent}}) {
         std::vector<Hit> hits(set->size());
         for (const auto q : {accel::Query::closest, accel::Query::any}) {
-            std::vector<double> ms;
+            std::vector<double> ms, bvh_ms;
             for (int r = 0; r < o.repeat; ++r) {
                 const accel::Timer t;
                 accel::trace_parallel(*kd, *set, hits, q, accel::TracePath::scalar, 256);
                 ms.push_back(t.ms());
+                if (!bvh) continue;
+                const accel::Timer tb;
+                accel::trace_parallel(*bvh, *set, hits, q, accel::TracePath::scalar, 256);
+                bvh_ms.push_back(tb.ms());
             }
-            std::printf("trace %-10s %-7s %7.2f Mrays/s (median of %d, %zu rays)\n", name,
+            std::printf("trace %-10s %-7s %7.2f Mrays/s (median of %d, %zu rays)", name,
                         q == accel::Query::closest ? "closest" : "any", double(set->size()) / median(ms) / 1e3,
                         o.repeat, set->size());
+            if (bvh) std::printf("   bvh-sah scalar %7.2f Mrays/s", double(set->size()) / median(bvh_ms) / 1e3);
+            std::printf("\n");
         }
     }
 }
@@ -192,6 +202,7 @@ int main(int argc, char** argv) {
         else if (a == "--build-only") o.build_only = true;
         else if (a == "--exact-below") o.exact_below = std::stol(next());
         else if (a == "--no-embree") o.embree = false;
+        else if (a == "--compare-bvh") o.compare = true;
         else if (a == "--ki") o.ki = std::stof(next());
         else {
             std::fprintf(stderr, "kdtree_bench: unknown option '%s'\n", a.c_str());
