@@ -146,6 +146,9 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOpt
     in.prims = &refs;
     in.max_leaf_size = cfg.max_leaf_size;
     in.parallel_threshold = cfg.parallel_threshold;
+    in.sah_collapse = opt.sah_collapse;
+    in.traversal_cost = cfg.traversal_cost;
+    in.intersection_cost = cfg.intersection_cost;
     RadixTreeResult tree = build_radix_tree(in, opt.hierarchy);
     bvh.nodes = std::move(tree.nodes);
     bvh.prim_ids = std::move(tree.prim_ids);

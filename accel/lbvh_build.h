@@ -26,6 +26,9 @@ struct LbvhOptions {
     MortonSort codes = MortonSort::bits63_refined;
     /// Radix sort digit width: 8 or 11.
     int digit_bits = 8;
+    /// Leaves: every subtree of at most cfg.max_leaf_size triangles (false), or only those the SAH
+    /// prefers to their split (true; radix_tree.h).
+    bool sah_collapse = false;
 };
 
 /// Wall time of each step, for the benchmark.

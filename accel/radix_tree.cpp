@@ -21,13 +21,17 @@ struct InnerNode {
     Vec3f lo, hi;
     std::uint32_t split;  ///< gamma: the left child covers [first, gamma], the right [gamma + 1, last]
     std::uint32_t count;  ///< nodes of the collapsed subtree in the output (1 when it became a leaf)
+    float cost;           ///< SAH cost of the collapsed subtree (unnormalized; sah_collapse only)
 };
 
-/// Box and output node count of a subtree.
+/// Box, output node count and SAH cost of a subtree.
 struct Subtree {
     Bounds box;
     std::uint32_t count;
+    float cost;
 };
+
+float area(const Bounds& b) { return float(b.area()); }
 
 /// Length of the common prefix of the augmented keys at sorted positions i and j (a monotone
 /// stand-in: code bits, then fine code bits, then position bits); -1 when j is outside [0, n).
@@ -100,7 +104,7 @@ public:
 
     /// Top-down: root covers [0, n - 1]; recursion in parallel above the threshold. Stops at
     /// subtrees of at most max_leaf_size primitives.
-    void top_down() { top_down_node(0, 0, n_ - 1); }
+    void top_down() { top_down_any(0, 0, n_ - 1); }
 
     /// Writes the collapsed tree in the canonical layout.
     std::vector<BvhBuildNode> emit() const {
@@ -155,8 +159,11 @@ private:
 
     /// A finished child: one primitive (read from the prim refs) or internal node idx.
     Subtree child(std::uint32_t idx, std::uint32_t first, std::uint32_t last) const {
-        if (first == last) return {prims_.box(ref(first)), 1};
-        return {{inner_[idx].lo, inner_[idx].hi}, inner_[idx].count};
+        if (first == last) {
+            const Bounds box = prims_.box(ref(first));
+            return {box, 1, in_.sah_collapse ? area(box) * in_.intersection_cost : 0.0f};
+        }
+        return {{inner_[idx].lo, inner_[idx].hi}, inner_[idx].count, inner_[idx].cost};
     }
 
     /// Records internal node idx from its two children; a subtree of at most m_ primitives
@@ -168,31 +175,55 @@ private:
         box.grow(r.box);
         node.lo = box.lo, node.hi = box.hi;
         node.split = g;
-        node.count = size(first, last) <= m_ ? 1u : 1u + l.count + r.count;
-        return {box, node.count};
+        const std::uint32_t n = size(first, last);
+        node.count = n <= m_ ? 1u : 1u + l.count + r.count;
+        node.cost = 0.0f;
+        if (in_.sah_collapse) {
+            const float a = area(box), split_cost = a * in_.traversal_cost + l.cost + r.cost;
+            const float leaf_cost = a * float(n) * in_.intersection_cost;
+            node.count = n <= m_ && leaf_cost <= split_cost ? 1u : 1u + l.count + r.count;
+            node.cost = node.count == 1 ? leaf_cost : split_cost;
+        }
+        return {box, node.count, node.cost};
     }
 
-    Subtree top_down_node(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
-        if (size(first, last) <= m_) {  // a leaf: its box and its triangle ids are all that is needed
-            Bounds box;
-            for (std::uint32_t p = first; p <= last; ++p) {
-                const std::uint32_t r = ref(p);
-                box.grow(prims_.box(r));
-                prim_ids_[p] = prims_.prim_ids[r];
-            }
-            if (first != last) {  // a single primitive has no internal node
-                InnerNode& node = inner_[idx];
-                node.lo = box.lo, node.hi = box.hi;
-                node.count = 1;
-            }
-            return {box, 1};
+    /// A range that is a leaf for sure: at most m_ primitives (without the SAH collapse), or one.
+    /// With the SAH collapse, a small range is built as a subtree and store() decides.
+    bool leaf_range(std::uint32_t first, std::uint32_t last) const {
+        return size(first, last) <= m_ && (!in_.sah_collapse || first == last);
+    }
+
+    /// A leaf's box and triangle ids are all it needs.
+    Subtree leaf(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
+        Bounds box;
+        for (std::uint32_t p = first; p <= last; ++p) {
+            const std::uint32_t r = ref(p);
+            box.grow(prims_.box(r));
+            prim_ids_[p] = prims_.prim_ids[r];
         }
+        if (first != last) {  // a single primitive has no internal node
+            InnerNode& node = inner_[idx];
+            node.lo = box.lo, node.hi = box.hi;
+            node.count = 1;
+        }
+        return {box, 1, in_.sah_collapse ? area(box) * in_.intersection_cost : 0.0f};
+    }
+
+    Subtree top_down_any(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
+        return leaf_range(first, last) ? leaf(idx, first, last) : top_down_node(idx, first, last);
+    }
+
+    /// Internal node idx over [first, last] (not a leaf range); leaf children are made here, so
+    /// only internal nodes cost a call.
+    Subtree top_down_node(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
         const std::uint32_t g = find_split(first, last);
         Subtree l, r;
-        auto left = [&] { l = top_down_node(g, first, g); };
-        auto right = [&] { r = top_down_node(g + 1, g + 1, last); };
-        if (size(first, last) > in_.parallel_threshold) tbb::parallel_invoke(left, right);
-        else left(), right();
+        if (size(first, last) > in_.parallel_threshold) {
+            tbb::parallel_invoke([&] { l = top_down_any(g, first, g); }, [&] { r = top_down_any(g + 1, g + 1, last); });
+        } else {
+            l = top_down_any(g, first, g);
+            r = top_down_any(g + 1, g + 1, last);
+        }
         return store(idx, first, last, g, l, r);
     }
 
@@ -202,7 +233,7 @@ private:
         BvhBuildNode& node = nodes[out];
         const std::uint32_t count = size(first, last);
         node.box = child(idx, first, last).box;
-        if (count <= m_) {
+        if (count == 1 || inner_[idx].count == 1) {  // a primitive or a collapsed subtree
             node.first = first;
             node.count = count;
             return;

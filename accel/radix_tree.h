@@ -46,6 +46,11 @@ struct RadixTreeInput {
     const PrimRefs* prims = nullptr;
     std::uint32_t max_leaf_size = 4;        ///< collapse subtrees of at most this many primitives (>= 1)
     std::uint32_t parallel_threshold = 1024; ///< subtrees smaller than this run serially
+    /// false: every subtree of at most max_leaf_size primitives becomes a leaf. true: only when the
+    /// SAH says so (leaf cost area * n * intersection_cost <= the subtree's cost, where an internal
+    /// node costs area * traversal_cost); larger subtrees are always split.
+    bool sah_collapse = false;
+    float traversal_cost = 1.0f, intersection_cost = 1.0f;
 };
 
 struct RadixTreeResult {

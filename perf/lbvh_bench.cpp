@@ -215,6 +215,11 @@ int main(int argc, char** argv) {
                          (codes == accel::MortonSort::bits30 ? "-30b" : codes == accel::MortonSort::bits63 ? "-63b" : "-63r") +
                          "-d" + std::to_string(digits);
                 variants.push_back(v);
+                if (codes == accel::MortonSort::bits63_refined && digits == 8) {
+                    v.lbvh.sah_collapse = true;
+                    v.name += "-sah";
+                    variants.push_back(v);
+                }
             }
     variants.push_back({"bvh-sah", false, {}, accel::build_bvh_sah, false});
     variants.push_back({"bvh-median", false, {}, accel::build_bvh_median, false});

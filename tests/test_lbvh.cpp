@@ -65,7 +65,7 @@ bool same_tree_up_to_leaf_order(const BinaryBvh& a, BinaryBvh b) {
 /// for bit (the refined 63-bit order may permute the triangles inside a leaf). Returns the default
 /// build.
 BinaryBvh check_all_variants(const engine::Mesh& mesh, const accel::BuildConfig& cfg, bool quick = false) {
-    BinaryBvh result, first30, first63;
+    BinaryBvh result, first30, first63, sah_first;
     for (MortonSort codes : {MortonSort::bits30, MortonSort::bits63, MortonSort::bits63_refined}) {
         for (RadixTreeMethod method : {RadixTreeMethod::top_down, RadixTreeMethod::karras}) {
             for (int digits : {8, 11}) {
@@ -81,6 +81,13 @@ BinaryBvh check_all_variants(const engine::Mesh& mesh, const accel::BuildConfig&
                 else CHECK(same_tree(first, bvh));
                 if (codes == LbvhOptions{}.codes && method == LbvhOptions{}.hierarchy && digits == LbvhOptions{}.digit_bits)
                     result = bvh;
+                if (codes == MortonSort::bits63_refined && digits == 8) {  // SAH collapse: valid, both methods agree
+                    BinaryBvh sah = build(mesh, cfg, {method, codes, digits, true});
+                    CHECK(accel::validate_bvh(sah, mesh.view(), cfg.max_leaf_size) == "");
+                    CHECK(accel::bvh_tree_stats(sah).sah_cost <= accel::bvh_tree_stats(bvh).sah_cost * 1.000001);
+                    if (method == RadixTreeMethod::top_down) sah_first = std::move(sah);
+                    else CHECK(same_tree(sah_first, sah));
+                }
             }
         }
     }
