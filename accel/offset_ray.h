@@ -11,7 +11,10 @@
 namespace arbor::accel {
 
 /// Offsets point p (on a surface) along geometric normal n (pointing to the side the new ray
-/// leaves towards; need not be normalized).
+/// leaves towards). n must be of unit length: the offset is int(256 * n[k]) ulps, so a long normal
+/// overflows the int. Below |p[k]| = 1/32 the offset is the absolute 1/65536 * n[k], made for
+/// scenes of about unit size: in a scene 1e-6 across it moves the origin out of the scene (see
+/// the surface-1e-6 row of `arbor stress`).
 inline Vec3f offset_ray_origin(const Vec3f& p, const Vec3f& n) {
     constexpr float origin = 1.0f / 32.0f;
     constexpr float float_scale = 1.0f / 65536.0f;

@@ -1,7 +1,7 @@
 #pragma once
 /// Conservative ray/box slab test over lane type T. See "Robust BVH Ray Traversal", T. Ize, JCGT 2013:
 /// far-plane distances use a reciprocal direction padded by 2 ulps, so rounding can only make a
-/// box bigger, never lose a hit.
+/// box bigger, never lose a hit (for negative distances, behind the origin, see slab_test).
 ///
 /// The zero-direction rule, shared by every path: rcp = 1/d is +-inf for d = +-0, the near plane of
 /// each axis is chosen by the sign bit of d (so -0 behaves as negative), and a slab distance that
@@ -64,7 +64,11 @@ inline Mask<T> slab_test(const Vec3<T>& near_plane, const Vec3<T>& far_plane, co
     const T f2 = (far_plane.z - org.z) * rcp_far.z;
     t_entry = rmax(n0, rmax(n1, rmax(n2, tnear)));
     const T t_exit = rmin(f0, rmin(f1, rmin(f2, tfar)));
-    return t_entry <= t_exit;
+    // The padded reciprocal widens [entry, exit] only where distances are positive. A box behind
+    // the origin (reachable when tnear < 0) has a negative exit, which the padding moves towards
+    // the entry: a flat box there would be lost. Negative exits get 2^-20 (16 ulps) of room back.
+    const T slack = rmin(t_exit, T(0.0f)) * T(-0x1p-20f);
+    return t_entry <= t_exit + slack;
 }
 
 /// Scalar form on an axis-aligned box [lo, hi].

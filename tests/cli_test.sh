@@ -121,6 +121,28 @@ else
   fail "trace --accel auto exited $?: $(cat "$WORK/err")"
 fi
 
+# `arbor stress`: one JSON line with a row per structure and path, exit 0 when nothing failed;
+# one-line errors for a bad structure, an unmatched case and an open --model.
+if "$ARBOR" stress --small --case one-triangle --case nonfinite-rays --json >"$WORK/out" 2>"$WORK/err"; then
+  python3 - "$WORK/out" <<'PY' || fail "stress JSON wrong: $(head -c 400 "$WORK/out")"
+import json, sys
+j = json.loads(open(sys.argv[1]).read())
+assert j["ok"] and j["cases"] == 2 and j["false_misses"] == 0 and j["false_hits"] == 0, j
+accels = {r["accel"] for r in j["rows"]}
+assert {"brute", "bvh-median", "bvh-sah", "lbvh"} <= accels, accels
+for r in j["rows"]:
+    for k in ["case", "path", "rays", "hits", "band", "false_misses", "false_hits", "double_hits", "max_dt", "ns_per_ray"]:
+        assert k in r, k
+PY
+else
+  fail "stress --small exited $?: $(cat "$WORK/err")"
+fi
+"$ARBOR" stress --small --case empty --accel bvh-sah >"$WORK/out" 2>"$WORK/err" || fail "stress --accel bvh-sah exited $?"
+grep -q "PASS" "$WORK/out" || fail "stress table lacks PASS: $(cat "$WORK/out")"
+expect_error "--accel" "$ARBOR" stress --accel nonsense
+expect_error "--case" "$ARBOR" stress --case no-such-case
+expect_error "quad.obj" "$ARBOR" stress --model "$WORK/quad.obj"
+
 # The output of a failed run never replaces an existing file.
 echo keep >"$WORK/keep.hits"
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null

@@ -146,3 +146,31 @@ TEST_CASE("box: a degenerate (flat) box is still hit") {
     CHECK(slab_test(slab_ray({0.5f, 0.5f, 2}, {0, 0, -1}), {0, 0, 0}, {1, 1, 0}, 0, inf, t));
     CHECK(t == doctest::Approx(2.0f));
 }
+
+TEST_CASE("box: flat and thin boxes behind the origin are found when tnear < 0 (found by arbor stress)") {
+    using arbor::simd::slab_ray;
+    using arbor::simd::slab_test;
+    // The ray of extreme-rays ray 66: it meets the flat box z = -3 at t = -8.98. With Ize's padded
+    // far distance alone, the negative exit moved in front of the entry and the box was skipped.
+    const Vec3f o{0.798787773f, -0.638522863f, -0.889555931f}, d{-0.174696937f, 0.209630713f, 0.234888986f};
+    const auto r = slab_ray(o, d);
+    float t = 0.0f;
+    CHECK(slab_test(r, {-3, -3, -3}, {3, -2.5f, -3}, -inf, inf, t));
+    CHECK(t == doctest::Approx(-8.98486f));
+    // Many flat and thin boxes at random distances behind random origins, all containing a point of the ray.
+    int lost = 0;
+    for (int i = 1; i <= 2000; ++i) {
+        const float s = -float(i) * 0.37f;
+        const Vec3f oi{0.1f * float(i % 17), -0.05f * float(i % 11), 0.3f};
+        const Vec3f di{0.3f + 0.001f * float(i % 7), -0.7f, 0.2f + 0.01f * float(i % 5)};
+        const Vec3f p = oi + di * s;
+        for (int axis = 0; axis < 3; ++axis) {
+            Vec3f lo = p - Vec3f{1, 1, 1}, hi = p + Vec3f{1, 1, 1};
+            lo[axis] = hi[axis] = p[axis];  // flat in one axis, through p
+            lost += !slab_test(slab_ray(oi, di), lo, hi, -inf, inf, t);
+        }
+    }
+    CHECK(lost == 0);
+    // Boxes behind the origin are still culled for rays that start at tnear = 0.
+    CHECK_FALSE(slab_test(r, {-3, -3, -3}, {3, -2.5f, -3}, 0.0f, inf, t));
+}

@@ -14,5 +14,6 @@ Run add_trace(CLI::App& app);
 Run add_render(CLI::App& app);
 Run add_rays(CLI::App& app);
 Run add_converge(CLI::App& app);
+Run add_stress(CLI::App& app);
 
 }  // namespace arbor::app

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     reg("info", "load a model and describe it", arbor::app::add_info);
     reg("trace", "trace a .rays file and write a .hits file", arbor::app::add_trace);
     reg("rays", "generate primary, shadow, diffuse or random rays for a scene into a .rays file", arbor::app::add_rays);
+    reg("stress", "the stiff-case suite: every structure and path against a double-precision oracle", arbor::app::add_stress);
     reg("render", "render a scene (the embedded default scene without SCENE)", arbor::app::add_render);
     reg("converge", "error against run time: renders at 1, 2, 4, ... spp against a reference", arbor::app::add_converge);
     try {
