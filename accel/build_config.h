@@ -33,6 +33,17 @@ struct BuildConfig {
     /// kd-tree: factor on the SAH cost of a split that cuts off empty space (one side holds no
     /// triangle); Wald & Havran's lambda = 0.8, i.e. such splits look 20% cheaper. 1 = no bonus.
     float kd_empty_bonus = 0.8f;
+    /// BVHs: children per node of the SIMD traversal layout (4, 8 or 16; 0 = the measured best of
+    /// this build, see accel/wide_paths.h). A width the build's ISA lacks falls back to the default.
+    std::uint32_t bvh_width = 0;
+    /// BVHs: a binary subtree with at most this many triangles becomes one leaf of the SIMD layout
+    /// (0 = the width).
+    std::uint32_t wide_merge = 0;
+    /// BVHs, packet path: rays per packet, 8 or 16 (0 = 16 with AVX-512, else 8).
+    std::uint32_t packet_lanes = 0;
+    /// BVHs, packet path: at a node reached by at most this many lanes they go on as single rays
+    /// (-1 = lanes / 8).
+    int packet_switch = -1;
     /// Upper bound on build memory in bytes (0 = no limit); a build that would exceed it throws.
     std::uint64_t max_memory = 0;
 };

@@ -14,6 +14,11 @@ BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, co
     : kind_(kind) {
     const Timer timer;
     layout_ = make_bvh2_layout(bvh, tris);
+    WideConfig wide_cfg;
+    wide_cfg.merge_triangles = cfg.wide_merge;
+    wide_cfg.packet_lanes = cfg.packet_lanes;
+    wide_cfg.switch_lanes = cfg.packet_switch;
+    wide_ = make_wide_paths(cfg.bvh_width, bvh, tris, wide_cfg);
     const BvhTreeStats tree = bvh_tree_stats(bvh, cfg.traversal_cost, cfg.intersection_cost);
     stats_.triangles = tris.triangle_count();
     stats_.dropped_nonfinite = bvh.dropped_nonfinite;
@@ -22,11 +27,12 @@ BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, co
     stats_.max_depth = tree.max_depth;
     stats_.mean_leaf_depth = tree.mean_leaf_depth;
     stats_.sah_cost = tree.sah_cost;
-    stats_.memory_bytes = layout_.memory_bytes();
+    // Both layouts: the scalar reference path and the SIMD paths.
+    stats_.memory_bytes = layout_.memory_bytes() + wide_->memory_bytes();
     // While converting, the binary tree, the layout and the converter's three words per node live together.
     const std::size_t binary_bytes = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
                                      bvh.prim_ids.capacity() * sizeof(std::uint32_t);
-    const std::size_t convert_peak = binary_bytes + layout_.memory_bytes() + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+    const std::size_t convert_peak = binary_bytes + layout_.memory_bytes() + wide_->memory_bytes() + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
     stats_.build_peak_bytes = std::max(bvh.build_peak_bytes, convert_peak);
     stats_.build_ms = build_ms + timer.ms();
 }
@@ -86,12 +92,14 @@ Hit BvhAccel::trace(const Ray& ray, bool any_hit) const {
     return h;
 }
 
-void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
-    trace_batch<false>(rays, hits);
+void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::scalar) trace_batch<false>(rays, hits);
+    else wide_->trace(rays, hits, path == TracePath::best ? TracePath::single : path, false);
 }
 
-void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
-    trace_batch<true>(rays, hits);
+void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::scalar) trace_batch<true>(rays, hits);
+    else wide_->trace(rays, hits, path == TracePath::best ? TracePath::single : path, true);
 }
 
 bool BvhAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceCounters& counters) const {

@@ -1,11 +1,13 @@
 #pragma once
 /// BvhAccel: every binary BVH (bvh-median, bvh-sah, lbvh) behind the Accel interface. It converts
-/// the builder's BinaryBvh into Bvh2Layout (bvh2_layout.h) and traces it with the scalar loop of
-/// bvh2_traverse.h and the watertight test of simd/tri_test.h, exactly as `brute` does.
+/// the builder's BinaryBvh into Bvh2Layout (bvh2_layout.h), the scalar reference path (the loop of
+/// bvh2_traverse.h and the watertight test of simd/tri_test.h, exactly as `brute` does), and into an
+/// N-wide layout for the SIMD paths `single` and `packet` (wide_paths.h).
 #include "accel/accel.h"
 #include "accel/binary_bvh.h"
 #include "accel/bvh2_layout.h"
 #include "accel/prim_refs.h"
+#include "accel/wide_paths.h"
 
 #include <memory>
 
@@ -19,6 +21,7 @@ public:
     BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms);
 
     AccelKind kind() const override { return kind_; }
+    bool has_path(TracePath path) const override { return true; }
     const BuildStats& stats() const override { return stats_; }
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
@@ -28,6 +31,7 @@ public:
     /// One ray through the scalar loop: closest hit, or with any_hit the first hit found.
     Hit trace(const Ray& ray, bool any_hit) const;
     const Bvh2Layout& layout() const { return layout_; }
+    const WidePaths& wide() const { return *wide_; }
 
 private:
     /// The scalar loop over a batch; with Count, what it did is added to *counters.
@@ -36,6 +40,7 @@ private:
 
     AccelKind kind_;
     Bvh2Layout layout_;
+    std::unique_ptr<WidePaths> wide_;
     BuildStats stats_;
 };
 

@@ -7,14 +7,18 @@ namespace arbor::accel {
 
 void trace_parallel(const Accel& accel, std::span<const Ray> rays, std::span<Hit> hits, Query query,
                     TracePath path, std::size_t chunk) {
-    const std::size_t n = std::min(rays.size(), hits.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(chunk, 1)),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          const auto in = rays.subspan(r.begin(), r.size());
-                          const auto out = hits.subspan(r.begin(), r.size());
-                          if (query == Query::closest) accel.intersect(in, out, path);
-                          else accel.occluded(in, out, path);
-                      });
+    const std::size_t n = std::min(rays.size(), hits.size()), c = std::max<std::size_t>(chunk, 1);
+    // Chunk k is rays [k*c, (k+1)*c): the boundaries do not depend on how TBB splits the range, so
+    // rays of one image tile stay in one chunk (and in one packet) whatever the thread count.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + c - 1) / c, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const std::size_t b = k * c, e = std::min(n, b + c);
+            const auto in = rays.subspan(b, e - b);
+            const auto out = hits.subspan(b, e - b);
+            if (query == Query::closest) accel.intersect(in, out, path);
+            else accel.occluded(in, out, path);
+        }
+    });
 }
 
 }  // namespace arbor::accel

@@ -46,7 +46,7 @@ inline Mask<T> ray_boxes_sorted(const WideRay<T>& r, const Vec3<T>& near_plane, 
 
 /// One ray against lanes<T> boxes stored as BoxesSoA<lanes<T>> (`soa` points at its b[0][0]): the
 /// near and far planes are picked by the ray's sign bits, without a branch.
-template <class T> inline Mask<T> ray_boxes(const WideRay<T>& r, const float* soa, T& t_entry) {
+template <class T> ARBOR_INLINE Mask<T> ray_boxes(const WideRay<T>& r, const float* soa, T& t_entry) {
     constexpr std::size_t n = lanes<T>;
     Vec3<T> near_plane, far_plane;
     for (int k = 0; k < 3; ++k) {

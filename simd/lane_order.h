@@ -7,13 +7,11 @@
 
 namespace arbor::simd {
 
-/// Writes the lanes set in `bits` to `out` ordered by t, nearest first (equal t: lower lane first,
-/// i.e. a stable sort by t) and returns how many. The t of a lane in `bits` must not be NaN (an
+/// Writes the lanes set in `bits` to `out` ordered by d[lane], nearest first (equal d: lower lane
+/// first, i.e. a stable sort) and returns how many. The d of a lane in `bits` must not be NaN (an
 /// entry distance of a hit never is). Typical wide nodes hit 1-3 children, so the counts 1 and 2
 /// take a shortcut and the rest is an insertion sort, which beats a full sorting network there.
-template <class T> inline int order_hits(std::uint32_t bits, const T& t, std::uint8_t* out) {
-    alignas(64) float d[lanes<T>];
-    store_lanes(t, d);
+inline int order_hits(std::uint32_t bits, const float* d, std::uint8_t* out) {
     const int count = std::popcount(bits);
     if (count == 0) return 0;
     const int first = std::countr_zero(bits);
@@ -36,6 +34,13 @@ template <class T> inline int order_hits(std::uint32_t bits, const T& t, std::ui
         out[j] = std::uint8_t(i);
     }
     return count;
+}
+
+/// The same with the distances in the lanes of t.
+template <class T> inline int order_hits(std::uint32_t bits, const T& t, std::uint8_t* out) {
+    alignas(64) float d[lanes<T>];
+    store_lanes(t, d);
+    return order_hits(bits, static_cast<const float*>(d), out);
 }
 
 }  // namespace arbor::simd

@@ -10,6 +10,10 @@
 #include <cstdint>
 #include <type_traits>
 
+/// Forces inlining of a hot kernel into its traversal loop (GCC otherwise keeps the 16-wide
+/// triangle test out of line: a call, and its results passed through memory, per leaf block).
+#define ARBOR_INLINE inline __attribute__((always_inline))
+
 namespace arbor::simd {
 
 /// Widest float batch of this build (16 lanes with AVX-512, 8 with AVX2).

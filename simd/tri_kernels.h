@@ -80,7 +80,7 @@ inline TriHit<T> ray_triangles(const WideRay<T>& r, const Vec3<T>& v0, const Vec
 
 /// One ray against lanes<T> triangles stored as TrisSoA<lanes<T>> (`soa` points at its v[0][0][0]):
 /// only the three axes the ray's permutation needs are loaded, already in (kx, ky, kz) order.
-template <class T> inline TriHit<T> ray_triangles(const WideRay<T>& r, const float* soa) {
+template <class T> ARBOR_INLINE TriHit<T> ray_triangles(const WideRay<T>& r, const float* soa) {
     constexpr std::size_t n = lanes<T>;
     const auto rel = [&r, soa](std::size_t vertex) {
         const float* v = soa + vertex * 3 * n;

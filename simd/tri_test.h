@@ -83,7 +83,7 @@ inline void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>& V, x
 /// (kx, ky, kz) frame (so .z is the dominant axis). Accepts t in [tnear, tfar]; a hit on an edge
 /// or vertex counts. Degenerate triangles (det == 0) and NaN results never hit.
 template <class T>
-inline TriHit<T> woop_permuted(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const T& sx, const T& sy,
+ARBOR_INLINE TriHit<T> woop_permuted(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const T& sx, const T& sy,
                                const T& sz, const T& tnear, const T& tfar) {
     const T ax = a.x - sx * a.z, ay = a.y - sy * a.z;
     const T bx = b.x - sx * b.z, by = b.y - sy * b.z;

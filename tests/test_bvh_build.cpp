@@ -128,13 +128,16 @@ TEST_CASE("bvh build: statistics of the accel") {
         CHECK(s.sah_cost == doctest::Approx(tree.sah_cost));
         CHECK(s.mean_leaf_depth > 0.0);
         CHECK(s.build_ms > 0.0);
-        // Exactly the traversal arrays: 64-byte nodes (leaves - 1 of them), 144 + 16 bytes per block of 4.
+        // Exactly the traversal arrays: 64-byte nodes (leaves - 1 of them), 144 + 16 bytes per block of
+        // 4 for the scalar path, and the wide layout of the SIMD paths.
         const auto* bvh = dynamic_cast<const accel::BvhAccel*>(a.get());
         REQUIRE(bvh != nullptr);
         const auto& L = bvh->layout();
         CHECK(L.nodes.size() == s.leaves - 1);
         CHECK(L.blocks.size() == (mesh.triangle_count() + 3) / 4);
-        CHECK(s.memory_bytes == L.nodes.capacity() * 64 + L.blocks.capacity() * 160 + sizeof(accel::Bvh2Layout));
+        CHECK(s.memory_bytes ==
+              L.nodes.capacity() * 64 + L.blocks.capacity() * 160 + sizeof(accel::Bvh2Layout) + bvh->wide().memory_bytes());
+        CHECK(bvh->wide().memory_bytes() > bvh->wide().nodes() * 128);
         CHECK(s.build_peak_bytes >= s.memory_bytes);
         CHECK(s.bytes_per_triangle() > 0.0);
     }

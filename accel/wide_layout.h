@@ -1,0 +1,91 @@
+#pragma once
+/// WideLayout<N>: the traversal layout of the SIMD paths, collapsed on purpose from any BinaryBvh
+/// (bvh-median, bvh-sah, lbvh) into N-wide nodes (N = 4, 8 or 16).
+///
+/// A node holds the boxes of up to N children in SoA form (simd::BoxesSoA<N>), so one SIMD slab
+/// test reads all of them; unused slots hold empty boxes (lo = +inf, hi = -inf) that never hit.
+/// Leaves are runs of whole SoA triangle blocks of the same width (simd::TrisSoA<N>) holding the
+/// ORIGINAL vertices (the watertight test needs bit-identical inputs for shared edges); unused lanes
+/// hold NaN vertices, which never hit. Nodes are stored depth-first (pre-order).
+///
+/// The collapse is greedy and SAH-aware: a node starts with the two children of its binary node and
+/// repeatedly opens the interior child of largest surface area (the one a random ray is most likely
+/// to enter, so the one whose own test is most worth saving) until it has N children; a binary
+/// subtree of at most `merge_triangles` triangles becomes one leaf (one block test instead of a node
+/// test plus several partly empty blocks). The child boxes are the binary boxes, so the collapse
+/// keeps the tree's bounds exactly. See "Shallow Bounding Volume Hierarchies for Fast SIMD Ray
+/// Tracing of Incoherent Rays", H. Dammertz et al., EGSR 2008, and Wald et al., "Getting Rid of
+/// Packets", RT 2008 (collapsing binary BVHs into 4- and 16-wide ones).
+#include "accel/binary_bvh.h"
+#include "simd/box_kernels.h"
+#include "simd/tri_kernels.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace arbor::accel {
+
+/// Settings of the collapse; the defaults are the measured best (perf/results/wide-*.md).
+struct WideConfig {
+    /// A binary subtree with at most this many triangles becomes one leaf. 0 = the width N.
+    std::uint32_t merge_triangles = 0;
+    /// Most triangles in one leaf (1..65535): bigger binary leaves are split into chunks under
+    /// extra nodes (all with the leaf's box).
+    std::uint32_t max_leaf_triangles = 65535;
+    /// Packet path: rays per packet, 8 or 16 (anything else: the default of the build).
+    std::uint32_t packet_lanes = 0;
+    /// Packet path: at a node reached by at most this many lanes, they go on as single rays
+    /// (-1: lanes / 8).
+    int switch_lanes = -1;
+};
+
+/// One N-wide node: child boxes in SoA, and per child either an interior node (count == 0: node
+/// index in child) or a leaf (count > 0 triangles in blocks child, child + 1, ...). Slots
+/// >= `children` are empty boxes.
+template <std::size_t N> struct alignas(64) WideNode {
+    simd::BoxesSoA<N> boxes;
+    std::uint32_t child[N];
+    std::uint16_t count[N];
+    std::uint8_t children;
+
+    bool is_leaf(std::size_t c) const { return count[c] != 0; }
+};
+static_assert(sizeof(WideNode<4>) == 128 && sizeof(WideNode<8>) == 256 && sizeof(WideNode<16>) == 512);
+
+/// Blocks of a leaf of `count` triangles.
+template <std::size_t N> constexpr std::uint32_t wide_blocks(std::uint32_t count) {
+    return (count + std::uint32_t(N) - 1) / std::uint32_t(N);
+}
+
+template <std::size_t N> struct WideLayout {
+    static constexpr std::size_t width = N;
+    std::vector<WideNode<N>> nodes;        ///< nodes[0] is the root (always a node); none when empty
+    std::vector<simd::TrisSoA<N>> blocks;  ///< triangle blocks in leaf order
+    std::vector<std::uint32_t> prim_ids;   ///< N per block: original triangle number (invalid_prim in padding)
+    std::uint32_t depth = 0;               ///< node levels on the deepest path (root = 1)
+    std::size_t leaves = 0;
+
+    bool empty() const { return nodes.empty(); }
+    /// Entries a traversal stack may need: every node on a path pushes at most N - 1.
+    std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1; }
+    std::size_t memory_bytes() const {
+        return nodes.capacity() * sizeof(WideNode<N>) + blocks.capacity() * sizeof(simd::TrisSoA<N>) +
+               prim_ids.capacity() * sizeof(std::uint32_t) + sizeof(WideLayout);
+    }
+    /// Vertex k of triangle slot s (block s / N, lane s % N).
+    Vec3f vertex(std::size_t slot, int k) const {
+        const auto& b = blocks[slot / N];
+        const std::size_t l = slot % N;
+        return {b.v[k][0][l], b.v[k][1][l], b.v[k][2][l]};
+    }
+};
+
+/// Collapses `bvh` (built over `tris`) into N-wide nodes. Deterministic: the node structure is
+/// laid out serially, leaves are filled in parallel at offsets fixed beforehand.
+template <std::size_t N> WideLayout<N> make_wide_layout(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg = {});
+
+extern template WideLayout<4> make_wide_layout<4>(const BinaryBvh&, const TriangleView&, const WideConfig&);
+extern template WideLayout<8> make_wide_layout<8>(const BinaryBvh&, const TriangleView&, const WideConfig&);
+extern template WideLayout<16> make_wide_layout<16>(const BinaryBvh&, const TriangleView&, const WideConfig&);
+
+}  // namespace arbor::accel

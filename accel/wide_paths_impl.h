@@ -1,0 +1,172 @@
+#pragma once
+/// WidePathsN<N>: the batch loops of the SIMD paths for one width. Included only by the
+/// wide_paths{4,8,16}.cpp files, which instantiate one width each (compile time, and each width
+/// in its own translation unit).
+#include "accel/wide_paths.h"
+#include "accel/wide_packet.h"
+#include "accel/wide_traverse.h"
+#include "simd/tri_kernels.h"
+
+#include <array>
+#include <vector>
+
+namespace arbor::accel {
+
+/// A traversal stack: on the call stack when the tree is shallow enough, else on the heap.
+template <class E, std::size_t Small> class StackBuffer {
+public:
+    explicit StackBuffer(std::size_t size) {
+        if (size > Small) large_.resize(size);
+    }
+    E* data() { return large_.empty() ? small_.data() : large_.data(); }
+
+private:
+    std::array<E, Small> small_;
+    std::vector<E> large_;
+};
+
+template <std::size_t N> class WidePathsN final : public WidePaths {
+public:
+    using T = WideLane<N>;
+
+    WidePathsN(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg)
+        : layout_(make_wide_layout<N>(bvh, tris, cfg)) {
+        packet_lanes_ = cfg.packet_lanes == 8 || cfg.packet_lanes == 16 ? cfg.packet_lanes : default_packet_lanes();
+        if (!wide_width_supported(packet_lanes_)) packet_lanes_ = 8;
+        switch_lanes_ = cfg.switch_lanes >= 0 ? cfg.switch_lanes : int(packet_lanes_ / 8);
+    }
+
+    std::size_t width() const override { return N; }
+    std::size_t memory_bytes() const override { return layout_.memory_bytes(); }
+    std::size_t nodes() const override { return layout_.nodes.size(); }
+    std::size_t leaves() const override { return layout_.leaves; }
+    const WideLayout<N>& layout() const { return layout_; }
+
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, TracePath path, bool any_hit) const override {
+        if (path == TracePath::packet && !layout_.empty()) {
+#if XSIMD_WITH_AVX512F
+            if (packet_lanes_ == 16) {
+                if (any_hit) trace_packets<true, simd::Float16>(rays, hits);
+                else trace_packets<false, simd::Float16>(rays, hits);
+                return;
+            }
+#endif
+            if (any_hit) trace_packets<true, simd::Float8>(rays, hits);
+            else trace_packets<false, simd::Float8>(rays, hits);
+            return;
+        }
+        if (any_hit) trace_single<true>(rays, hits);
+        else trace_single<false>(rays, hits);
+    }
+
+    /// One ray, single-ray path, with a caller's stack (layout().stack_size() entries).
+    template <bool AnyHit> Hit trace_one(const Ray& ray, WideStackEntry* stack) const {
+        if (layout_.empty()) return {};
+        simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
+        if (!r.traceable) return {};
+        return trace_from<AnyHit>(r, ray.tfar, 0, 0, stack);
+    }
+
+    /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
+    template <bool AnyHit>
+    Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStackEntry* stack) const {
+        Hit best;
+        const simd::TrisSoA<N>* blocks = layout_.blocks.data();
+        const std::uint32_t* ids = layout_.prim_ids.data();
+        auto leaf = [&](std::uint32_t first, std::uint32_t n) {
+            bool found = false;
+            const std::uint32_t end = first + wide_blocks<N>(n);
+            for (std::uint32_t b = first; b < end; ++b) {
+                const simd::TriHit<T> h = simd::ray_triangles<T>(r, &blocks[b].v[0][0][0]);
+                const std::uint32_t bits = simd::to_bits(h.hit);
+                if (bits == 0) continue;
+                const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
+                const float t = simd::lane(h.t, std::size_t(lane));
+                // Strictly closer only, as brute and the scalar path (equal t: the first found stays).
+                if (best.is_hit() && !(t < best.t)) continue;
+                best = {t, ids[std::size_t(b) * N + std::size_t(lane)], simd::lane(h.u, std::size_t(lane)),
+                        simd::lane(h.v, std::size_t(lane))};
+                tfar = t;
+                r.tfar = T(t);
+                found = true;
+                if constexpr (AnyHit) return true;
+            }
+            return found;
+        };
+        traverse_wide<AnyHit>(layout_, r, tfar, stack, child, count, leaf);
+        return best;
+    }
+
+private:
+    template <bool AnyHit> void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
+        StackBuffer<WideStackEntry, 512> stack(layout_.stack_size());
+        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_one<AnyHit>(rays[i], stack.data());
+    }
+
+    /// Packets of lanes<P> consecutive rays (the last one partial), see wide_packet.h.
+    template <bool AnyHit, class P> void trace_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+        constexpr std::size_t K = simd::lanes<P>;
+        using IntP = simd::IntOf<P>;
+        StackBuffer<PacketStackEntry<P>, 256> pstack(layout_.stack_size());
+        StackBuffer<WideStackEntry, 512> sstack(layout_.stack_size());
+        const simd::TrisSoA<N>* blocks = layout_.blocks.data();
+        const std::uint32_t* ids = layout_.prim_ids.data();
+        for (std::size_t base = 0; base < rays.size(); base += K) {
+            const auto in = rays.subspan(base, std::min(K, rays.size() - base));
+            simd::RayPacket<P> p = simd::load_packet<P>(in);
+            simd::PacketHit<P> best;
+            const auto take_lanes = [&](const simd::Mask<P>& take, const P& t, const P& u, const P& v, const IntP& prim) {
+                best.t = simd::select(take, t, best.t);
+                best.u = simd::select(take, u, best.u);
+                best.v = simd::select(take, v, best.v);
+                best.prim = simd::iselect(take, prim, best.prim);
+                p.tfar = simd::select(take, t, p.tfar);
+            };
+            auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
+                auto live = simd::from_bits<P>(lanes);
+                std::uint32_t found = 0;
+                for (std::uint32_t s = 0; s < count; ++s) {
+                    const simd::TrisSoA<N>& blk = blocks[first + s / N];
+                    const std::size_t l = s % N;
+                    const Vec3f v0{blk.v[0][0][l], blk.v[0][1][l], blk.v[0][2][l]};
+                    const Vec3f v1{blk.v[1][0][l], blk.v[1][1][l], blk.v[1][2][l]};
+                    const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
+                    const simd::TriHit<P> h = simd::packet_triangle(p, v0, v1, v2);
+                    // Strictly closer only (equal t: the first found stays), as every other path.
+                    const auto take = h.hit & live & ((h.t < best.t) | simd::int_equal(best.prim, IntP(-1)));
+                    const std::uint32_t bits = simd::to_bits(take);
+                    if (bits == 0) continue;
+                    take_lanes(take, h.t, h.u, h.v, IntP(std::int32_t(ids[std::size_t(first) * N + s])));
+                    found |= bits;
+                    if constexpr (AnyHit) {
+                        live = live & !take;
+                        if (simd::none(live)) break;
+                    }
+                }
+                return found;
+            };
+            auto single = [&](int i, std::uint32_t child, std::uint32_t count) {
+                const Ray& ray = in[std::size_t(i)];
+                const float tfar = simd::lane(p.tfar, std::size_t(i));
+                simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, tfar);
+                const Hit h = trace_from<AnyHit>(r, tfar, child, count, sstack.data());
+                const float old = simd::lane(best.t, std::size_t(i));
+                if (!h.is_hit() || (simd::lane(best.prim, std::size_t(i)) != -1 && !(h.t < old))) return false;
+                take_lanes(simd::from_bits<P>(1u << i), P(h.t), P(h.u), P(h.v), IntP(std::int32_t(h.prim)));
+                return true;
+            };
+            traverse_packet<AnyHit>(layout_, p, pstack.data(), switch_lanes_, leaf, single);
+            simd::store_hits(best, hits.subspan(base, in.size()));
+        }
+    }
+
+    WideLayout<N> layout_;
+    std::uint32_t packet_lanes_ = 8;
+    int switch_lanes_ = 1;
+};
+
+/// The paths of width N (defined in wide_paths{N}.cpp).
+template <std::size_t N>
+std::unique_ptr<WidePaths> make_wide_paths_n(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg);
+
+}  // namespace arbor::accel

@@ -1,0 +1,235 @@
+// bench_paths: arbor's traversal paths (scalar, single, packet, best) at each BVH width against
+// Embree's calls (rtcIntersect1/8/16/1M) on the very same .rays files, in one run. A benchmark,
+// not a test: every configuration is first checked against the structure's scalar path on all
+// rays (and Embree against it too), then all configurations are timed round-robin (the order
+// rotated each repeat) so that machine noise hits them alike; medians of --repeats.
+//
+//   bench_paths --rays DIR [--models DIR] [--scenes a,b] [--kinds primary,shadow,diffuse,random]
+//               [--structures bvh-sah,...] [--widths 4,8,16] [--paths scalar,single,packet,best]
+//               [--threads 2] [--repeats 5] [--merges 0,8,...] [-o OUT.md]
+//
+// DIR/<scene>-<kind>.rays are written by `arbor rays --scene MODEL.obj --kind KIND` (see
+// scripts/bench_vs_embree.sh). Shadow rays are any-hit queries, the others closest hit; Embree
+// gets the coherent flag for primary and shadow rays, as in arbor_bench.
+#include "accel/accel.h"
+#include "accel/timer.h"
+#include "accel/trace.h"
+#include "engine/error.h"
+#include "engine/obj_loader.h"
+#include "engine/rayfile.h"
+
+#ifdef ARBOR_HAVE_EMBREE
+#include "perf/embree_peer.h"
+#endif
+
+#include <CLI/CLI.hpp>
+#include <ctime>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace arbor;
+
+namespace {
+
+struct Options {
+    std::string rays_dir, models = ARBOR_SHARED_SCENES "/models", out;
+    std::vector<std::string> scenes{"stanford-bunny", "beast", "rocker-arm"};
+    std::vector<std::string> kinds{"primary", "shadow", "diffuse", "random"};
+    std::vector<std::string> structures{"bvh-sah"};
+    std::vector<std::string> paths{"scalar", "single", "packet", "best"};
+    std::vector<int> widths{0};
+    int threads = 2, repeats = 5;
+    std::vector<std::uint32_t> merges{0};
+    bool embree = true;
+    bool cpu_time = false;  ///< time by the CPU time of the process (one thread), not the wall clock
+};
+
+/// CPU time of the whole process in ms: with --cpu-time (one thread) it does not count the time
+/// other jobs on a loaded machine take the core away.
+double cpu_ms() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t m = v.size() / 2;
+    return v.empty() ? 0.0 : (v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]));
+}
+
+/// One timed configuration.
+struct Config {
+    std::string structure, path;  ///< e.g. "bvh-sah/w16", "single"; Embree: "embree", "1M"
+    std::function<void(std::span<const accel::Ray>, std::span<accel::Hit>)> trace;
+    bool embree = false;
+    std::vector<double> ms;
+    long long err = -1;  ///< disagreements with the structure's scalar path (Embree: with the first arbor scalar)
+};
+
+bool agree(const accel::Hit& a, const accel::Hit& b, bool any) { return any ? a.is_hit() == b.is_hit() : accel::hits_agree(a, b); }
+
+struct Row {
+    std::string scene, kind, structure, path;
+    double mrays, lo, hi;
+    long long err;
+    bool embree;
+};
+
+void run_scene(const Options& o, const std::string& scene, std::vector<Row>& rows) {
+    engine::Warnings w;
+    const engine::Mesh mesh = engine::load_obj(o.models + "/" + scene + ".obj", w);
+    const accel::TriangleView view = mesh.view();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(o.threads));
+
+    std::vector<std::unique_ptr<accel::Accel>> built;
+    std::vector<std::string> names;
+    for (const std::string& s : o.structures) {
+        const auto kind = accel::parse_accel_kind(s);
+        if (!kind || *kind == accel::AccelKind::automatic) throw engine::InputError("--structures: unknown structure '" + s + "'");
+        for (const int width : o.widths)
+            for (const std::uint32_t merge : o.merges) {
+                accel::BuildConfig cfg;
+                cfg.bvh_width = std::uint32_t(width);
+                cfg.wide_merge = merge;
+                built.push_back(accel::make_accel(*kind, view, cfg));
+                std::string name = s;
+                if (width || merge) name += "/w" + std::to_string(width);
+                if (merge) name += "m" + std::to_string(merge);
+                names.push_back(name);
+            }
+    }
+#ifdef ARBOR_HAVE_EMBREE
+    std::unique_ptr<perf::EmbreePeer> peer;
+    if (o.embree) peer = std::make_unique<perf::EmbreePeer>(view);
+#endif
+
+    for (const std::string& kind : o.kinds) {
+        const std::string file = o.rays_dir + "/" + scene + "-" + kind + ".rays";
+        const std::vector<accel::Ray> rays = engine::read_rays(file);
+        const bool any = kind == "shadow", coherent = kind == "primary" || kind == "shadow";
+        const accel::Query q = any ? accel::Query::any : accel::Query::closest;
+        std::vector<Config> configs;
+        std::set<std::string> with_scalar;
+        for (std::size_t b = 0; b < built.size(); ++b)
+            for (const std::string& p : o.paths) {
+                const auto path = *accel::parse_trace_path(p);
+                if (path != accel::TracePath::scalar && path != accel::TracePath::best && !built[b]->has_path(path)) continue;
+                // The scalar path does not depend on the width: once per structure.
+                if (path == accel::TracePath::scalar && !with_scalar.insert(names[b].substr(0, names[b].find('/'))).second)
+                    continue;
+                const accel::Accel* a = built[b].get();
+                configs.push_back({names[b], p, [a, q, path](auto r, auto h) { accel::trace_parallel(*a, r, h, q, path); }, false, {}, -1});
+            }
+#ifdef ARBOR_HAVE_EMBREE
+        if (peer)
+            for (const auto call : {perf::EmbreeCall::single, perf::EmbreeCall::packet8, perf::EmbreeCall::packet16,
+                                    perf::EmbreeCall::stream}) {
+                const perf::EmbreePeer* e = peer.get();
+                configs.push_back({"embree", std::string(perf::to_string(call)),
+                                   [e, q, call, coherent](auto r, auto h) { e->trace_parallel(r, h, q, call, coherent); }, true, {}, -1});
+            }
+#endif
+        // Validate: every configuration against the scalar path of its structure (Embree against
+        // the first structure's).
+        std::map<std::string, std::vector<accel::Hit>> scalar;
+        std::vector<accel::Hit> hits(rays.size());
+        for (std::size_t b = 0; b < built.size(); ++b) {
+            auto& ref = scalar[names[b].substr(0, names[b].find('/'))];
+            if (!ref.empty()) continue;
+            ref.resize(rays.size());
+            accel::trace_parallel(*built[b], rays, ref, q, accel::TracePath::scalar);
+        }
+        for (Config& c : configs) {
+            c.trace(rays, hits);
+            const auto& ref = c.embree ? scalar.at(names[0].substr(0, names[0].find('/'))) : scalar.at(c.structure.substr(0, c.structure.find('/')));
+            c.err = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) c.err += !agree(hits[i], ref[i], any);
+        }
+        for (int rep = 0; rep < o.repeats; ++rep)
+            for (std::size_t j = 0; j < configs.size(); ++j) {
+                Config& c = configs[(j + std::size_t(rep)) % configs.size()];
+                const accel::Timer t;
+                const double c0 = cpu_ms();
+                c.trace(rays, hits);
+                c.ms.push_back(o.cpu_time ? cpu_ms() - c0 : t.ms());
+            }
+        for (const Config& c : configs) {
+            const double mr = double(rays.size()) * 1e-3;
+            const auto [lo, hi] = std::minmax_element(c.ms.begin(), c.ms.end());
+            rows.push_back({scene, kind, c.structure, c.path, mr / median(c.ms), mr / *hi, mr / *lo, c.err, c.embree});
+            std::fprintf(stderr, "%-16s %-8s %-16s %-7s %7.2f Mrays/s [%5.2f-%5.2f] err %lld\n", scene.c_str(), kind.c_str(),
+                         c.structure.c_str(), c.path.c_str(), rows.back().mrays, rows.back().lo, rows.back().hi, c.err);
+        }
+    }
+}
+
+/// The ratio table: per scene and kind, each arbor configuration's median over Embree's best call.
+std::string report(const Options& o, const std::vector<Row>& rows) {
+    std::ostringstream s;
+    std::map<std::pair<std::string, std::string>, std::pair<double, std::string>> best_embree;
+    for (const Row& r : rows)
+        if (r.embree) {
+            auto& b = best_embree[{r.scene, r.kind}];
+            if (r.mrays > b.first) b = {r.mrays, r.path};
+        }
+    s << "| scene | kind | configuration | Mrays/s median [min-max] | x Embree best | errors |\n|---|---|---|---:|---:|---:|\n";
+    for (const Row& r : rows) {
+        const auto& b = best_embree[{r.scene, r.kind}];
+        char buf[256];
+        std::snprintf(buf, sizeof buf, "| %s | %s | %s %s | %.2f [%.2f-%.2f] | %.2f | %lld |\n", r.scene.c_str(), r.kind.c_str(),
+                      r.structure.c_str(), r.path.c_str(), r.mrays, r.lo, r.hi, b.first > 0 ? r.mrays / b.first : 0.0, r.err);
+        s << buf;
+    }
+    s << "\nEmbree's best call per cell: ";
+    for (const auto& [k, v] : best_embree) s << k.first << "/" << k.second << " " << v.second << "; ";
+    s << "\n";
+    return s.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"bench_paths: arbor's paths and widths against Embree on the same .rays files"};
+    Options o;
+    app.add_option("--rays", o.rays_dir, "folder of <scene>-<kind>.rays files")->required();
+    app.add_option("--models", o.models, "folder of .obj models")->capture_default_str();
+    app.add_option("--scenes", o.scenes, "model names")->delimiter(',');
+    app.add_option("--kinds", o.kinds, "ray kinds")->delimiter(',');
+    app.add_option("--structures", o.structures, "structures")->delimiter(',');
+    app.add_option("--paths", o.paths, "arbor paths: scalar, single, packet, best")->delimiter(',');
+    app.add_option("--widths", o.widths, "BVH widths (0 = default)")->delimiter(',');
+    app.add_option("--threads", o.threads, "threads")->check(CLI::Range(1, 4096));
+    app.add_option("--repeats", o.repeats, "timed repeats")->check(CLI::Range(1, 1000));
+    app.add_option("--merges", o.merges, "values of BuildConfig::wide_merge (0 = the width)")->delimiter(',');
+    app.add_flag("!--no-embree", o.embree, "leave Embree out");
+    app.add_flag("--cpu-time", o.cpu_time, "one thread, timed by process CPU time (for A/B tests on a loaded machine)");
+    app.add_option("-o,--out", o.out, "also write the Markdown table here");
+    try {
+        app.parse(argc, argv);
+        if (o.cpu_time) o.threads = 1;
+        for (const std::string& p : o.paths)
+            if (!accel::parse_trace_path(p)) throw engine::InputError("--paths: unknown path '" + p + "'");
+        std::vector<Row> rows;
+        for (const std::string& scene : o.scenes) run_scene(o, scene, rows);
+        const std::string table = report(o, rows);
+        std::fputs(table.c_str(), stdout);
+        if (!o.out.empty()) std::ofstream(o.out) << table;
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_paths: %s\n", e.what());
+        return 1;
+    }
+}

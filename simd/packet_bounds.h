@@ -1,0 +1,82 @@
+#pragma once
+/// Interval bounds of a ray packet, to cull the children of a wide node for the whole packet with
+/// one SIMD test (interval arithmetic over the packet's origins and reciprocal directions: see
+/// Wald, Boulos, Shirley, "Ray Tracing Deformable Scenes using Dynamic Bounding Volume
+/// Hierarchies", TOG 2007, and Reshetov, Soupikov, Hurley, "Multi-Level Ray Tracing Algorithm",
+/// SIGGRAPH 2005).
+///
+/// Exactly conservative, not just approximately: the bounds are computed by the same rounded
+/// operations as the per-lane slab test of box_test.h, ((plane - origin) * reciprocal), from the
+/// extreme inputs, and rounding is monotone, so a bound is never on the wrong side of a lane's
+/// computed distance. Axes on which the lanes' directions differ in sign are left out (they
+/// constrain nothing), and a lane's NaN slab distance (origin in the plane, zero direction) is
+/// matched by an infinite bound. Hence: if any lane's slab test hits a box, bounds_boxes says the
+/// box may be hit (tested lane by lane in tests/test_packet_bounds.cpp).
+#include "simd/ray_packet.h"
+
+namespace arbor::simd {
+
+/// Bounds over a set of lanes of a packet. Axis k takes part when bit k of `axes` is set: all
+/// lanes share the sign bit of d[k]. On an axis whose sign bit is set everything is negated
+/// (origins, planes and reciprocals), which is exact and turns the axis into a positive one.
+struct PacketBounds {
+    std::uint32_t axes = 0;
+    int neg[3] = {};
+    float o_lo[3] = {}, o_hi[3] = {};    ///< origin (negated on negative axes): min and max
+    float rn_lo[3] = {}, rn_hi[3] = {};  ///< 1/d (negated: >= 0): min and max
+    float rf_lo[3] = {}, rf_hi[3] = {};  ///< padded 1/d (negated: >= 0): min and max
+    float tnear_lo = INFINITY;           ///< smallest tnear
+};
+
+namespace detail {
+template <class P> inline float masked_min(const P& x, const Mask<P>& m) { return hmin(select(m, x, P(INFINITY))); }
+template <class P> inline float masked_max(const P& x, const Mask<P>& m) { return -hmin(select(m, -x, P(INFINITY))); }
+}  // namespace detail
+
+/// Bounds of the lanes `lanes` of `p` (which must be active, hence finite). No lanes: no box passes.
+template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, const Mask<P>& lanes) {
+    PacketBounds b;
+    const std::uint32_t bits = to_bits(lanes);
+    if (bits == 0) return b;
+    b.tnear_lo = detail::masked_min(p.tnear, lanes);
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t s = to_bits(p.near_is_hi[k]) & bits;
+        if (s != 0 && s != bits) continue;  // mixed signs: this axis is left out
+        b.axes |= 1u << k;
+        b.neg[k] = s != 0;
+        const P sign(b.neg[k] ? -1.0f : 1.0f);  // multiplying by -1 is an exact negation
+        const P o = p.org[k] * sign, rn = p.rcp_near[k] * sign, rf = p.rcp_far[k] * sign;
+        b.o_lo[k] = detail::masked_min(o, lanes), b.o_hi[k] = detail::masked_max(o, lanes);
+        b.rn_lo[k] = detail::masked_min(rn, lanes), b.rn_hi[k] = detail::masked_max(rn, lanes);
+        b.rf_lo[k] = detail::masked_min(rf, lanes), b.rf_hi[k] = detail::masked_max(rf, lanes);
+    }
+    return b;
+}
+
+/// Which of lanes<T> boxes (BoxesSoA<lanes<T>> at `soa`) some lane of the bounded set may hit,
+/// for lanes whose tfar is at most `tfar_hi`. A conservative superset: it never drops a box that a
+/// lane's slab test (box_test.h) hits.
+template <class T> inline Mask<T> bounds_boxes(const PacketBounds& b, float tfar_hi, const float* soa) {
+    constexpr std::size_t n = lanes<T>;
+    const T zero(0.0f), inf(INFINITY);
+    T entry(b.tnear_lo), exit(tfar_hi);
+    for (std::size_t k = 0; k < 3; ++k) {
+        if (!((b.axes >> k) & 1u)) continue;
+        const std::size_t near_row = b.neg[k] ? 3 + k : k, far_row = b.neg[k] ? k : 3 + k;
+        const T sign(b.neg[k] ? -1.0f : 1.0f);
+        const T near_plane = load_lanes<T>(soa + near_row * n) * sign, far_plane = load_lanes<T>(soa + far_row * n) * sign;
+        // Entry: the smallest (near - o) * rn over the lanes, from the smallest near - o.
+        const T a_lo = near_plane - T(b.o_hi[k]), a_hi = near_plane - T(b.o_lo[k]);
+        T e = select(a_lo >= zero, a_lo * T(b.rn_lo[k]), a_lo * T(b.rn_hi[k]));
+        if (b.rn_hi[k] == INFINITY) e = select((a_lo <= zero) & (a_hi >= zero), -inf, e);  // 0 * inf in a lane
+        // Exit: the largest (far - o) * rf, from the largest far - o.
+        const T f_hi = far_plane - T(b.o_lo[k]), f_lo = far_plane - T(b.o_hi[k]);
+        T x = select(f_hi >= zero, f_hi * T(b.rf_hi[k]), f_hi * T(b.rf_lo[k]));
+        if (b.rf_hi[k] == INFINITY) x = select((f_lo <= zero) & (f_hi >= zero), inf, x);
+        entry = rmax(e, entry);  // a NaN bound (overflow) is ignored, as in slab_test
+        exit = rmin(x, exit);
+    }
+    return entry <= exit;
+}
+
+}  // namespace arbor::simd

@@ -1,0 +1,133 @@
+// simd::bounds_boxes (the packet's interval bounds against a node's child boxes) is conservative
+// lane by lane: whenever packet_box says some lane of the bounded set hits a box, the bounds keep
+// that box. Inputs: stiff rays (axis-parallel with +-0, through box faces and corners, negative and
+// varied tnear/tfar), coherent and incoherent packets, random lane subsets, flat/point/empty boxes.
+// And the bounds do cull: a coherent packet drops boxes it cannot reach.
+#include "simd/box_kernels.h"
+#include "simd/packet_bounds.h"
+#include "simd_cases.h"
+
+#include <algorithm>
+
+using namespace arbor::simd;
+using arbor::testing::Mismatches;
+using arbor::testing::Ray;
+
+namespace {
+
+struct Box {
+    Vec3f lo, hi;
+};
+
+std::vector<Box> boxes(std::mt19937& rng) {
+    std::vector<Box> b{{{-1, -1, -1}, {1, 1, 1}},     {{0, 0, 0}, {1, 1, 1}},       {{-1, 0.5f, 0}, {0, 1, 1}},
+                       {{0, 0, 0}, {1, 1, 0}},         {{0.25f, -1, 1}, {0.25f, 1, 1}}, {{0, 0, 0}, {0, 0, 0}},
+                       {{-2, -2, -2}, {-1, -1, -1}},   {{1e6f, 1e6f, 1e6f}, {1e6f + 1, 1e6f + 1, 1e6f + 1}}};
+    for (int i = 0; i < 40; ++i) {
+        const Vec3f a = arbor::testing::uniform3(rng, -2.5f, 2.5f), c = arbor::testing::uniform3(rng, -2.5f, 2.5f);
+        b.push_back({vmin(a, c), vmax(a, c)});
+    }
+    return b;
+}
+
+/// Packets of lanes<P> rays taken from `rays` in several ways: consecutive, every k-th, and a
+/// coherent bundle around each ray; each with a few lane subsets.
+template <class P> void check_all(const std::vector<Ray>& rays, const std::vector<Box>& bx, Mismatches& miss, std::size_t& culled) {
+    constexpr std::size_t K = lanes<P>;
+    std::mt19937 rng(7);
+    std::vector<std::vector<Ray>> packets;
+    for (std::size_t i = 0; i + K <= rays.size(); i += K / 2) packets.emplace_back(rays.begin() + std::ptrdiff_t(i), rays.begin() + std::ptrdiff_t(i + K));
+    for (std::size_t i = 0; i < rays.size(); i += 3) {
+        std::vector<Ray> bundle;
+        for (std::size_t l = 0; l < K; ++l) {
+            Ray r = rays[i];
+            if (l % 4 != 0) {  // jittered copies; every fourth lane keeps the exact stiff ray
+                r.org = r.org + arbor::testing::uniform3(rng, -0.05f, 0.05f);
+                r.dir = r.dir + arbor::testing::uniform3(rng, -0.05f, 0.05f);
+                if (l % 3 == 0) r.tnear = -1.5f;  // negative tnear: rays that start behind their origin
+            }
+            bundle.push_back(r);
+        }
+        packets.push_back(bundle);
+    }
+    for (const auto& rs : packets) {
+        const RayPacket<P> p = load_packet<P>(std::span<const Ray>(rs));
+        for (const std::uint32_t subset : {0xFFFFFFFFu, 0x5555u, 0x0F0Fu, 0x1u, 0x8000u, std::uint32_t(rng())}) {
+            const Mask<P> lanes = p.active & from_bits<P>(subset);
+            const std::uint32_t lb = to_bits(lanes);
+            const PacketBounds pb = packet_bounds(p, lanes);
+            float tfar_hi = -INFINITY;
+            for (std::size_t l = 0; l < K; ++l)
+                if ((lb >> l) & 1u) tfar_hi = std::max(tfar_hi, lane(p.tfar, l));
+            for (std::size_t first = 0; first < bx.size(); ++first) {
+                alignas(64) BoxesSoA<1> soa;
+                soa.set(0, bx[first].lo, bx[first].hi);
+                const bool keep = bounds_boxes<float>(pb, tfar_hi, &soa.b[0][0][0]);
+                P t;
+                const std::uint32_t hit = to_bits(packet_box(p, bx[first].lo, bx[first].hi, t) & lanes);
+                if (hit != 0 && !keep) miss.add("box", first, "lanes", hit, "subset", subset);
+                culled += (lb != 0 && !keep);
+            }
+        }
+    }
+}
+
+/// The same through the wide instantiation T: lanes<T> boxes per test, lane by lane against T = float.
+template <class T, class P> void check_wide(const std::vector<Ray>& rays, const std::vector<Box>& bx, Mismatches& miss) {
+    constexpr std::size_t n = lanes<T>;
+    for (std::size_t i = 0; i + lanes<P> <= rays.size(); i += lanes<P>) {
+        const RayPacket<P> p = load_packet<P>(std::span<const Ray>(rays.data() + i, lanes<P>));
+        const PacketBounds pb = packet_bounds(p, p.active);
+        const float tfar_hi = 3.0f;
+        for (std::size_t first = 0; first + n <= bx.size(); first += n) {
+            BoxesSoA<n> soa;
+            for (std::size_t c = 0; c < n; ++c) soa.set(c, bx[first + c].lo, bx[first + c].hi);
+            if (first == 0) soa.set_empty(n - 1);
+            const std::uint32_t wide = to_bits(bounds_boxes<T>(pb, tfar_hi, &soa.b[0][0][0]));
+            for (std::size_t c = 0; c < n; ++c) {
+                BoxesSoA<1> one;
+                for (int k = 0; k < 3; ++k) one.b[0][k][0] = soa.b[0][k][c], one.b[1][k][0] = soa.b[1][k][c];
+                const bool scalar = bounds_boxes<float>(pb, tfar_hi, &one.b[0][0][0]);
+                if (scalar != bool((wide >> c) & 1u)) miss.add("lane", c, "box", first + c);
+            }
+        }
+    }
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("packet bounds: never drop a box that a lane of the packet hits", P, ARBOR_TEST_BATCHES) {
+    std::mt19937 rng(3);
+    const std::vector<Box> bx = boxes(rng);
+    std::vector<Vec3f> targets{{1, 1, 1}, {-1, -1, -1}, {0, 0, 0}, {0.25f, 0.5f, 1}, {1, 0, -1}, {-1, 0.5f, 0}, {0.5f, 0.5f, 0}};
+    const std::vector<Ray> rays = arbor::testing::stiff_rays(11, 200, targets);
+    Mismatches miss;
+    std::size_t culled = 0;
+    check_all<P>(rays, bx, miss, culled);
+    ARBOR_CHECK_NONE(miss);
+    CHECK(culled > 0);
+}
+
+TEST_CASE_TEMPLATE("packet bounds: wide instantiations agree with T = float lane by lane", T, ARBOR_TEST_BATCHES) {
+    std::mt19937 rng(5);
+    const std::vector<Box> bx = boxes(rng);
+    const std::vector<Ray> rays = arbor::testing::stiff_rays(13, 120, {{1, 1, 1}, {0, 0, 0}, {-1, 0.5f, 0}});
+    Mismatches miss;
+    check_wide<T, Float8>(rays, bx, miss);
+    ARBOR_CHECK_NONE(miss);
+}
+
+TEST_CASE("packet bounds: a coherent packet keeps the box it looks at and drops the others") {
+    std::vector<Ray> rays;
+    for (int i = 0; i < 8; ++i) rays.push_back({{0.01f * float(i), 0.0f, -5.0f}, 0.0f, {0.001f * float(i), 0.002f, 1.0f}, INFINITY});
+    const RayPacket<Float8> p = load_packet<Float8>(std::span<const Ray>(rays));
+    const PacketBounds pb = packet_bounds(p, p.active);
+    CHECK(pb.axes == 7u);
+    BoxesSoA<4> soa;
+    soa.set(0, {-1, -1, -1}, {1, 1, 1});  // in front
+    soa.set(1, {3, -1, -1}, {4, 1, 1});   // beside
+    soa.set(2, {-1, -1, -9}, {1, 1, -6}); // behind
+    soa.set_empty(3);
+    CHECK(to_bits(bounds_boxes<Float4>(pb, INFINITY, &soa.b[0][0][0])) == 1u);
+    CHECK(to_bits(bounds_boxes<Float4>(pb, 3.0f, &soa.b[0][0][0])) == 0u);  // tfar before the box
+}

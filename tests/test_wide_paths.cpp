@@ -1,0 +1,205 @@
+// The SIMD traversal paths (single, packet, best) of bvh-median, bvh-sah and lbvh at every width
+// against their scalar path and brute: every shared model with primary, shadow, diffuse and random
+// rays (engine/ray_gen.h); then the stiff cases: a watertight jittered icosphere seen from inside,
+// axis-parallel rays with +-0 components on an integer grid, NaN/Inf/zero rays, partial packets,
+// mixed-sign packets, and identical answers with 1 and 2 threads.
+#include "engine/obj_loader.h"
+#include "engine/procedural.h"
+#include "engine/ray_gen.h"
+#include "wide_check.h"
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+
+using namespace arbor;
+using accel::Hit;
+using accel::Ray;
+using accel::Vec3f;
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr std::size_t rays_per_kind = 160;
+#else
+constexpr std::size_t rays_per_kind = 1024;
+#endif
+
+/// Rays of the four kinds of engine/ray_gen.h over `mesh`, `n` of each, concatenated.
+std::vector<Ray> four_kinds(const engine::Mesh& mesh, std::size_t n, const accel::Accel& tracer) {
+    engine::Scene scene;  // no lights: ray_gen_scene puts the light where `arbor rays` does
+    scene.mesh = mesh;
+    const engine::RayGenScene gs = engine::ray_gen_scene(scene);
+    std::vector<Ray> rays;
+    for (const auto kind : {engine::RayKind::primary, engine::RayKind::shadow, engine::RayKind::diffuse, engine::RayKind::random}) {
+        engine::RayGenConfig cfg;
+        cfg.kind = kind;
+        cfg.count = n;
+        cfg.seed = 7;
+        const auto r = engine::generate_rays(gs, cfg, &tracer);
+        rays.insert(rays.end(), r.begin(), r.end());
+    }
+    return rays;
+}
+
+/// Indices spread over [0, n): `s` of them.
+std::vector<std::size_t> spread(std::size_t n, std::size_t s) {
+    std::vector<std::size_t> idx;
+    for (std::size_t i = 0; i < std::min(n, s); ++i) idx.push_back(i * n / std::min(n, s));
+    return idx;
+}
+
+void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::size_t brute_rays, accel::BuildConfig cfg = {},
+                std::size_t chunk = 1024) {
+    const accel::BruteAccel brute(mesh.view());
+    const auto sample = spread(rays.size(), brute_rays);
+    std::vector<Ray> sub;
+    for (std::size_t i : sample) sub.push_back(rays[i]);
+    const auto ref = testing::brute_answers(brute, sub);
+    for (const auto& b : testing::all_wide_bvhs(mesh.view(), cfg)) {
+        CAPTURE(b.name);
+        CHECK(testing::check_paths(*b.accel, rays, sample, ref, chunk) >= 2);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("wide paths: every shared model, primary/shadow/diffuse/random rays, all structures and widths") {
+    for (const auto& path : testing::model_paths()) {
+        CAPTURE(path);
+        engine::Warnings w;
+        const engine::Mesh mesh = engine::load_obj(path, w);
+        const auto tracer = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view());
+        // Big models get fewer rays (the sanitizer build is ~10x slower); brute sees a subset.
+        const std::size_t n = mesh.triangle_count() > 30000 ? rays_per_kind / 2 : rays_per_kind;
+        const auto rays = four_kinds(mesh, n, *tracer);
+        check_mesh(mesh, rays, testing::oracle_ray_count(mesh.triangle_count(), 32, 1024));
+    }
+}
+
+TEST_CASE("wide paths: procedural meshes at leaf sizes 1, 4 and 40") {
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 9);
+    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 32, 12));
+    mesh.append(engine::make_box({-3, -1.2f, -3}, {3, -1.1f, 3}));
+    auto rays = testing::random_rays_into(mesh.bounds, 300, 3);
+    const auto inside = testing::random_rays_inside(mesh.bounds, 300, 4);
+    const auto cam = testing::camera_rays(mesh.bounds, 24, 24);
+    rays.insert(rays.end(), inside.begin(), inside.end());
+    rays.insert(rays.end(), cam.begin(), cam.end());
+    for (const std::uint32_t leaf : {1u, 4u, 40u}) {
+        accel::BuildConfig cfg;
+        cfg.max_leaf_size = leaf;
+        CAPTURE(leaf);
+        check_mesh(mesh, rays, rays.size(), cfg);
+    }
+}
+
+TEST_CASE("wide paths: watertight jittered icosphere seen from inside: no ray leaks on any path") {
+    const Vec3f center{1000.0f, 3.0f, -7.0f};
+    const engine::Mesh mesh = engine::make_icosphere(center, 2.0f, 3, 0.2f, 2);
+    const auto v = mesh.view();
+    std::vector<Ray> rays;
+    for (const Vec3f& o : {center, center + Vec3f{0.31f, -0.17f, 0.05f}})
+        for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+            const Vec3f a = v.corner(t, 0), b = v.corner(t, 1), c = v.corner(t, 2);
+            for (const Vec3f& target : {a, (a + b) * 0.5f, (b + c) * 0.5f, a * 0.75f + c * 0.25f})
+                rays.push_back({o, 0.0f, target - o, INFINITY});
+        }
+    for (const auto& b : testing::all_wide_bvhs(v)) {
+        for (const auto path : testing::simd_paths(*b.accel)) {
+            std::vector<Hit> hits(rays.size()), any(rays.size());
+            accel::trace_parallel(*b.accel, rays, hits, accel::Query::closest, path);
+            accel::trace_parallel(*b.accel, rays, any, accel::Query::any, path);
+            std::size_t leaks = 0, any_leaks = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) leaks += !hits[i].is_hit(), any_leaks += !any[i].is_hit();
+            CAPTURE(b.name);
+            CAPTURE(accel::to_string(path));
+            CHECK(leaks == 0);
+            CHECK(any_leaks == 0);
+        }
+    }
+}
+
+TEST_CASE("wide paths: axis-parallel rays with +-0 components on an integer grid, rays in the grid plane") {
+    // A 6x6 grid of unit squares in z = 0 (two triangles each) and a second grid in x = 3.
+    engine::Mesh mesh;
+    for (int plane = 0; plane < 2; ++plane)
+        for (int i = 0; i < 6; ++i)
+            for (int j = 0; j < 6; ++j) {
+                const auto base = std::uint32_t(mesh.vertex_count());
+                for (const auto& [di, dj] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}, std::pair{0, 1}}) {
+                    const float a = float(i + di), b = float(j + dj);
+                    mesh.add_vertex(plane == 0 ? Vec3f{a, b, 0.0f} : Vec3f{3.0f, a, b - 3.0f});
+                }
+                mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+            }
+    mesh.compute_bounds();
+    std::vector<Ray> rays;
+    for (int i = 0; i <= 12; ++i)
+        for (int j = 0; j <= 12; ++j) {
+            const float a = float(i) * 0.5f, b = float(j) * 0.5f;  // vertices, edges and centres
+            for (const float zero : {0.0f, -0.0f})
+                for (const float s : {1.0f, -1.0f}) {
+                    rays.push_back({{a, b, -4.0f * s}, 0.0f, {zero, zero, s}, INFINITY});
+                    rays.push_back({{-4.0f * s, a, b - 3.0f}, 0.0f, {s, zero, zero}, INFINITY});
+                    rays.push_back({{a, -4.0f * s, b * 0.5f}, 0.0f, {zero, s, zero}, INFINITY});  // grazes x = 3
+                    rays.push_back({{a, b, 0.0f}, 0.0f, {s, zero, zero}, INFINITY});            // in the plane z = 0
+                    rays.push_back({{a, b, 0.0f}, 0.0f, {zero, zero, s}, 0.5f});                // starts on the grid
+                }
+        }
+    check_mesh(mesh, rays, rays.size());
+    check_mesh(mesh, rays, rays.size(), {}, 7);  // small chunks: partial packets everywhere
+}
+
+TEST_CASE("wide paths: NaN, Inf, zero and inactive rays miss; partial and mixed-sign packets") {
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2);
+    mesh.append(engine::make_box({-3, -3, -3}, {-2, -2, -2}));
+    const float nan = NAN, inf = INFINITY;
+    std::vector<Ray> bad{{{nan, 0, 0}, 0, {1, 0, 0}, inf},  {{0, 0, -5}, 0, {0, nan, 1}, inf}, {{inf, 0, 0}, 0, {-1, 0, 0}, inf},
+                         {{0, 0, -5}, 0, {0, 0, inf}, inf}, {{0, 0, -5}, 0, {0, 0, 0}, inf},   {{0, 0, -5}, 0, {-0.0f, 0, -0.0f}, inf},
+                         {{0, 0, -5}, nan, {0, 0, 1}, inf}, {{0, 0, -5}, 0, {0, 0, 1}, nan},   {{0, 0, -5}, 3, {0, 0, 1}, 2},
+                         {{0, 0, -5}, inf, {0, 0, 1}, inf}};
+    // Mixed-sign packets: neighbours point in opposite directions, some lanes bad.
+    std::vector<Ray> rays;
+    for (int i = 0; i < 300; ++i) {
+        const float s = (i % 2) ? 1.0f : -1.0f, x = float(i % 17) * 0.1f - 0.8f, y = float(i % 13) * 0.12f - 0.7f;
+        rays.push_back({{x, y, -5.0f * s}, 0.0f, {0.01f * float(i % 5) * s, -0.02f * s, s}, INFINITY});
+        if (i % 7 == 0) rays.push_back(bad[std::size_t(i / 7) % bad.size()]);
+        if (i % 11 == 0) rays.push_back({{-5.0f * s, x, y}, 0.0f, {s, 0.0f, -0.0f}, INFINITY});
+    }
+    for (const auto& b : testing::all_wide_bvhs(mesh.view()))
+        for (const auto path : testing::simd_paths(*b.accel)) {
+            std::vector<Hit> hits(bad.size());
+            b.accel->intersect(bad, hits, path);
+            for (const Hit& h : hits) CHECK(!h.is_hit());
+            b.accel->occluded(bad, hits, path);
+            for (const Hit& h : hits) CHECK(!h.is_hit());
+        }
+    for (const std::size_t chunk : {1u, 3u, 16u, 17u, 64u, 1024u}) {
+        CAPTURE(chunk);
+        check_mesh(mesh, rays, rays.size(), {}, chunk);
+    }
+}
+
+TEST_CASE("wide paths: identical answers with 1 and 2 threads") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 4);
+    auto rays = testing::random_rays_into(mesh.bounds, 2000, 8);
+    const auto cam = testing::camera_rays(mesh.bounds, 48, 48);
+    rays.insert(rays.end(), cam.begin(), cam.end());
+    for (const auto& b : testing::all_wide_bvhs(mesh.view()))
+        for (const auto path : testing::simd_paths(*b.accel))
+            for (const auto q : {accel::Query::closest, accel::Query::any}) {
+                std::vector<Hit> one(rays.size()), two(rays.size());
+                {
+                    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+                    accel::trace_parallel(*b.accel, rays, one, q, path, 64);
+                }
+                {
+                    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+                    accel::trace_parallel(*b.accel, rays, two, q, path, 64);
+                }
+                CAPTURE(b.name);
+                CHECK(std::memcmp(one.data(), two.data(), one.size() * sizeof(Hit)) == 0);
+            }
+}
