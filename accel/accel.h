@@ -53,6 +53,13 @@ public:
     /// Whether this structure has its own implementation of `path` (others fall back to scalar).
     virtual bool has_path(TracePath path) const { return path == TracePath::scalar || path == TracePath::best; }
 
+    /// The path `best` takes for this batch of rays (never `best`), and in `reason` (when given)
+    /// why. The default is the scalar path.
+    virtual TracePath resolve_path(std::span<const Ray> rays, bool any_hit, std::string* reason = nullptr) const {
+        if (reason) *reason = "the only path of this structure";
+        return TracePath::scalar;
+    }
+
     /// Closest hit for each ray (hits.size() == rays.size()). Single-threaded; call from many
     /// threads on disjoint spans (see trace.h). Untraceable rays (ray_is_traceable) miss.
     virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const = 0;

@@ -1,11 +1,13 @@
 #include "accel/bvh_accel.h"
 
 #include "accel/bvh2_traverse.h"
+#include "accel/coherence.h"
 #include "accel/timer.h"
 #include "simd/tri_test.h"
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <vector>
 
 namespace arbor::accel {
@@ -92,14 +94,30 @@ Hit BvhAccel::trace(const Ray& ray, bool any_hit) const {
     return h;
 }
 
+TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* reason) const {
+    const float diagonal = layout_.empty() ? 0.0f : simd::length(layout_.root_box.extent());
+    const std::size_t group = wide_->packet_lanes();
+    const double f = coherent_fraction(rays, group, 0.05f * diagonal);
+    const TracePath path = f >= 0.5 ? TracePath::packet : TracePath::single;
+    if (reason) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene)",
+                      100.0 * f, group);
+        *reason = buf;
+    }
+    return path;
+}
+
 void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::best) path = resolve_path(rays, false);
     if (path == TracePath::scalar) trace_batch<false>(rays, hits);
-    else wide_->trace(rays, hits, path == TracePath::best ? TracePath::single : path, false);
+    else wide_->trace(rays, hits, path, false);
 }
 
 void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::best) path = resolve_path(rays, true);
     if (path == TracePath::scalar) trace_batch<true>(rays, hits);
-    else wide_->trace(rays, hits, path == TracePath::best ? TracePath::single : path, true);
+    else wide_->trace(rays, hits, path, true);
 }
 
 bool BvhAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceCounters& counters) const {

@@ -22,6 +22,10 @@ public:
 
     AccelKind kind() const override { return kind_; }
     bool has_path(TracePath path) const override { return true; }
+    /// `packet` when at least half of the groups of consecutive rays that would share a packet are
+    /// coherent (accel/coherence.h: one direction octant, origins within 5% of the scene's
+    /// diagonal), else `single` (measured: perf/results/wide-*.md).
+    TracePath resolve_path(std::span<const Ray> rays, bool any_hit, std::string* reason = nullptr) const override;
     const BuildStats& stats() const override { return stats_; }
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;

@@ -29,7 +29,8 @@ template <class P> struct PacketStackEntry {
     std::uint32_t child, count;
 };
 
-/// Walks `layout` from the root with packet `p`. `leaf(first_block, count, lanes)` tests a leaf
+/// Walks `layout` from the root with packet `p`, whose active lanes `bounds` bounds
+/// (simd::packet_bounds). `leaf(first_block, count, lanes)` tests a leaf
 /// for the lanes in the bit mask `lanes` and lowers p.tfar where it finds closer hits; it returns
 /// the lanes that found a hit. `single(lane, child, count)` traces one lane alone through the
 /// subtree (child, count) (lowering p.tfar in that lane on a hit) and returns whether it hit.
@@ -37,15 +38,14 @@ template <class P> struct PacketStackEntry {
 /// a node reached by at most this many lanes they go on alone. `stack` holds layout.stack_size()
 /// entries.
 template <bool AnyHit, std::size_t N, class P, class LeafFn, class SingleFn>
-inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, PacketStackEntry<P>* stack,
-                            int switch_lanes, LeafFn&& leaf, SingleFn&& single) {
+inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, const simd::PacketBounds& bounds,
+                            PacketStackEntry<P>* stack, int switch_lanes, LeafFn&& leaf, SingleFn&& single) {
     std::uint32_t lanes = simd::to_bits(p.active);
     if (lanes == 0 || layout.empty()) return;
     const WideNode<N>* nodes = layout.nodes.data();
     const P inf(INFINITY), nan(NAN);
     std::size_t sp = 0;
     std::uint32_t child = 0, count = 0;
-    const simd::PacketBounds bounds = simd::packet_bounds(p, p.active);
     // Lanes that are finished (any hit) leave `lanes` at once; the others as their tfar drops.
     const auto finish = [&](std::uint32_t done) {
         if constexpr (AnyHit) {

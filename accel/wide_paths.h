@@ -20,6 +20,8 @@ public:
     virtual std::size_t memory_bytes() const = 0;
     virtual std::size_t nodes() const = 0;
     virtual std::size_t leaves() const = 0;
+    /// Rays per packet of the packet path (8 or 16).
+    virtual std::size_t packet_lanes() const = 0;
     /// Closest hit (any_hit = false) or any hit per ray, by `path` (single or packet; anything
     /// else is traced as single). Single-threaded; call from many threads on disjoint spans.
     /// Untraceable rays (ray_is_traceable) miss.

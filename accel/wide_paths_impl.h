@@ -5,6 +5,7 @@
 #include "accel/wide_paths.h"
 #include "accel/wide_packet.h"
 #include "accel/wide_traverse.h"
+#include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
 
 #include <array>
@@ -40,6 +41,7 @@ public:
     std::size_t memory_bytes() const override { return layout_.memory_bytes(); }
     std::size_t nodes() const override { return layout_.nodes.size(); }
     std::size_t leaves() const override { return layout_.leaves; }
+    std::size_t packet_lanes() const override { return packet_lanes_; }
     const WideLayout<N>& layout() const { return layout_; }
 
     void trace(std::span<const Ray> rays, std::span<Hit> hits, TracePath path, bool any_hit) const override {
@@ -122,25 +124,34 @@ private:
                 best.prim = simd::iselect(take, prim, best.prim);
                 p.tfar = simd::select(take, t, p.tfar);
             };
+            const simd::PacketBounds bounds = simd::packet_bounds(p, p.active);
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
                 auto live = simd::from_bits<P>(lanes);
+                const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
                 std::uint32_t found = 0;
-                for (std::uint32_t s = 0; s < count; ++s) {
-                    const simd::TrisSoA<N>& blk = blocks[first + s / N];
-                    const std::size_t l = s % N;
-                    const Vec3f v0{blk.v[0][0][l], blk.v[0][1][l], blk.v[0][2][l]};
-                    const Vec3f v1{blk.v[1][0][l], blk.v[1][1][l], blk.v[1][2][l]};
-                    const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
-                    const simd::TriHit<P> h = simd::packet_triangle(p, v0, v1, v2);
-                    // Strictly closer only (equal t: the first found stays), as every other path.
-                    const auto take = h.hit & live & ((h.t < best.t) | simd::int_equal(best.prim, IntP(-1)));
-                    const std::uint32_t bits = simd::to_bits(take);
-                    if (bits == 0) continue;
-                    take_lanes(take, h.t, h.u, h.v, IntP(std::int32_t(ids[std::size_t(first) * N + s])));
-                    found |= bits;
-                    if constexpr (AnyHit) {
-                        live = live & !take;
-                        if (simd::none(live)) break;
+                for (std::uint32_t b = 0; b < wide_blocks<N>(count); ++b) {
+                    const simd::TrisSoA<N>& blk = blocks[first + b];
+                    // The triangles' boxes against the packet's bounds first: most triangles of a
+                    // leaf lie outside a coherent packet.
+                    const std::uint32_t used = std::min<std::uint32_t>(count - b * N, N);
+                    std::uint32_t maybe = simd::to_bits(simd::bounds_triangles<T>(bounds, tfar_hi, &blk.v[0][0][0]));
+                    maybe &= used == 32 ? ~0u : (1u << used) - 1u;
+                    for (; maybe != 0; maybe &= maybe - 1) {
+                        const int l = std::countr_zero(maybe);
+                        const Vec3f v0{blk.v[0][0][l], blk.v[0][1][l], blk.v[0][2][l]};
+                        const Vec3f v1{blk.v[1][0][l], blk.v[1][1][l], blk.v[1][2][l]};
+                        const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
+                        const simd::TriHit<P> h = simd::packet_triangle(p, v0, v1, v2);
+                        // Strictly closer only (equal t: the first found stays), as every other path.
+                        const auto take = h.hit & live & ((h.t < best.t) | simd::int_equal(best.prim, IntP(-1)));
+                        const std::uint32_t bits = simd::to_bits(take);
+                        if (bits == 0) continue;
+                        take_lanes(take, h.t, h.u, h.v, IntP(std::int32_t(ids[std::size_t(first + b) * N + std::size_t(l)])));
+                        found |= bits;
+                        if constexpr (AnyHit) {
+                            live = live & !take;
+                            if (simd::none(live)) return found;
+                        }
                     }
                 }
                 return found;
@@ -155,7 +166,7 @@ private:
                 take_lanes(simd::from_bits<P>(1u << i), P(h.t), P(h.u), P(h.v), IntP(std::int32_t(h.prim)));
                 return true;
             };
-            traverse_packet<AnyHit>(layout_, p, pstack.data(), switch_lanes_, leaf, single);
+            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), switch_lanes_, leaf, single);
             simd::store_hits(best, hits.subspan(base, in.size()));
         }
     }

@@ -53,18 +53,17 @@ template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, cons
     return b;
 }
 
-/// Which of lanes<T> boxes (BoxesSoA<lanes<T>> at `soa`) some lane of the bounded set may hit,
-/// for lanes whose tfar is at most `tfar_hi`. A conservative superset: it never drops a box that a
-/// lane's slab test (box_test.h) hits.
-template <class T> inline Mask<T> bounds_boxes(const PacketBounds& b, float tfar_hi, const float* soa) {
-    constexpr std::size_t n = lanes<T>;
+/// Which of lanes<T> boxes [lo, hi] some lane of the bounded set may hit, for lanes whose tfar is
+/// at most `tfar_hi`. A conservative superset: it never drops a box that a lane's slab test
+/// (box_test.h) hits.
+template <class T>
+inline Mask<T> bounds_boxes(const PacketBounds& b, float tfar_hi, const Vec3<T>& lo, const Vec3<T>& hi) {
     const T zero(0.0f), inf(INFINITY);
     T entry(b.tnear_lo), exit(tfar_hi);
-    for (std::size_t k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3; ++k) {
         if (!((b.axes >> k) & 1u)) continue;
-        const std::size_t near_row = b.neg[k] ? 3 + k : k, far_row = b.neg[k] ? k : 3 + k;
         const T sign(b.neg[k] ? -1.0f : 1.0f);
-        const T near_plane = load_lanes<T>(soa + near_row * n) * sign, far_plane = load_lanes<T>(soa + far_row * n) * sign;
+        const T near_plane = (b.neg[k] ? hi[k] : lo[k]) * sign, far_plane = (b.neg[k] ? lo[k] : hi[k]) * sign;
         // Entry: the smallest (near - o) * rn over the lanes, from the smallest near - o.
         const T a_lo = near_plane - T(b.o_hi[k]), a_hi = near_plane - T(b.o_lo[k]);
         T e = select(a_lo >= zero, a_lo * T(b.rn_lo[k]), a_lo * T(b.rn_hi[k]));
@@ -73,10 +72,35 @@ template <class T> inline Mask<T> bounds_boxes(const PacketBounds& b, float tfar
         const T f_hi = far_plane - T(b.o_lo[k]), f_lo = far_plane - T(b.o_hi[k]);
         T x = select(f_hi >= zero, f_hi * T(b.rf_hi[k]), f_hi * T(b.rf_lo[k]));
         if (b.rf_hi[k] == INFINITY) x = select((f_lo <= zero) & (f_hi >= zero), inf, x);
-        entry = rmax(e, entry);  // a NaN bound (overflow) is ignored, as in slab_test
+        entry = rmax(e, entry);  // a NaN bound (overflow, NaN input) is ignored, as in slab_test
         exit = rmin(x, exit);
     }
     return entry <= exit;
+}
+
+/// The same for lanes<T> boxes stored as BoxesSoA<lanes<T>> at `soa`.
+template <class T> inline Mask<T> bounds_boxes(const PacketBounds& b, float tfar_hi, const float* soa) {
+    constexpr std::size_t n = lanes<T>;
+    Vec3<T> lo, hi;
+    for (std::size_t k = 0; k < 3; ++k) {
+        lo[int(k)] = load_lanes<T>(soa + k * n);
+        hi[int(k)] = load_lanes<T>(soa + (3 + k) * n);
+    }
+    return bounds_boxes<T>(b, tfar_hi, lo, hi);
+}
+
+/// Which of the lanes<T> triangles of a TrisSoA block (vertices v[vertex][axis][lane] at `soa`)
+/// some lane of the bounded set may hit: bounds_boxes on the triangles' bounding boxes. A NaN
+/// (padding) triangle is never dropped here; callers mask the used lanes.
+template <class T> inline Mask<T> bounds_triangles(const PacketBounds& b, float tfar_hi, const float* soa) {
+    constexpr std::size_t n = lanes<T>;
+    Vec3<T> lo, hi;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const T a = load_lanes<T>(soa + k * n), c = load_lanes<T>(soa + (3 + k) * n), d = load_lanes<T>(soa + (6 + k) * n);
+        lo[int(k)] = rmin(a, rmin(c, d));
+        hi[int(k)] = rmax(a, rmax(c, d));
+    }
+    return bounds_boxes<T>(b, tfar_hi, lo, hi);
 }
 
 }  // namespace arbor::simd

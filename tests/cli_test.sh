@@ -108,6 +108,30 @@ expect_error "--leaf-size" "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK
 expect_error "--sah-bins" "$ARBOR" info "$WORK/quad.obj" --accel bvh-sah --sah-bins 1
 expect_error "--leaf-size" "$ARBOR" render --leaf-size x -o "$WORK/x.exr"
 
+# --path: every path answers as the scalar path does; `best` says which path it took and why
+# (packets for the coherent primary rays, single rays for the random ones).
+for kind in primary random; do
+  "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/$kind.rays" --path scalar --hits "$WORK/ref.hits" >/dev/null 2>&1 \
+    || fail "trace --path scalar ($kind) exited $?"
+  for p in single packet best; do
+    if "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/$kind.rays" --path $p --hits "$WORK/p.hits" --json >"$WORK/out" 2>"$WORK/err"; then
+      python3 - "$WORK/out" "$WORK/ref.hits" "$WORK/p.hits" $p $kind <<'PY' || fail "trace --path $p ($kind): $(cat "$WORK/out")"
+import json, struct, sys
+j = json.loads(open(sys.argv[1]).read())
+want = {"best": {"primary": "packet", "random": "single"}[sys.argv[5]]}.get(sys.argv[4], sys.argv[4])
+assert j["path"] == want and j["path_reason"] and "\n" not in j["path_reason"], j
+a, b = open(sys.argv[2], "rb").read(), open(sys.argv[3], "rb").read()
+assert len(a) == len(b)
+for i in range(16, len(a), 16):
+    ta, pa = struct.unpack("<fI", a[i:i + 8]); tb, pb = struct.unpack("<fI", b[i:i + 8])
+    assert (pa == 0xFFFFFFFF) == (pb == 0xFFFFFFFF) and (pa == 0xFFFFFFFF or abs(ta - tb) <= 1e-4 * max(1, abs(ta))), i
+PY
+    else
+      fail "trace --path $p exited $?: $(cat "$WORK/err")"
+    fi
+  done
+done
+
 # --accel auto: names the structure it picked and says why in one line.
 if "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/primary.rays" --accel auto --json >"$WORK/out" 2>"$WORK/err"; then
   python3 - "$WORK/out" <<'PY' || fail "trace --accel auto JSON: $(cat "$WORK/out")"

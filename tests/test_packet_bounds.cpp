@@ -5,9 +5,11 @@
 // And the bounds do cull: a coherent packet drops boxes it cannot reach.
 #include "simd/box_kernels.h"
 #include "simd/packet_bounds.h"
+#include "simd/tri_kernels.h"
 #include "simd_cases.h"
 
 #include <algorithm>
+#include <array>
 
 using namespace arbor::simd;
 using arbor::testing::Mismatches;
@@ -130,4 +132,41 @@ TEST_CASE("packet bounds: a coherent packet keeps the box it looks at and drops 
     soa.set_empty(3);
     CHECK(to_bits(bounds_boxes<Float4>(pb, INFINITY, &soa.b[0][0][0])) == 1u);
     CHECK(to_bits(bounds_boxes<Float4>(pb, 3.0f, &soa.b[0][0][0])) == 0u);  // tfar before the box
+}
+
+TEST_CASE_TEMPLATE("packet bounds: never drop a triangle that a lane of the packet hits", T, ARBOR_TEST_BATCHES) {
+    constexpr std::size_t n = lanes<T>;
+    std::mt19937 rng(9);
+    // Triangles around [-1, 1]^3, with vertices and edges on the stiff rays' targets.
+    std::vector<std::array<Vec3f, 3>> tris{{{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}}}, {{{-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}},
+                                           {{{0, 0, 0}, {1, 0, 1}, {0, 1, 1}}},    {{{1, 1, 1}, {-1, 0.5f, 0}, {0.25f, 0.5f, 1}}}};
+    for (int i = 0; i < 60; ++i)
+        tris.push_back({arbor::testing::uniform3(rng, -1.5f, 1.5f), arbor::testing::uniform3(rng, -1.5f, 1.5f),
+                        arbor::testing::uniform3(rng, -1.5f, 1.5f)});
+    const std::vector<Ray> rays = arbor::testing::stiff_rays(17, 300, {{1, 1, 1}, {0, 0, 0}, {-1, 0.5f, 0}, {1, -1, 0}, {0.5f, 0.5f, 1}});
+    Mismatches miss;
+    std::size_t culled = 0;
+    for (std::size_t i = 0; i + 8 <= rays.size(); i += 4) {
+        const RayPacket<Float8> p = load_packet<Float8>(std::span<const Ray>(rays.data() + i, 8));
+        const PacketBounds pb = packet_bounds(p, p.active);
+        float tfar_hi = -INFINITY;
+        for (std::size_t l = 0; l < 8; ++l)
+            if (lane(p.active, l)) tfar_hi = std::max(tfar_hi, lane(p.tfar, l));
+        for (std::size_t first = 0; first < tris.size(); first += n) {
+            TrisSoA<n> block;
+            for (std::size_t c = 0; c < n; ++c) {
+                if (first + c < tris.size()) block.set(c, tris[first + c][0], tris[first + c][1], tris[first + c][2]);
+                else block.set_empty(c);
+            }
+            const std::uint32_t keep = to_bits(bounds_triangles<T>(pb, tfar_hi, &block.v[0][0][0]));
+            for (std::size_t c = 0; c < n && first + c < tris.size(); ++c) {
+                const auto& t = tris[first + c];
+                const std::uint32_t hit = to_bits(packet_triangle(p, t[0], t[1], t[2]).hit);
+                if (hit != 0 && !((keep >> c) & 1u)) miss.add("triangle", first + c, "lanes", hit, "packet", i);
+                culled += to_bits(p.active) != 0 && !((keep >> c) & 1u);
+            }
+        }
+    }
+    ARBOR_CHECK_NONE(miss);
+    CHECK(culled > 0);
 }

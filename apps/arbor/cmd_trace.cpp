@@ -41,13 +41,17 @@ int run_trace(const TraceOptions& o) {
     hints.prebuilt = &prebuilt;
     hints.auto_ms = &auto_ms;
     const accel::AccelKind kind = resolve_accel(o.accel, mesh.view(), &reason, hints);
-    const auto path = *accel::parse_trace_path(o.path);
+    auto path = *accel::parse_trace_path(o.path);
 
     // With auto, calibration may have built the pick already: then its own build time counts.
     const bool was_prebuilt = prebuilt != nullptr;
     const accel::Timer build_timer;
     const auto structure = was_prebuilt ? std::move(prebuilt) : accel::make_accel(kind, mesh.view(), o.build);
     const double build_ms = was_prebuilt ? structure->stats().build_ms : build_timer.ms();
+
+    // `best`: the structure measures the rays once and says which path it takes, and why.
+    std::string path_reason = "forced with --path";
+    if (path == accel::TracePath::best) path = structure->resolve_path(rays, o.occluded, &path_reason);
 
     std::vector<accel::Hit> hits(rays.size());
     std::vector<double> times;
@@ -69,6 +73,7 @@ int run_trace(const TraceOptions& o) {
         j["auto_ms"] = auto_ms;
     }
     j["path"] = accel::to_string(path);
+    j["path_reason"] = path_reason;
     j["query"] = o.occluded ? "any" : "closest";
     j["triangles"] = mesh.triangle_count();
     j["rays"] = rays.size();
@@ -88,9 +93,10 @@ int run_trace(const TraceOptions& o) {
     }
     engine::print_warnings(warnings);
     std::printf("%s: %zu triangles, %zu rays, %zu hits; build %.2f ms, trace %.2f ms (median of %d), "
-                "%.2f Mrays/s, %d threads\n",
+                "%.2f Mrays/s, %d threads, path %s (%s)\n",
                 std::string(j["accel"]).c_str(), mesh.triangle_count(), rays.size(), nhit, build_ms, median_ms,
-                o.repeat, double(j["mrays_per_s"]), int(j["threads"]));
+                o.repeat, double(j["mrays_per_s"]), int(j["threads"]), std::string(accel::to_string(path)).c_str(),
+                path_reason.c_str());
     return 0;
 }
 
