@@ -50,6 +50,16 @@ inline SlabRay slab_ray(const Vec3f& o, const Vec3f& d) {
     return r;
 }
 
+/// The acceptance rule of slab_test: entry <= exit, with room for negative exits. The padded
+/// reciprocal widens [entry, exit] only where distances are positive. A box behind the origin
+/// (reachable when tnear < 0) has a negative exit, which the padding moves towards the entry: a flat
+/// box there would be lost. Negative exits get 2^-20 (16 ulps) of room back. Monotone in t_exit
+/// (packet_bounds.h relies on it: a larger exit never turns a hit into a miss).
+template <class T> inline Mask<T> slab_accept(const T& t_entry, const T& t_exit) {
+    const T slack = rmin(t_exit, T(0.0f)) * T(-0x1p-20f);
+    return t_entry <= t_exit + slack;
+}
+
 /// Slab test on planes already sorted into near and far per axis. Returns the entry distance in
 /// `t_entry` and the lanes whose [entry, exit] overlaps [tnear, tfar].
 template <class T>
@@ -64,11 +74,7 @@ inline Mask<T> slab_test(const Vec3<T>& near_plane, const Vec3<T>& far_plane, co
     const T f2 = (far_plane.z - org.z) * rcp_far.z;
     t_entry = rmax(n0, rmax(n1, rmax(n2, tnear)));
     const T t_exit = rmin(f0, rmin(f1, rmin(f2, tfar)));
-    // The padded reciprocal widens [entry, exit] only where distances are positive. A box behind
-    // the origin (reachable when tnear < 0) has a negative exit, which the padding moves towards
-    // the entry: a flat box there would be lost. Negative exits get 2^-20 (16 ulps) of room back.
-    const T slack = rmin(t_exit, T(0.0f)) * T(-0x1p-20f);
-    return t_entry <= t_exit + slack;
+    return slab_accept(t_entry, t_exit);
 }
 
 /// Scalar form on an axis-aligned box [lo, hi].

@@ -75,7 +75,7 @@ inline Mask<T> bounds_boxes(const PacketBounds& b, float tfar_hi, const Vec3<T>&
         entry = rmax(e, entry);  // a NaN bound (overflow, NaN input) is ignored, as in slab_test
         exit = rmin(x, exit);
     }
-    return entry <= exit;
+    return slab_accept(entry, exit);  // slab_test's rule, monotone in the exit
 }
 
 /// The same for lanes<T> boxes stored as BoxesSoA<lanes<T>> at `soa`.
