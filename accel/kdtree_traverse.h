@@ -182,8 +182,18 @@ void walk_ropes(const KdTree& tree, const Ray& r, const float& best_t, LeafFn&& 
         t0 = std::max(t0, s.up[k] ? a : b);
         t1 = std::min(t1, s.up[k] ? b : a);
     }
-    if (t0 > t1) return;
     s.t_end = t1;
+    if (t0 > t1) {
+        // The ray passes by the scene box. Within the point tolerance of it (exactly through an edge
+        // or corner of the box, up to the double rounding of t0 and t1, or a hair outside), the
+        // sheared triangle test may still hit: test the leaves at that point (found by arbor's fuzzer).
+        double tol = 0.0;
+        for (int k = 0; k < 3; ++k)
+            if (!s.flat[k]) tol = std::max(tol, s.tol[k]);
+        if (t0 - t1 <= tol * std::max(std::fabs(t0), std::fabs(t1)))
+            visit_point<Count>(tree.nodes.data(), s, t0, leaf_fn, visited);
+        return;
+    }
     unsigned touched = 0;
     if (walk_pass<AnyHit, Count>(tree, s, t0, best_t, leaf_fn, touched, visited) || touched == 0) return;
     // The ray lies in a leaf face plane of a flat axis: walk the other sides too.

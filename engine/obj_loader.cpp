@@ -2,11 +2,13 @@
 
 #include "engine/error.h"
 #include "engine/file_io.h"
+#include "engine/memory_budget.h"
 
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -215,7 +217,16 @@ Mesh load_obj_text(const std::string& text, const std::string& name, const std::
     return std::move(s.mesh);
 }
 
-Mesh load_obj(const std::string& path, Warnings& warnings) {
+std::uint64_t obj_load_bytes(std::uint64_t file_bytes) { return 3 * file_bytes; }
+
+Mesh load_obj(const std::string& path, Warnings& warnings, std::uint64_t max_bytes) {
+    std::error_code ec;
+    const auto size = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
+    const std::uint64_t budget = memory_budget(max_bytes);
+    if (!ec && size > 0 && obj_load_bytes(size) > budget)
+        throw InputError(path, 0, "loading " + format_bytes(size) + " of OBJ text needs about " +
+                                      format_bytes(obj_load_bytes(size)) + ", more than the " + format_bytes(budget) +
+                                      (max_bytes ? " of --max-memory" : " of memory"));
     const std::string text = read_file(path);
     const auto slash = path.find_last_of('/');
     const std::string base_dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);

@@ -13,8 +13,13 @@ namespace arbor::engine {
 /// triangles; faces with fewer than 3 vertices are skipped with a warning. Throws InputError
 /// ("FILE:LINE: problem") for unreadable or binary files, malformed numbers or face tokens,
 /// non-finite coordinates, indices out of range (1-based, negative = relative), and files without
-/// a triangle. Non-fatal problems (missing MTL file) are added to `warnings`.
-Mesh load_obj(const std::string& path, Warnings& warnings);
+/// a triangle. Non-fatal problems (missing MTL file) are added to `warnings`. Before reading, a
+/// file whose loading would need more than `max_bytes` (about 3x its size: the text, its line
+/// index and the mesh; 0: the machine's physical memory) is refused with InputError.
+Mesh load_obj(const std::string& path, Warnings& warnings, std::uint64_t max_bytes = 0);
+
+/// Bytes load_obj needs, about, for a file of `file_bytes` bytes.
+std::uint64_t obj_load_bytes(std::uint64_t file_bytes);
 
 /// Same, from text already in memory; `name` is used in messages and `base_dir` to find MTL files.
 Mesh load_obj_text(const std::string& text, const std::string& name, const std::string& base_dir,

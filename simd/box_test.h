@@ -9,7 +9,9 @@
 /// ray counts as inside that slab.
 #include "simd/vec3.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace arbor::simd {
 
@@ -31,6 +33,33 @@ template <class A> inline xsimd::batch<float, A> pad_2ulp(const xsimd::batch<flo
     return xsimd::bitwise_cast<xsimd::batch<float, A>>(xsimd::select(mag > inf, bits, padded));
 }
 
+/// 1/d[k] for the slab test, on the ray the triangle test sees. The watertight test shears by
+/// d[k] / d[kz] (tri_test.h), with |d[kz]| = dmax, the largest |d| component:
+/// - when that ratio underflows to 0, the triangle test sees a ray that does not move along k, so
+///   the box test does too: the zero-direction rule (+-inf, by the sign of d[k]);
+/// - when it is denormal (imprecise), or 1/d[k] overflows, the two tests could place the ray
+///   differently along k: NaN, so that axis never culls (a NaN distance is ignored by rmax/rmin,
+///   as for an origin lying in a slab plane). Only near-axis directions with components below
+///   FLT_MIN * dmax are affected. Found by arbor's fuzzer (tests/fuzz/regressions/rays).
+inline float slab_rcp(float d, float dmax) {
+    const float r = 1.0f / d;
+    if (d == 0.0f) return r;
+    const float q = std::fabs(d) / dmax;
+    if (q == 0.0f) return d < 0.0f ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
+    return q < std::numeric_limits<float>::min() || std::isinf(r) ? std::numeric_limits<float>::quiet_NaN() : r;
+}
+template <class A>
+inline xsimd::batch<float, A> slab_rcp(const xsimd::batch<float, A>& d, const xsimd::batch<float, A>& dmax) {
+    using B = xsimd::batch<float, A>;
+    const B inf(std::numeric_limits<float>::infinity()), zero(0.0f);
+    const B r = B(1.0f) / d, q = xsimd::abs(d) / dmax;
+    const auto moving = d != zero;
+    const B rule = xsimd::select(d < zero, -inf, inf);
+    const B nan(std::numeric_limits<float>::quiet_NaN());
+    const auto unsure = moving & (q != zero) & ((q < B(std::numeric_limits<float>::min())) | (xsimd::abs(r) == inf));
+    return xsimd::select(moving & (q == zero), rule, xsimd::select(unsure, nan, r));
+}
+
 /// Per-ray constants of the slab test.
 struct SlabRay {
     Vec3f org;
@@ -42,8 +71,9 @@ struct SlabRay {
 inline SlabRay slab_ray(const Vec3f& o, const Vec3f& d) {
     SlabRay r;
     r.org = o;
+    const float dmax = std::max(std::fabs(d.x), std::max(std::fabs(d.y), std::fabs(d.z)));
     for (int k = 0; k < 3; ++k) {
-        r.rcp_near[k] = 1.0f / d[k];
+        r.rcp_near[k] = slab_rcp(d[k], dmax);
         r.rcp_far[k] = pad_2ulp(r.rcp_near[k]);
         r.near_is_hi[k] = std::signbit(d[k]) ? 1 : 0;
     }

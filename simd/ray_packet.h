@@ -99,8 +99,9 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
     p.active = active & traceable(org, dir, tnear, tfar);
     p.tnear = select(p.active, tnear, T(INFINITY));
     p.tfar = select(p.active, tfar, T(-INFINITY));
+    const T dmax = rmax(vabs(dir.x), rmax(vabs(dir.y), vabs(dir.z)));
     for (int k = 0; k < 3; ++k) {
-        p.rcp_near[k] = T(1.0f) / dir[k];
+        p.rcp_near[k] = slab_rcp(dir[k], dmax);
         p.rcp_far[k] = pad_2ulp(p.rcp_near[k]);
         p.near_is_hi[k] = signbit_mask(dir[k]);
     }

@@ -11,6 +11,7 @@
 #include "simd/vec3.h"
 
 #include <cfloat>
+#include <limits>
 
 namespace arbor::simd {
 
@@ -102,8 +103,11 @@ ARBOR_INLINE TriHit<T> woop_permuted(const Vec3<T>& a, const Vec3<T>& b, const V
     r.t = Tv * rcp;
     r.u = V * rcp;
     r.v = W * rcp;
-    // A NaN t (det == 0, or overflow) fails both comparisons, so it never hits.
-    r.hit = (!(negative & positive)) & (det != zero) & (r.t >= tnear) & (r.t <= tfar);
+    // A NaN t (det == 0, or overflow) fails both comparisons, so it never hits; nor does a t that
+    // overflowed to +-inf (a tiny direction, a far triangle): +inf is the miss record's t.
+    const T infinity(std::numeric_limits<float>::infinity());
+    r.hit = (!(negative & positive)) & (det != zero) & (r.t >= tnear) & (r.t <= tfar) & (r.t < infinity) &
+            (r.t > -infinity);
     return r;
 }
 

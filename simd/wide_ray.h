@@ -29,7 +29,8 @@ template <class T> inline WideRay<T> wide_ray(const Vec3f& o, const Vec3f& d, fl
     // slab_ray()'s reciprocals, with the padding done by the batch pad_2ulp (bit-identical, and
     // ~20 ns per ray cheaper than six std::nextafter calls).
     // (Built in registers: a 16-byte load of three just-stored floats would stall store forwarding.)
-    const Float4 rcp4 = Float4(1.0f) / Float4(_mm_setr_ps(d.x, d.y, d.z, 1.0f)), pad4 = pad_2ulp(rcp4);
+    const float dmax = std::max(std::fabs(d.x), std::max(std::fabs(d.y), std::fabs(d.z)));
+    const Float4 rcp4 = slab_rcp(Float4(_mm_setr_ps(d.x, d.y, d.z, dmax)), Float4(dmax)), pad4 = pad_2ulp(rcp4);
     alignas(16) float rn[4], rf[4];
     rcp4.store_aligned(rn);
     pad4.store_aligned(rf);

@@ -103,6 +103,32 @@ void add_closed_cases(std::vector<StressCase>& out, Size size) {
         out.push_back(std::move(c));
     }
     {
+        // Axis-aligned closed boxes: their edges lie exactly in node-box faces (every structure's
+        // boxes are unions of the triangles' boxes). Rays from inside at non-dyadic origins, aimed
+        // at edge points and corners with inexact directions, pass within float rounding of those
+        // edges: the box test must not cull the triangle the watertight test gives the hit to.
+        StressCase c;
+        c.name = "watertight-boxes";
+        c.what = "closed axis-aligned boxes (edges on node-box faces); oblique rays from inside at edges and corners";
+        const int n = full ? 3 : 2;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                for (int k = 0; k < n; ++k) {
+                    const Vec3f lo{float(i), float(j), float(k)};
+                    StressCase part;
+                    part.mesh = engine::make_box(lo, lo + Vec3f{0.75f, 0.75f, 0.75f});
+                    // Convex: star-shaped around any interior point. Origins near a face make rays
+                    // to that face's edges graze it (a tiny direction component along its normal).
+                    for (const Vec3f& off : {Vec3f{0.3f, 0.41f, 0.29f}, Vec3f{0.1f, 0.6f, 0.37f}, Vec3f{0.52f, 0.13f, 0.66f},
+                                             Vec3f{0.31f, 1e-3f, 0.43f}, Vec3f{5e-6f, 0.37f, 0.29f}, Vec3f{0.61f, 0.74999f, 3e-6f}})
+                        add_rays_at_vertices_and_edges(part, lo + off, true);
+                    c.mesh.append(part.mesh);
+                    for (std::size_t r = 0; r < part.rays.size(); ++r) c.add(part.rays[r], part.tags[r]);
+                }
+        c.mesh.compute_bounds();
+        out.push_back(std::move(c));
+    }
+    {
         // Not convex, not star-shaped: the core circle is inside the tube, other parts of the tube
         // may hide a target (then the first hit comes earlier, which the promise allows).
         StressCase c;

@@ -174,3 +174,50 @@ TEST_CASE("box: flat and thin boxes behind the origin are found when tnear < 0 (
     // Boxes behind the origin are still culled for rays that start at tnear = 0.
     CHECK_FALSE(slab_test(r, {-3, -3, -3}, {3, -2.5f, -3}, 0.0f, inf, t));
 }
+
+TEST_CASE("triangle: a t beyond float range is a miss, never a hit at t = +-inf (found by arbor's fuzzer)") {
+    // The crossing is at t = 1e40 (a far triangle for a short direction), or the shear overflows
+    // (a denormal direction): +inf is the miss record's t, so neither may be reported as a hit.
+    CHECK_FALSE(shoot({0.25f, 0.25f, 1e10f}, {0, 0, -1e-30f}).hit);
+    CHECK_FALSE(shoot({0.25f, 0.25f, 1.0f}, {0, 0, -1e-40f}).hit);
+    CHECK_FALSE(shoot({0.25f, 0.25f, -1e10f}, {0, 0, -1e-30f}, -inf, inf).hit);  // behind, at t = -1e40
+    CHECK(shoot({0.25f, 0.25f, 1e10f}, {0, 0, -1e-20f}).hit);                     // t = 1e30 is fine
+}
+
+TEST_CASE("box: a direction component too small for its reciprocal never culls (found by arbor's fuzzer)") {
+    using arbor::simd::slab_ray;
+    using arbor::simd::slab_test;
+    // Fuzzer ray: z moves by 9e-44 per unit t, 1/d_z overflows. At t = 9.3e18 the ray is inside the
+    // box z in [0, 0.5] (it enters that slab at t = 3), so the box must not be culled.
+    const Vec3f o{-0x1.ae0p-56f, -2.63444e-43f, -2.67648e-43f}, d{2.31831e-41f, -1.16891e-19f, 8.96831e-44f};
+    float t = 0.0f;
+    CHECK(slab_test(slab_ray(o, d), {-0.54f, -1.1f, 0.0f}, {0.0f, -0.8f, 0.5f}, 0.0f, inf, t));
+    using arbor::simd::slab_rcp;
+    CHECK(std::isnan(slab_rcp(1e-44f, 1.0f)));     // shear d/dmax denormal: imprecise in the triangle test
+    CHECK(std::isnan(slab_rcp(1e-44f, 1e-44f)));   // 1/d overflows
+    CHECK(std::isnan(slab_rcp(1e-30f, 1e10f)));
+    CHECK(slab_rcp(1e-30f, 1e30f) == inf);         // shear underflows to 0: the triangle test sees no motion
+    CHECK(slab_rcp(-3.7e-39f, 1e8f) == -inf);
+    CHECK(slab_rcp(-0.0f, 1.0f) == -inf);          // the zero-direction rule is unchanged
+    CHECK(slab_rcp(4.0f, 4.0f) == 0.25f);
+    CHECK(slab_rcp(-2.0f, 1e30f) == -0.5f);
+    // The batch form equals the scalar form lane by lane.
+    using B = xsimd::batch<float>;
+    const float ds[] = {1e-44f, -1e-44f, 1e-30f, -3.7e-39f, 0.0f, -0.0f, 4.0f, -2.0f, 1e-20f, 3e-39f, 1.0f, -7.0f, 2e-45f, 5.0f, 1e-38f, 6.0f};
+    const float ms[] = {1.0f, 1e-44f, 1e30f, 1e8f, 1.0f, 1.0f, 4.0f, 1e30f, 1e19f, 3e-39f, 1.0f, 7.0f, 1.0f, 5.0f, 1e-8f, 6.0f};
+    for (std::size_t i = 0; i + B::size <= 16; i += B::size) {
+        alignas(64) float out[B::size];
+        slab_rcp(B::load_unaligned(ds + i), B::load_unaligned(ms + i)).store_aligned(out);
+        for (std::size_t l = 0; l < B::size; ++l) {
+            const float ref = slab_rcp(ds[i + l], ms[i + l]);
+            CAPTURE(ds[i + l]);
+            CHECK((std::isnan(ref) ? std::isnan(out[l]) : out[l] == ref));
+        }
+    }
+    // The fuzzer's second ray: its y shear underflows (the triangle test sees y = o.y throughout),
+    // while 1/d.y is finite; the box of the triangle it hits must not be culled on y.
+    const Vec3f o2{-1.51994e+14f, 6.76701e-41f, 6.86973e-41f}, d2{-1.07608e+08f, 3.7876e-39f, 0.0f};
+    CHECK(slab_test(slab_ray(o2, d2), {-0.92f, 0.0f, 0.0f}, {-0.82f, 0.54f, 0.51f}, -1.0774e+08f, 2.53466e-38f, t));
+    // A zero component still culls boxes beside the ray.
+    CHECK_FALSE(slab_test(slab_ray(o, {2.3e-41f, -1.0f, 0.0f}), {-0.54f, -1.1f, 0.0f}, {0.0f, -0.8f, 0.5f}, 0.0f, inf, t));
+}

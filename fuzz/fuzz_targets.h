@@ -1,0 +1,26 @@
+#pragma once
+/// The bodies of the libFuzzer harnesses, in a library of their own so that the doctest suite can
+/// replay every committed regression input through exactly the code the fuzzers run.
+///
+/// Each target accepts any bytes. Bad input must end in engine::InputError (caught here); anything
+/// else is a finding: a crash or sanitizer report, an unexpected exception, or a FuzzFinding thrown
+/// when a result breaks a contract (a loaded mesh with an index out of range, a structure whose
+/// answer differs from brute force, an untraceable ray that hits).
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+
+namespace arbor::fuzz {
+
+struct FuzzFinding : std::logic_error {
+    using std::logic_error::logic_error;
+};
+
+/// The OBJ loader (engine::load_obj_text) on `data` as a file's text; a mesh that loads is
+/// checked and, when small, traced by every structure and path against brute force.
+void fuzz_obj(const std::uint8_t* data, std::size_t size);
+/// The ray- and hit-file readers (engine::parse_rays/parse_hits) on `data` as a file's bytes;
+/// rays that parse are traced through a fixed scene by every structure and path against brute force.
+void fuzz_rays(const std::uint8_t* data, std::size_t size);
+
+}  // namespace arbor::fuzz

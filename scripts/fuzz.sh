@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Fuzzes the OBJ loader and the ray-file readers (libFuzzer, preset fuzz: clang + ASan + UBSan) for
+# SECONDS each (default 60), both at once. Seeds: tests/fuzz/seeds, the committed regressions,
+# ../shared/scenes/bad and the first vertices and faces of ../shared/scenes/models. A finding
+# (crash, sanitizer report, FuzzFinding) is saved under build/fuzz/findings/ and fails the run:
+# commit the input under tests/fuzz/regressions/{obj,rays}/ (the doctest suite replays them all),
+# then fix the bug.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shared=${ARBOR_SHARED_SCENES:-../shared/scenes}
+build=build/fuzz
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz -j "$(nproc)"
+
+work=$build/work
+rm -rf "$work" "$build/findings"
+mkdir -p "$work"/{seeds,corpus}-{obj,rays} "$build/findings"
+cp tests/fuzz/seeds/obj/* "$work/seeds-obj/"
+cp tests/fuzz/regressions/obj/* "$work/seeds-obj/" 2>/dev/null || true
+cp tests/fuzz/regressions/rays/* "$work/seeds-rays/" 2>/dev/null || true
+if [ -d "$shared/bad" ]; then cp "$shared"/bad/*.obj "$work/seeds-obj/"; fi
+if [ -d "$shared/models" ]; then python3 scripts/fuzz_seeds.py obj "$work/seeds-obj" "$shared/models"; fi
+python3 scripts/fuzz_seeds.py rays "$work/seeds-rays"
+
+run() {
+  local name=$1 max_len=$2; shift 2
+  "$build/fuzz/arbor_fuzz_$name" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$build/findings/$name-" "$@" "$work/corpus-$name" "$work/seeds-$name" \
+    >"$work/$name.log" 2>&1
+}
+status=0
+run obj 8192 -dict=tests/fuzz/obj.dict & obj_pid=$!
+run rays 2064 & rays_pid=$!
+wait $obj_pid || status=1
+wait $rays_pid || status=1
+for name in obj rays; do
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$work/$name.log" | grep -o '[0-9]*$' || echo '?')
+  cov=$(grep -o 'cov: [0-9]*' "$work/$name.log" | tail -1 || echo 'cov: ?')
+  echo "fuzz $name: $execs runs in ${seconds}s, $cov, corpus $(ls "$work/corpus-$name" | wc -l) new inputs"
+done
+if [ $status -ne 0 ]; then
+  echo "fuzzing found a problem; inputs in $build/findings:"; ls "$build/findings"
+  for name in obj rays; do grep -E "ERROR|FuzzFinding|what\(\)|SUMMARY" "$work/$name.log" | head -5 || true; done
+fi
+exit $status

@@ -1,0 +1,91 @@
+// Resource limits: byte sizes as people write them, and input that would not fit in memory is
+// refused with a one-line error before anything is allocated (ray files whose header matches a
+// huge file, OBJ files larger than the budget).
+#include "engine/error.h"
+#include "engine/file_io.h"
+#include "engine/memory_budget.h"
+#include "engine/obj_loader.h"
+#include "engine/rayfile.h"
+
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+using namespace arbor;
+
+namespace {
+std::string temp_path(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / ("arbor_test_mem_" + name)).string();
+}
+template <class F> std::string error_of(F&& f) {
+    try {
+        f();
+    } catch (const engine::InputError& e) {
+        return e.what();
+    }
+    return "no error";
+}
+}  // namespace
+
+TEST_CASE("memory budget: byte sizes with suffixes") {
+    using engine::parse_byte_size;
+    CHECK(parse_byte_size("1234") == 1234u);
+    CHECK(parse_byte_size("64K") == 65536u);
+    CHECK(parse_byte_size("64k") == 65536u);
+    CHECK(parse_byte_size("512M") == 512ull << 20);
+    CHECK(parse_byte_size("2G") == 2ull << 30);
+    CHECK(parse_byte_size("2GB") == 2ull << 30);
+    CHECK(parse_byte_size("2GiB") == 2ull << 30);
+    CHECK(parse_byte_size("1.5G") == 3ull << 29);
+    CHECK(parse_byte_size("1T") == 1ull << 40);
+    CHECK(parse_byte_size("7B") == 7u);
+    for (const char* bad : {"", "G", "0", "-1G", "2X", "1e3", "abc", "1..5G", "nanG", "20000000000T", "0.1"})
+        CHECK_MESSAGE(!parse_byte_size(bad), bad);
+    CHECK(engine::format_bytes(812) == "812 B");
+    CHECK(engine::format_bytes(3ull << 29) == "1.5 GiB");
+    CHECK(engine::physical_memory_bytes() > (64ull << 20));
+    CHECK(engine::memory_budget(1000) == 1000u);
+    CHECK(engine::memory_budget(0) == engine::physical_memory_bytes());
+}
+
+TEST_CASE("memory budget: a ray file larger than memory is refused before allocating") {
+    // A sparse file: its header matches its size, 2^40 bytes of rays (1 TiB, no disk used).
+    const auto p = temp_path("huge.rays");
+    const std::uint64_t n = (1ull << 40) / 32;
+    std::string head(16, '\0');
+    const std::uint32_t version = 1;
+    std::memcpy(head.data(), "RAYS", 4);
+    std::memcpy(head.data() + 4, &version, 4);
+    std::memcpy(head.data() + 8, &n, 8);
+    {
+        std::ofstream f(p, std::ios::binary);
+        f.write(head.data(), 16);
+    }
+    std::filesystem::resize_file(p, 16 + (1ull << 40));
+    const std::string e = error_of([&] { (void)engine::read_rays(p); });
+    CHECK(e.find(p + ": 34359738368 records need 1.0 TiB, more than the ") == 0);
+    CHECK(e.find("of memory") != std::string::npos);
+    // The same with an explicit budget, on a small valid file.
+    std::filesystem::resize_file(p, 16);
+    std::string small = head;
+    const std::uint64_t ten = 10;
+    std::memcpy(small.data() + 8, &ten, 8);
+    engine::write_file_atomic(p, small + std::string(320, '\0'));
+    CHECK(engine::read_rays(p).size() == 10);
+    CHECK(error_of([&] { (void)engine::read_rays(p, 100); }) == p + ": 10 records need 320 B, more than the 100 B of --max-memory");
+    CHECK(engine::read_rays(p, 320).size() == 10);
+    std::filesystem::remove(p);
+}
+
+TEST_CASE("memory budget: an OBJ file too large for the budget is refused before reading") {
+    const auto p = temp_path("mesh.obj");
+    engine::write_file_atomic(p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    engine::Warnings w;
+    CHECK(engine::load_obj(p, w).triangle_count() == 1);
+    CHECK(engine::load_obj(p, w, 1000).triangle_count() == 1);
+    CHECK(error_of([&] { (void)engine::load_obj(p, w, 50); }) ==
+          p + ": loading 32 B of OBJ text needs about 96 B, more than the 50 B of --max-memory");
+    std::filesystem::remove(p);
+}
