@@ -45,7 +45,6 @@ public:
         else kids = open(0);
         build_node(kids, 1);
         out_.blocks.resize(next_block_);
-        out_.prim_ids.assign(std::size_t(next_block_) * N, invalid_prim);
         out_.leaves = jobs_.size();
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
             std::vector<std::uint32_t> prims;
@@ -146,16 +145,17 @@ private:
             src = prims.data();
         }
         for (std::uint32_t b = 0; b < wide_blocks<N>(job.count); ++b) {
-            simd::TrisSoA<N>& block = out_.blocks[job.first_block + b];
+            WideBlock<N>& block = out_.blocks[job.first_block + b];
             for (std::uint32_t l = 0; l < N; ++l) {
                 const std::uint32_t i = b * std::uint32_t(N) + l;
                 if (i >= job.count) {
-                    block.set_empty(l);
+                    block.tris.set_empty(l);
+                    block.ids[l] = invalid_prim;
                     continue;
                 }
                 const std::uint32_t tri = src[job.offset + i];
-                block.set(l, tris_.corner(tri, 0), tris_.corner(tri, 1), tris_.corner(tri, 2));
-                out_.prim_ids[std::size_t(job.first_block + b) * N + l] = tri;
+                block.tris.set(l, tris_.corner(tri, 0), tris_.corner(tri, 1), tris_.corner(tri, 2));
+                block.ids[l] = tri;
             }
         }
     }

@@ -57,11 +57,21 @@ template <std::size_t N> constexpr std::uint32_t wide_blocks(std::uint32_t count
     return (count + std::uint32_t(N) - 1) / std::uint32_t(N);
 }
 
+/// A leaf block: N triangles in SoA form and their original numbers right behind them (an id is
+/// read only for a hit, and then from a line next to the ones the test just read: kept in a
+/// separate array, that read was a cache miss of its own, a quarter of the leaf time on
+/// incoherent rays). Unused lanes: NaN vertices, id invalid_prim.
+template <std::size_t N> struct WideBlock {
+    simd::TrisSoA<N> tris;
+    std::uint32_t ids[N];
+
+    const float* soa() const { return &tris.v[0][0][0]; }
+};
+
 template <std::size_t N> struct WideLayout {
     static constexpr std::size_t width = N;
     std::vector<WideNode<N>> nodes;        ///< nodes[0] is the root (always a node); none when empty
-    std::vector<simd::TrisSoA<N>> blocks;  ///< triangle blocks in leaf order
-    std::vector<std::uint32_t> prim_ids;   ///< N per block: original triangle number (invalid_prim in padding)
+    std::vector<WideBlock<N>> blocks;      ///< triangle blocks in leaf order
     std::uint32_t depth = 0;               ///< node levels on the deepest path (root = 1)
     std::size_t leaves = 0;
 
@@ -69,15 +79,15 @@ template <std::size_t N> struct WideLayout {
     /// Entries a traversal stack may need: every node on a path pushes at most N - 1.
     std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1; }
     std::size_t memory_bytes() const {
-        return nodes.capacity() * sizeof(WideNode<N>) + blocks.capacity() * sizeof(simd::TrisSoA<N>) +
-               prim_ids.capacity() * sizeof(std::uint32_t) + sizeof(WideLayout);
+        return nodes.capacity() * sizeof(WideNode<N>) + blocks.capacity() * sizeof(WideBlock<N>) + sizeof(WideLayout);
     }
-    /// Vertex k of triangle slot s (block s / N, lane s % N).
+    /// Vertex k of triangle slot s (block s / N, lane s % N), and its original number.
     Vec3f vertex(std::size_t slot, int k) const {
-        const auto& b = blocks[slot / N];
+        const auto& b = blocks[slot / N].tris;
         const std::size_t l = slot % N;
         return {b.v[k][0][l], b.v[k][1][l], b.v[k][2][l]};
     }
+    std::uint32_t prim(std::size_t slot) const { return blocks[slot / N].ids[slot % N]; }
 };
 
 /// Collapses `bvh` (built over `tris`) into N-wide nodes. Deterministic: the node structure is

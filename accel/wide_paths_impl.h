@@ -73,21 +73,19 @@ public:
     template <bool AnyHit>
     Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStackEntry* stack) const {
         Hit best;
-        const simd::TrisSoA<N>* blocks = layout_.blocks.data();
-        const std::uint32_t* ids = layout_.prim_ids.data();
+        const WideBlock<N>* blocks = layout_.blocks.data();
         auto leaf = [&](std::uint32_t first, std::uint32_t n) {
             bool found = false;
             const std::uint32_t end = first + wide_blocks<N>(n);
             for (std::uint32_t b = first; b < end; ++b) {
-                const simd::TriHit<T> h = simd::ray_triangles<T>(r, &blocks[b].v[0][0][0]);
+                const simd::TriHit<T> h = simd::ray_triangles<T>(r, blocks[b].soa());
                 const std::uint32_t bits = simd::to_bits(h.hit);
                 if (bits == 0) continue;
                 const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
                 const float t = simd::lane(h.t, std::size_t(lane));
                 // Strictly closer only, as brute and the scalar path (equal t: the first found stays).
                 if (best.is_hit() && !(t < best.t)) continue;
-                best = {t, ids[std::size_t(b) * N + std::size_t(lane)], simd::lane(h.u, std::size_t(lane)),
-                        simd::lane(h.v, std::size_t(lane))};
+                best = {t, blocks[b].ids[lane], simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane))};
                 tfar = t;
                 r.tfar = T(t);
                 found = true;
@@ -111,8 +109,7 @@ private:
         using IntP = simd::IntOf<P>;
         StackBuffer<PacketStackEntry<P>, 256> pstack(layout_.stack_size());
         StackBuffer<WideStackEntry, 512> sstack(layout_.stack_size());
-        const simd::TrisSoA<N>* blocks = layout_.blocks.data();
-        const std::uint32_t* ids = layout_.prim_ids.data();
+        const WideBlock<N>* blocks = layout_.blocks.data();
         for (std::size_t base = 0; base < rays.size(); base += K) {
             const auto in = rays.subspan(base, std::min(K, rays.size() - base));
             simd::RayPacket<P> p = simd::load_packet<P>(in);
@@ -130,7 +127,7 @@ private:
                 const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
                 std::uint32_t found = 0;
                 for (std::uint32_t b = 0; b < wide_blocks<N>(count); ++b) {
-                    const simd::TrisSoA<N>& blk = blocks[first + b];
+                    const simd::TrisSoA<N>& blk = blocks[first + b].tris;
                     // The triangles' boxes against the packet's bounds first: most triangles of a
                     // leaf lie outside a coherent packet.
                     const std::uint32_t used = std::min<std::uint32_t>(count - b * N, N);
@@ -146,7 +143,7 @@ private:
                         const auto take = h.hit & live & ((h.t < best.t) | simd::int_equal(best.prim, IntP(-1)));
                         const std::uint32_t bits = simd::to_bits(take);
                         if (bits == 0) continue;
-                        take_lanes(take, h.t, h.u, h.v, IntP(std::int32_t(ids[std::size_t(first + b) * N + std::size_t(l)])));
+                        take_lanes(take, h.t, h.u, h.v, IntP(std::int32_t(blocks[first + b].ids[l])));
                         found |= bits;
                         if constexpr (AnyHit) {
                             live = live & !take;

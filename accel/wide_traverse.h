@@ -47,6 +47,7 @@ inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>
                           WideStackEntry* stack, std::uint32_t child, std::uint32_t count, LeafFn&& leaf) {
     using T = WideLane<N>;
     const WideNode<N>* nodes = layout.nodes.data();
+    const WideBlock<N>* blocks = layout.blocks.data();
     std::size_t sp = 0;
     for (;;) {
         if (count == 0) {
@@ -58,6 +59,16 @@ inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>
                     const int i = std::countr_zero(bits);
                     child = n.child[i], count = n.count[i];
                     continue;
+                }
+                // Deferred children are visited later: start loading them now.
+                for (std::uint32_t m = bits; m != 0; m &= m - 1) {
+                    const int c = std::countr_zero(m);
+                    const char* p = n.count[c] ? reinterpret_cast<const char*>(blocks + n.child[c])
+                                               : reinterpret_cast<const char*>(nodes + n.child[c]);
+                    _mm_prefetch(p, _MM_HINT_T0);
+                    _mm_prefetch(p + 128, _MM_HINT_T0);
+                    _mm_prefetch(p + 256, _MM_HINT_T0);
+                    _mm_prefetch(p + 384, _MM_HINT_T0);
                 }
                 alignas(64) float d[N];
                 t.store_aligned(d);

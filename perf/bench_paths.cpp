@@ -50,6 +50,8 @@ struct Options {
     std::vector<int> widths{0};
     int threads = 2, repeats = 5;
     std::vector<std::uint32_t> merges{0};
+    std::vector<int> switches{-1};
+    std::uint32_t packet_lanes = 0;
     bool embree = true;
     bool cpu_time = false;  ///< time by the CPU time of the process (one thread), not the wall clock
 };
@@ -98,16 +100,20 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
         const auto kind = accel::parse_accel_kind(s);
         if (!kind || *kind == accel::AccelKind::automatic) throw engine::InputError("--structures: unknown structure '" + s + "'");
         for (const int width : o.widths)
-            for (const std::uint32_t merge : o.merges) {
-                accel::BuildConfig cfg;
-                cfg.bvh_width = std::uint32_t(width);
-                cfg.wide_merge = merge;
-                built.push_back(accel::make_accel(*kind, view, cfg));
-                std::string name = s;
-                if (width || merge) name += "/w" + std::to_string(width);
-                if (merge) name += "m" + std::to_string(merge);
-                names.push_back(name);
-            }
+            for (const std::uint32_t merge : o.merges)
+                for (const int sw : o.switches) {
+                    accel::BuildConfig cfg;
+                    cfg.bvh_width = std::uint32_t(width);
+                    cfg.wide_merge = merge;
+                    cfg.packet_switch = sw;
+                    cfg.packet_lanes = o.packet_lanes;
+                    built.push_back(accel::make_accel(*kind, view, cfg));
+                    std::string name = s;
+                    if (width || merge || sw >= 0) name += "/w" + std::to_string(width);
+                    if (merge) name += "m" + std::to_string(merge);
+                    if (sw >= 0) name += "s" + std::to_string(sw);
+                    names.push_back(name);
+                }
     }
 #ifdef ARBOR_HAVE_EMBREE
     std::unique_ptr<perf::EmbreePeer> peer;
@@ -211,6 +217,8 @@ int main(int argc, char** argv) {
     app.add_option("--widths", o.widths, "BVH widths (0 = default)")->delimiter(',');
     app.add_option("--threads", o.threads, "threads")->check(CLI::Range(1, 4096));
     app.add_option("--repeats", o.repeats, "timed repeats")->check(CLI::Range(1, 1000));
+    app.add_option("--switches", o.switches, "values of BuildConfig::packet_switch (-1 = default)")->delimiter(',');
+    app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packet_lanes (8 or 16; 0 = default)");
     app.add_option("--merges", o.merges, "values of BuildConfig::wide_merge (0 = the width)")->delimiter(',');
     app.add_flag("!--no-embree", o.embree, "leave Embree out");
     app.add_flag("--cpu-time", o.cpu_time, "one thread, timed by process CPU time (for A/B tests on a loaded machine)");
