@@ -29,6 +29,8 @@ struct PacketBounds {
 };
 
 namespace detail {
+inline bool is_nan(float x) { return std::isnan(x); }
+template <class A> inline xsimd::batch_bool<float, A> is_nan(const xsimd::batch<float, A>& x) { return xsimd::isnan(x); }
 template <class P> inline float masked_min(const P& x, const Mask<P>& m) { return hmin(select(m, x, P(INFINITY))); }
 template <class P> inline float masked_max(const P& x, const Mask<P>& m) { return -hmin(select(m, -x, P(INFINITY))); }
 }  // namespace detail
@@ -46,6 +48,12 @@ template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, cons
         b.neg[k] = s != 0;
         const P sign(b.neg[k] ? -1.0f : 1.0f);  // multiplying by -1 is an exact negation
         const P o = p.org[k] * sign, rn = p.rcp_near[k] * sign, rf = p.rcp_far[k] * sign;
+        // A lane whose reciprocal is NaN (slab_rcp: a direction component too small to be sure of)
+        // never culls on this axis: neither may the bounds.
+        if ((to_bits(detail::is_nan(rn) | detail::is_nan(rf)) & bits) != 0) {
+            b.axes &= ~(1u << k);
+            continue;
+        }
         b.o_lo[k] = detail::masked_min(o, lanes), b.o_hi[k] = detail::masked_max(o, lanes);
         b.rn_lo[k] = detail::masked_min(rn, lanes), b.rn_hi[k] = detail::masked_max(rn, lanes);
         b.rf_lo[k] = detail::masked_min(rf, lanes), b.rf_hi[k] = detail::masked_max(rf, lanes);

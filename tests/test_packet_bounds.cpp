@@ -102,7 +102,11 @@ TEST_CASE_TEMPLATE("packet bounds: never drop a box that a lane of the packet hi
     std::mt19937 rng(3);
     const std::vector<Box> bx = boxes(rng);
     std::vector<Vec3f> targets{{1, 1, 1}, {-1, -1, -1}, {0, 0, 0}, {0.25f, 0.5f, 1}, {1, 0, -1}, {-1, 0.5f, 0}, {0.5f, 0.5f, 0}};
-    const std::vector<Ray> rays = arbor::testing::stiff_rays(11, 200, targets);
+    std::vector<Ray> rays = arbor::testing::stiff_rays(11, 200, targets);
+    // Near-axis directions whose small components slab_rcp turns into NaN or +-inf reciprocals.
+    for (const float tiny : {1e-39f, -1e-39f, 1e-30f, 3e-38f, -0.0f})
+        for (const Vec3f& o : {Vec3f{-3, 0.5f, 0.25f}, Vec3f{-3, 1, 1}, Vec3f{-3, -1, 0}})
+            rays.push_back({o, 0.0f, {1.0f, tiny, -tiny * 0.5f}, INFINITY});
     Mismatches miss;
     std::size_t culled = 0;
     check_all<P>(rays, bx, miss, culled);
