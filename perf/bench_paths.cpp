@@ -12,6 +12,8 @@
 // scripts/bench_vs_embree.sh). Shadow rays are any-hit queries, the others closest hit; Embree
 // gets the coherent flag for primary and shadow rays, as in arbor_bench.
 #include "accel/accel.h"
+#include "accel/brute_accel.h"
+#include "accel/bvh_accel.h"
 #include "accel/timer.h"
 #include "accel/trace.h"
 #include "engine/error.h"
@@ -54,6 +56,7 @@ struct Options {
     std::uint32_t packet_lanes = 0;
     bool embree = true;
     bool cpu_time = false;  ///< time by the CPU time of the process (one thread), not the wall clock
+    std::size_t brute_sample = 256;
 };
 
 /// CPU time of the whole process in ms: with --cpu-time (one thread) it does not count the time
@@ -76,19 +79,27 @@ struct Config {
     std::function<void(std::span<const accel::Ray>, std::span<accel::Hit>)> trace;
     bool embree = false;
     std::vector<double> ms;
-    long long err = -1;  ///< disagreements with the structure's scalar path (Embree: with the first arbor scalar)
+    long long err = -1;        ///< disagreements with the structure's scalar path (Embree: with the first arbor scalar)
+    long long err_brute = -1;  ///< disagreements with brute on a sample of the rays
 };
 
 bool agree(const accel::Hit& a, const accel::Hit& b, bool any) { return any ? a.is_hit() == b.is_hit() : accel::hits_agree(a, b); }
 
+/// A built structure's SIMD layout, for the report.
+struct LayoutRow {
+    std::string scene, structure;
+    std::size_t triangles = 0, width = 0, nodes = 0, leaves = 0;
+    double wide_bytes_per_tri = 0, all_bytes_per_tri = 0, build_ms = 0;
+};
+
 struct Row {
     std::string scene, kind, structure, path;
     double mrays, lo, hi;
-    long long err;
+    long long err, err_brute;
     bool embree;
 };
 
-void run_scene(const Options& o, const std::string& scene, std::vector<Row>& rows) {
+void run_scene(const Options& o, const std::string& scene, std::vector<Row>& rows, std::vector<LayoutRow>& layouts) {
     engine::Warnings w;
     const engine::Mesh mesh = engine::load_obj(o.models + "/" + scene + ".obj", w);
     const accel::TriangleView view = mesh.view();
@@ -108,6 +119,12 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                     cfg.packet_switch = sw;
                     cfg.packet_lanes = o.packet_lanes;
                     built.push_back(accel::make_accel(*kind, view, cfg));
+                    if (const auto* bvh = dynamic_cast<const accel::BvhAccel*>(built.back().get())) {
+                        const double tris = double(std::max<std::size_t>(view.triangle_count(), 1));
+                        layouts.push_back({scene, s, view.triangle_count(), bvh->wide().width(), bvh->wide().nodes(),
+                                           bvh->wide().leaves(), double(bvh->wide().memory_bytes()) / tris,
+                                           bvh->stats().bytes_per_triangle(), bvh->stats().build_ms});
+                    }
                     std::string name = s;
                     if (width || merge || sw >= 0) name += "/w" + std::to_string(width);
                     if (merge) name += "m" + std::to_string(merge);
@@ -156,8 +173,17 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
             ref.resize(rays.size());
             accel::trace_parallel(*built[b], rays, ref, q, accel::TracePath::scalar);
         }
+        // Brute force on an evenly spread sample (it costs rays x triangles).
+        const accel::BruteAccel brute(view);
+        const std::size_t sample = std::min<std::size_t>(rays.size(), o.brute_sample);
+        std::vector<accel::Ray> sample_rays(sample);
+        std::vector<accel::Hit> truth(sample);
+        for (std::size_t k = 0; k < sample; ++k) sample_rays[k] = rays[k * rays.size() / sample];
+        accel::trace_parallel(brute, sample_rays, truth, q, accel::TracePath::scalar, 16);
         for (Config& c : configs) {
             c.trace(rays, hits);
+            c.err_brute = 0;
+            for (std::size_t k = 0; k < sample; ++k) c.err_brute += !agree(hits[k * rays.size() / sample], truth[k], any);
             const auto& ref = c.embree ? scalar.at(names[0].substr(0, names[0].find('/'))) : scalar.at(c.structure.substr(0, c.structure.find('/')));
             c.err = 0;
             for (std::size_t i = 0; i < rays.size(); ++i) c.err += !agree(hits[i], ref[i], any);
@@ -173,34 +199,88 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
         for (const Config& c : configs) {
             const double mr = double(rays.size()) * 1e-3;
             const auto [lo, hi] = std::minmax_element(c.ms.begin(), c.ms.end());
-            rows.push_back({scene, kind, c.structure, c.path, mr / median(c.ms), mr / *hi, mr / *lo, c.err, c.embree});
-            std::fprintf(stderr, "%-16s %-8s %-16s %-7s %7.2f Mrays/s [%5.2f-%5.2f] err %lld\n", scene.c_str(), kind.c_str(),
-                         c.structure.c_str(), c.path.c_str(), rows.back().mrays, rows.back().lo, rows.back().hi, c.err);
+            rows.push_back({scene, kind, c.structure, c.path, mr / median(c.ms), mr / *hi, mr / *lo, c.err, c.err_brute, c.embree});
+            std::fprintf(stderr, "%-16s %-8s %-16s %-7s %7.2f Mrays/s [%5.2f-%5.2f] err %lld brute %lld/%zu\n", scene.c_str(),
+                         kind.c_str(), c.structure.c_str(), c.path.c_str(), rows.back().mrays, rows.back().lo, rows.back().hi, c.err,
+                         c.err_brute, o.brute_sample);
         }
     }
 }
 
-/// The ratio table: per scene and kind, each arbor configuration's median over Embree's best call.
+std::string fmt(const char* f, double a, double b = 0, double c = 0) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, a, b, c);
+    return buf;
+}
+
+/// The report: per (scene, kind) the ratio of each structure's fastest path to Embree's fastest
+/// call, then every configuration.
 std::string report(const Options& o, const std::vector<Row>& rows) {
     std::ostringstream s;
-    std::map<std::pair<std::string, std::string>, std::pair<double, std::string>> best_embree;
-    for (const Row& r : rows)
-        if (r.embree) {
-            auto& b = best_embree[{r.scene, r.kind}];
-            if (r.mrays > b.first) b = {r.mrays, r.path};
-        }
-    s << "| scene | kind | configuration | Mrays/s median [min-max] | x Embree best | errors |\n|---|---|---|---:|---:|---:|\n";
+    using Cell = std::pair<std::string, std::string>;  // scene, kind
+    std::map<Cell, std::pair<double, std::string>> embree_best;
+    std::map<Cell, std::map<std::string, std::pair<double, std::string>>> arbor_best;  // per structure
+    std::map<Cell, std::map<std::string, double>> auto_path;                          // TracePath::best
+    std::vector<Cell> cells;
+    std::vector<std::string> structures;
     for (const Row& r : rows) {
-        const auto& b = best_embree[{r.scene, r.kind}];
-        char buf[256];
-        std::snprintf(buf, sizeof buf, "| %s | %s | %s %s | %.2f [%.2f-%.2f] | %.2f | %lld |\n", r.scene.c_str(), r.kind.c_str(),
-                      r.structure.c_str(), r.path.c_str(), r.mrays, r.lo, r.hi, b.first > 0 ? r.mrays / b.first : 0.0, r.err);
-        s << buf;
+        const Cell c{r.scene, r.kind};
+        if (std::find(cells.begin(), cells.end(), c) == cells.end()) cells.push_back(c);
+        if (r.embree) {
+            auto& b = embree_best[c];
+            if (r.mrays > b.first) b = {r.mrays, r.path};
+            continue;
+        }
+        if (std::find(structures.begin(), structures.end(), r.structure) == structures.end()) structures.push_back(r.structure);
+        auto& b = arbor_best[c][r.structure];
+        if (r.mrays > b.first) b = {r.mrays, r.path};
+        if (r.path == "best") auto_path[c][r.structure] = r.mrays;
     }
-    s << "\nEmbree's best call per cell: ";
-    for (const auto& [k, v] : best_embree) s << k.first << "/" << k.second << " " << v.second << "; ";
+    s << "## arbor's fastest path / Embree's fastest call\n\n";
+    s << "Per structure: its fastest path's median Mrays/s over Embree's fastest call (of 1, 8, 16, 1M) on the same rays; "
+         "in brackets the path, and `best` = the path TracePath::best picked by itself.\n\n";
+    s << "| scene | kind | Embree best |";
+    for (const auto& st : structures) s << " " << st << " |";
+    s << "\n|---|---|---|";
+    for (std::size_t i = 0; i < structures.size(); ++i) s << "---|";
     s << "\n";
+    for (const Cell& c : cells) {
+        const auto& e = embree_best[c];
+        s << "| " << c.first << " | " << c.second << " | " << e.second << ": " << fmt("%.2f", e.first) << " |";
+        for (const auto& st : structures) {
+            const auto it = arbor_best[c].find(st);
+            if (it == arbor_best[c].end() || e.first <= 0) {
+                s << " - |";
+                continue;
+            }
+            s << " **" << fmt("%.2f", it->second.first / e.first) << "x** (" << it->second.second;
+            const auto ap = auto_path[c].find(st);
+            if (ap != auto_path[c].end() && it->second.second != "best") s << "; best " << fmt("%.2f", ap->second / e.first) << "x";
+            s << ") |";
+        }
+        s << "\n";
+    }
+    s << "\n## Every configuration\n\n";
+    s << "Mrays/s median [min-max] over the repeats; `x Embree` = over Embree's fastest call in the same cell; errors = "
+         "answers disagreeing with the structure's scalar path on all rays (Embree: with the first structure's scalar path; "
+         "rayfile.md rule, any hit: hit or miss).\n\n";
+    s << "| scene | kind | configuration | Mrays/s | x Embree | errors | errors vs brute (sample of " << o.brute_sample
+      << ") |\n|---|---|---|---:|---:|---:|---:|\n";
+    for (const Row& r : rows) {
+        const double b = embree_best[{r.scene, r.kind}].first;
+        s << "| " << r.scene << " | " << r.kind << " | " << r.structure << " " << r.path << " | "
+          << fmt("%.2f [%.2f-%.2f]", r.mrays, r.lo, r.hi) << " | " << fmt("%.2f", b > 0 ? r.mrays / b : 0.0) << " | " << r.err << " | " << r.err_brute << " |\n";
+    }
+    (void)o;
     return s.str();
+}
+
+/// The first three fields of /proc/loadavg.
+std::string load_average() {
+    std::ifstream f("/proc/loadavg");
+    std::string a, b, c;
+    f >> a >> b >> c;
+    return a + " " + b + " " + c;
 }
 
 }  // namespace
@@ -221,6 +301,7 @@ int main(int argc, char** argv) {
     app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packet_lanes (8 or 16; 0 = default)");
     app.add_option("--merges", o.merges, "values of BuildConfig::wide_merge (0 = the width)")->delimiter(',');
     app.add_flag("!--no-embree", o.embree, "leave Embree out");
+    app.add_option("--brute-sample", o.brute_sample, "rays per file checked against brute")->capture_default_str();
     app.add_flag("--cpu-time", o.cpu_time, "one thread, timed by process CPU time (for A/B tests on a loaded machine)");
     app.add_option("-o,--out", o.out, "also write the Markdown table here");
     try {
@@ -228,9 +309,26 @@ int main(int argc, char** argv) {
         if (o.cpu_time) o.threads = 1;
         for (const std::string& p : o.paths)
             if (!accel::parse_trace_path(p)) throw engine::InputError("--paths: unknown path '" + p + "'");
+        std::string cmd = "bench_paths";
+        for (int i = 1; i < argc; ++i) cmd += std::string(" ") + argv[i];
+        const std::string load_before = load_average();
+        const accel::Timer total;
         std::vector<Row> rows;
-        for (const std::string& scene : o.scenes) run_scene(o, scene, rows);
-        const std::string table = report(o, rows);
+        std::vector<LayoutRow> layouts;
+        for (const std::string& scene : o.scenes) run_scene(o, scene, rows, layouts);
+        std::ostringstream head;
+        head << "- command: `" << cmd << "`\n- " << (o.cpu_time ? "1 thread, CPU time" : std::to_string(o.threads) + " threads, wall clock")
+             << ", median of " << o.repeats << " repeats, all configurations round-robin (order rotated each repeat)\n"
+             << "- load average " << load_before << " at the start, " << load_average() << " at the end; "
+             << fmt("%.0f s", total.seconds()) << "\n\n";
+        std::ostringstream lay;
+        lay << "\n## SIMD layouts\n\n| scene | triangles | structure | width | nodes | leaves | wide layout B/tri | all B/tri | build ms |\n"
+               "|---|---:|---|---:|---:|---:|---:|---:|---:|\n";
+        for (const LayoutRow& l : layouts)
+            lay << "| " << l.scene << " | " << l.triangles << " | " << l.structure << " | " << l.width << " | " << l.nodes << " | "
+                << l.leaves << " | " << fmt("%.1f", l.wide_bytes_per_tri) << " | " << fmt("%.1f", l.all_bytes_per_tri) << " | "
+                << fmt("%.1f", l.build_ms) << " |\n";
+        const std::string table = head.str() + report(o, rows) + lay.str();
         std::fputs(table.c_str(), stdout);
         if (!o.out.empty()) std::ofstream(o.out) << table;
         return 0;

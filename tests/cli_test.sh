@@ -106,6 +106,7 @@ grep -q '"accel":"bvh-sah"' "$WORK/out" || fail "trace without --accel should de
 grep -q '"leaves":2' "$WORK/out" || fail "info --accel bvh-median --leaf-size 1 should report 2 leaves: $(cat "$WORK/out")"
 expect_error "--leaf-size" "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --leaf-size 0
 expect_error "--sah-bins" "$ARBOR" info "$WORK/quad.obj" --accel bvh-sah --sah-bins 1
+expect_error "--bvh-width" "$ARBOR" info "$WORK/quad.obj" --accel bvh-sah --bvh-width 12
 expect_error "--leaf-size" "$ARBOR" render --leaf-size x -o "$WORK/x.exr"
 
 # --path: every path answers as the scalar path does; `best` says which path it took and why

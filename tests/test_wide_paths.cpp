@@ -3,6 +3,7 @@
 // rays (engine/ray_gen.h); then the stiff cases: a watertight jittered icosphere seen from inside,
 // axis-parallel rays with +-0 components on an integer grid, NaN/Inf/zero rays, partial packets,
 // mixed-sign packets, and identical answers with 1 and 2 threads.
+#include "accel/coherence.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "engine/ray_gen.h"
@@ -202,4 +203,26 @@ TEST_CASE("wide paths: identical answers with 1 and 2 threads") {
                 CAPTURE(b.name);
                 CHECK(std::memcmp(one.data(), two.data(), one.size() * sizeof(Hit)) == 0);
             }
+}
+
+TEST_CASE("coherence measure: tiles of camera rays are coherent, random rays and mixed octants are not") {
+    const accel::Bounds b{{-1, -1, -1}, {1, 1, 1}};
+    const auto cam = testing::camera_rays(b, 64, 16);  // one origin; the image does not straddle an axis
+    const auto inside = testing::random_rays_inside(b, 1024, 5);
+    CHECK(accel::coherent_fraction(cam, 16, 0.1f, 1000) > 0.7);
+    CHECK(accel::coherent_fraction(inside, 16, 0.1f, 1000) == 0.0);
+    CHECK(accel::coherent_fraction(cam, 16, 0.1f) == doctest::Approx(accel::coherent_fraction(cam, 16, 0.1f, 1000)).epsilon(0.3));
+    // A group whose origins are farther apart than `spread` is not coherent; neither is one with two octants.
+    std::vector<Ray> far(16, Ray{{0, 0, 0}, 0.0f, {1, 1, 1}, INFINITY});
+    far[5].org = {0.5f, 0, 0};
+    CHECK(accel::coherent_fraction(far, 16, 0.1f) == 0.0);
+    CHECK(accel::coherent_fraction(far, 16, 1.0f) == 1.0);
+    std::vector<Ray> mixed(16, Ray{{0, 0, 0}, 0.0f, {1, 1, 1}, INFINITY});
+    mixed[3].dir.y = -0.0f;  // -0 counts as negative, as in the slab test
+    CHECK(accel::coherent_fraction(mixed, 16, 1.0f) == 0.0);
+    // Untraceable rays do not count; no traceable ray at all gives 0.
+    mixed[3].dir = {0, 0, 0};
+    CHECK(accel::coherent_fraction(mixed, 16, 1.0f) == 1.0);
+    CHECK(accel::coherent_fraction(std::vector<Ray>(20, Ray{{0, 0, 0}, 0.0f, {0, 0, 0}, 1.0f}), 16, 1.0f) == 0.0);
+    CHECK(accel::coherent_fraction({}, 16, 1.0f) == 0.0);
 }

@@ -23,6 +23,8 @@ void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
     cmd.add_option("--sah-bins", cfg.sah_bins, "bins per axis of the binned SAH build (bvh-sah)")
         ->check(CLI::Range(2u, 32u))
         ->capture_default_str();
+    cmd.add_option("--bvh-width", cfg.bvh_width, "children per node of the BVHs' SIMD layout: 4, 8 or 16 (default: the measured best)")
+        ->check(CLI::IsMember({4u, 8u, 16u}));
 }
 
 CLI::Option* add_threads_option(CLI::App& cmd, int& threads) {

@@ -17,7 +17,8 @@ namespace arbor::app {
 /// Adds `--accel NAME` (validated against the structure names) bound to `name`.
 CLI::Option* add_accel_option(CLI::App& cmd, std::string& name);
 /// Adds the build settings shared by every command that builds a structure: `--leaf-size N`
-/// (BuildConfig::max_leaf_size; the seed report used 1) and `--sah-bins N` (BuildConfig::sah_bins).
+/// (BuildConfig::max_leaf_size; the seed report used 1), `--sah-bins N` (BuildConfig::sah_bins) and
+/// `--bvh-width 4|8|16` (BuildConfig::bvh_width).
 void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg);
 /// Adds `--threads N` (N >= 1; default: all hardware threads).
 CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
