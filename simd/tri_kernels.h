@@ -33,7 +33,7 @@ namespace detail {
 /// The vertices relative to each lane's origin, in each lane's (kx, ky, kz) order: by selects, or
 /// by plain component picks when `uniform` (all active lanes share p.woop's permutation).
 template <class T>
-inline void packet_vertices(const RayPacket<T>& p, bool uniform, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2,
+ARBOR_INLINE void packet_vertices(const RayPacket<T>& p, bool uniform, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2,
                             Vec3<T>& a, Vec3<T>& b, Vec3<T>& c) {
     a = Vec3<T>{T(v0.x), T(v0.y), T(v0.z)} - p.org;
     b = Vec3<T>{T(v1.x), T(v1.y), T(v1.z)} - p.org;
@@ -49,7 +49,7 @@ inline void packet_vertices(const RayPacket<T>& p, bool uniform, const Vec3f& v0
     }
 }
 template <class T>
-inline TriHit<T> packet_triangle_impl(const RayPacket<T>& p, bool uniform, const Vec3f& v0, const Vec3f& v1,
+ARBOR_INLINE TriHit<T> packet_triangle_impl(const RayPacket<T>& p, bool uniform, const Vec3f& v0, const Vec3f& v1,
                                       const Vec3f& v2) {
     Vec3<T> a, b, c;
     packet_vertices(p, uniform, v0, v1, v2, a, b, c);
@@ -63,7 +63,7 @@ inline TriHit<T> packet_triangle_impl(const RayPacket<T>& p, bool uniform, const
 /// A packet against triangle (v0, v1, v2). Per lane: hit, t and barycentrics (u weights v1, v
 /// weights v2), bit-identical to the scalar woop_test of that lane's ray. Inactive lanes never hit.
 template <class T>
-inline TriHit<T> packet_triangle(const RayPacket<T>& p, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2) {
+ARBOR_INLINE TriHit<T> packet_triangle(const RayPacket<T>& p, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2) {
     return detail::packet_triangle_impl(p, p.woop.uniform, v0, v1, v2);
 }
 template <class T>
