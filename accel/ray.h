@@ -38,11 +38,14 @@ static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 4 && offsetof(Hit, u) 
 
 /// The rule every path applies before any work: a ray is traced only when its origin and direction
 /// are finite, its direction is not zero, tnear and tfar are not NaN and tnear <= tfar. Every other
-/// ray (NaN, Inf, zero-length, inactive) is a miss, found in O(1).
+/// ray (NaN, Inf, zero-length, inactive) is a miss, found in O(1). A direction whose components are
+/// all denormal (below FLT_MIN) counts as zero-length: 1/d overflows on every axis, so neither the
+/// box test nor the triangle test (which divides by the largest component) could follow it.
 inline bool ray_is_traceable(const Ray& r) {
     const bool finite = std::isfinite(r.org.x) && std::isfinite(r.org.y) && std::isfinite(r.org.z) &&
                         std::isfinite(r.dir.x) && std::isfinite(r.dir.y) && std::isfinite(r.dir.z);
-    const bool nonzero = r.dir.x != 0.0f || r.dir.y != 0.0f || r.dir.z != 0.0f;
+    constexpr float min_normal = std::numeric_limits<float>::min();
+    const bool nonzero = std::fabs(r.dir.x) >= min_normal || std::fabs(r.dir.y) >= min_normal || std::fabs(r.dir.z) >= min_normal;
     return finite && nonzero && r.tnear <= r.tfar;  // NaN tnear/tfar fail the comparison
 }
 

@@ -8,8 +8,8 @@
 /// Exactly conservative, not just approximately: the bounds are computed by the same rounded
 /// operations as the per-lane slab test of box_test.h, ((plane - origin) * reciprocal), from the
 /// extreme inputs, and rounding is monotone, so a bound is never on the wrong side of a lane's
-/// computed distance. Axes on which the lanes' directions differ in sign are left out (they
-/// constrain nothing), and a lane's NaN slab distance (origin in the plane, zero direction) is
+/// computed distance. Axes on which the lanes' directions differ in sign, or on which a lane's
+/// reciprocal is NaN (box_test.h, slab_rcp), are left out (they constrain nothing), and a lane's NaN slab distance (origin in the plane, zero direction) is
 /// matched by an infinite bound. Hence: if any lane's slab test hits a box, bounds_boxes says the
 /// box may be hit (tested lane by lane in tests/test_packet_bounds.cpp).
 #include "simd/ray_packet.h"
@@ -44,6 +44,9 @@ template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, cons
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t s = to_bits(p.near_is_hi[k]) & bits;
         if (s != 0 && s != bits) continue;  // mixed signs: this axis is left out
+        // A lane whose reciprocal is NaN (slab_rcp: that axis never culls for it) leaves it out too.
+        // (!(x == x), not x != x: xsimd 8's != on floats is the ordered compare, false for NaN.)
+        if (to_bits(!(p.rcp_near[k] == p.rcp_near[k])) & bits) continue;
         b.axes |= 1u << k;
         b.neg[k] = s != 0;
         const P sign(b.neg[k] ? -1.0f : 1.0f);  // multiplying by -1 is an exact negation

@@ -22,16 +22,16 @@ template <class T> struct WoopLanes {
     int kx = 0, ky = 1, kz = 2;
 };
 
-/// The rule of accel::ray_is_traceable per lane: finite origin and direction, a non-zero direction,
-/// tnear <= tfar (false when either is NaN).
+/// The rule of accel::ray_is_traceable per lane: finite origin and direction, a non-zero direction
+/// (some component at least FLT_MIN), tnear <= tfar (false when either is NaN).
 template <class T> inline Mask<T> traceable(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar) {
     const auto finite = [](const T& x) {
         if constexpr (std::is_same_v<T, float>) return bool(std::isfinite(x));
         else return xsimd::isfinite(x);
     };
-    const T zero(0.0f);
+    const T min_normal(std::numeric_limits<float>::min());
     return finite(org.x) & finite(org.y) & finite(org.z) & finite(dir.x) & finite(dir.y) & finite(dir.z) &
-           ((dir.x != zero) | (dir.y != zero) | (dir.z != zero)) & (tnear <= tfar);
+           ((vabs(dir.x) >= min_normal) | (vabs(dir.y) >= min_normal) | (vabs(dir.z) >= min_normal)) & (tnear <= tfar);
 }
 
 /// v with its components put in the lane's (kx, ky, kz) order, chosen per lane with selects.

@@ -32,7 +32,7 @@ void add_ray_cases(std::vector<StressCase>& out, Size size) {
     {
         StressCase c;
         c.name = "nonfinite-rays";
-        c.what = "NaN/Inf in origin, direction, tnear, tfar; zero directions; tfar < tnear: all miss, in O(1)";
+        c.what = "NaN/Inf in origin, direction, tnear, tfar; zero and all-denormal directions; tfar < tnear: all miss, in O(1)";
         c.mesh = target_mesh(full);
         const float bad_values[] = {nan, -nan, inf, -inf};
         const std::size_t rounds = full ? 200 : 20;
@@ -51,6 +51,10 @@ void add_ray_cases(std::vector<StressCase>& out, Size size) {
             accel::Ray zero = random_ray();
             zero.dir = {round % 2 ? -0.0f : 0.0f, round % 3 ? -0.0f : 0.0f, round % 5 ? 0.0f : -0.0f};
             c.add(zero);
+            // All components denormal: zero-length by the rule (1/d overflows on every axis).
+            accel::Ray tiny = random_ray();
+            tiny.dir = {round % 2 ? 1e-39f : -3e-42f, 5e-40f, round % 3 ? -1.1e-38f : 0.0f};
+            c.add(tiny);
             accel::Ray inactive = random_ray();
             inactive.tnear = 2.0f, inactive.tfar = 1.0f;
             c.add(inactive);
@@ -60,7 +64,7 @@ void add_ray_cases(std::vector<StressCase>& out, Size size) {
     {
         StressCase c;
         c.name = "extreme-rays";
-        c.what = "valid but extreme rays: tnear = -inf, |d| = 1e-30 and 1e30, tnear = tfar, origins on the surface";
+        c.what = "valid but extreme rays: tnear = -inf, |d| = 1e-30 and 1e30, denormal components, tnear = tfar, origins on the surface";
         c.mesh = target_mesh(full);
         const std::size_t rounds = full ? 500 : 50;
         for (std::size_t round = 0; round < rounds; ++round) {
@@ -74,6 +78,9 @@ void add_ray_cases(std::vector<StressCase>& out, Size size) {
             accel::Ray huge = r;
             huge.dir = r.dir * 1e30f;
             c.add(huge);
+            accel::Ray near_axis = r;  // one normal component, the others denormal: valid
+            near_axis.dir = {r.dir.x, 1e-40f, -2e-39f};
+            c.add(near_axis);
             accel::Ray point = r;
             point.tnear = point.tfar = 4.0f;  // a range of one point (inside the sphere: no surface there)
             c.add(point);

@@ -1,12 +1,15 @@
 // Scalar ray/triangle and ray/box kernels on the stiff cases: edges, vertices, axis-parallel rays
 // with +0/-0 components, inactive and NaN rays, degenerate triangles.
 #include "simd/box_test.h"
+#include "simd/packet_bounds.h"
 #include "simd/tri_test.h"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <limits>
+#include <span>
+#include <vector>
 
 using arbor::simd::Vec3f;
 using arbor::simd::woop_shear;
@@ -220,4 +223,24 @@ TEST_CASE("box: a direction component too small for its reciprocal never culls (
     CHECK(slab_test(slab_ray(o2, d2), {-0.92f, 0.0f, 0.0f}, {-0.82f, 0.54f, 0.51f}, -1.0774e+08f, 2.53466e-38f, t));
     // A zero component still culls boxes beside the ray.
     CHECK_FALSE(slab_test(slab_ray(o, {2.3e-41f, -1.0f, 0.0f}), {-0.54f, -1.1f, 0.0f}, {0.0f, -0.8f, 0.5f}, 0.0f, inf, t));
+}
+
+TEST_CASE("box: packet bounds leave out an axis on which a lane's reciprocal is NaN (found by arbor's fuzzer)") {
+    // Lane 0 moves along x by 3.7e-43 per unit t (slab_rcp gives NaN: x never culls for it); lane 1
+    // is an ordinary ray. The interval bounds must not cull the box lane 0's own slab test hits.
+    struct R {
+        Vec3f org;
+        float tnear;
+        Vec3f dir;
+        float tfar;
+    };
+    const std::vector<R> rays = {{{0.399994f, 0.2f, 5}, 0, {3.72745e-43f, 0, -1}, inf}, {{0.5f, 0.148242f, 5}, 0, {0.05f, -0.02f, -1}, inf}};
+    using P = xsimd::batch<float>;
+    const auto p = arbor::simd::load_packet<P>(std::span<const R>(rays));
+    const Vec3f lo{0.0f, -0.337748f, 0.801694f}, hi{0.546487f, 0.30622f, 1.02815f};
+    float t = 0.0f;
+    REQUIRE(arbor::simd::slab_test(arbor::simd::slab_ray(rays[0].org, rays[0].dir), lo, hi, 0.0f, inf, t));
+    const auto b = arbor::simd::packet_bounds(p, p.active);
+    CHECK((b.axes & 1u) == 0);
+    CHECK(arbor::simd::bounds_boxes<float>(b, inf, lo, hi));
 }
