@@ -4,6 +4,7 @@
 #include "accel/bvh_accel.h"
 #include "accel/bvh_build.h"
 #include "accel/lbvh_build.h"
+#include "accel/memory_estimate.h"
 #include "accel/kdtree_accel.h"
 
 #include <array>
@@ -62,7 +63,8 @@ std::string accel_kind_names() {
     return out;
 }
 
-std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg) {
+namespace {
+std::unique_ptr<Accel> build(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg) {
     switch (kind) {
     case AccelKind::brute: return std::make_unique<BruteAccel>(tris);
     case AccelKind::bvh_median: return build_bvh_accel(kind, tris, cfg, build_bvh_median);
@@ -73,6 +75,18 @@ std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, cons
     default: break;
     }
     throw std::invalid_argument("structure '" + std::string(to_string(kind)) + "' is not available in this build yet");
+}
+}  // namespace
+
+std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg) {
+    if (kind != AccelKind::automatic) check_build_memory(kind, tris.triangle_count(), cfg);
+    std::unique_ptr<Accel> a = build(kind, tris, cfg);
+    // A safety net behind the estimate (which bounds the BVHs and brute from above; the kd-tree
+    // builder checks as it grows): a measured peak over the limit is refused too.
+    if (cfg.max_memory != 0 && a->stats().build_peak_bytes > cfg.max_memory)
+        throw MemoryLimitError(std::string(to_string(kind)) + ": the build reached " + std::to_string(a->stats().build_peak_bytes) +
+                               " bytes, more than max_memory = " + std::to_string(cfg.max_memory) + " bytes");
+    return a;
 }
 
 }  // namespace arbor::accel

@@ -77,6 +77,8 @@ public:
 
 /// Builds structure `kind` over `tris`. The view must outlive the Accel only for `brute`
 /// (the others copy what they need). `automatic` is resolved by the caller (auto_select.h).
+/// With cfg.max_memory set, a build whose estimate (memory_estimate.h) exceeds it throws
+/// MemoryLimitError before anything is allocated.
 std::unique_ptr<Accel> make_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg = {});
 
 }  // namespace arbor::accel

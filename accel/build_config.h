@@ -44,7 +44,9 @@ struct BuildConfig {
     /// BVHs, packet path: at a node reached by at most this many lanes they go on as single rays
     /// (-1 = lanes / 8).
     int packet_switch = -1;
-    /// Upper bound on build memory in bytes (0 = no limit); a build that would exceed it throws.
+    /// Upper bound on build memory in bytes (0 = no limit); a build that would exceed it throws
+    /// MemoryLimitError (memory_estimate.h): checked from the triangle count before building, by the
+    /// kd-tree builder as it grows, and against the measured peak afterwards.
     std::uint64_t max_memory = 0;
 };
 

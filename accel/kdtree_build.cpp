@@ -1,5 +1,7 @@
 #include "accel/kdtree_build.h"
 
+#include "accel/memory_estimate.h"
+
 #include "accel/fp_guard.h"
 #include "accel/kdtree_ropes.h"
 #include "accel/kdtree_split.h"
@@ -32,7 +34,7 @@ struct MemoryMeter {
     void add(std::size_t b) {
         const std::size_t now = current.fetch_add(b) + b;
         if (limit != 0 && now > limit)
-            throw std::length_error("kdtree: the build needs more than max_memory = " + std::to_string(limit) + " bytes");
+            throw MemoryLimitError("kdtree: the build needs more than max_memory = " + std::to_string(limit) + " bytes");
         std::size_t p = peak.load();
         while (now > p && !peak.compare_exchange_weak(p, now)) {}
     }

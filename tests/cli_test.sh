@@ -168,6 +168,13 @@ expect_error "--accel" "$ARBOR" stress --accel nonsense
 expect_error "--case" "$ARBOR" stress --case no-such-case
 expect_error "quad.obj" "$ARBOR" stress --model "$WORK/quad.obj"
 
+# --max-memory: sizes with suffixes; a build (or input) over the limit is a one-line error.
+expect_error "--max-memory" "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --accel bvh-sah --max-memory 1K
+expect_error "--max-memory" "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --max-memory 2X
+expect_error "--max-memory" "$ARBOR" info "$WORK/quad.obj" --max-memory 10
+"$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --accel lbvh --max-memory 1M --json >"$WORK/out" 2>"$WORK/err" \
+  || fail "trace --max-memory 1M exited $?: $(cat "$WORK/err")"
+
 # The output of a failed run never replaces an existing file.
 echo keep >"$WORK/keep.hits"
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null

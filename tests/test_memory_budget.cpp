@@ -1,11 +1,14 @@
 // Resource limits: byte sizes as people write them, and input that would not fit in memory is
 // refused with a one-line error before anything is allocated (ray files whose header matches a
 // huge file, OBJ files larger than the budget).
+#include "accel/memory_estimate.h"
 #include "engine/error.h"
 #include "engine/file_io.h"
 #include "engine/memory_budget.h"
 #include "engine/obj_loader.h"
+#include "engine/procedural.h"
 #include "engine/rayfile.h"
+#include "testing.h"
 
 #include <doctest/doctest.h>
 
@@ -88,4 +91,67 @@ TEST_CASE("memory budget: an OBJ file too large for the budget is refused before
     CHECK(error_of([&] { (void)engine::load_obj(p, w, 50); }) ==
           p + ": loading 32 B of OBJ text needs about 96 B, more than the 50 B of --max-memory");
     std::filesystem::remove(p);
+}
+
+TEST_CASE("memory budget: the build estimate bounds every BVH and brute from above, the kd-tree from below") {
+    std::vector<engine::Mesh> meshes;
+    meshes.push_back(engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 1));
+    meshes.push_back(engine::make_torus({0, 0, 0}, 2.0f, 0.5f, 40, 20));
+    engine::Mesh one;
+    one.add_vertex({0, 0, 0}), one.add_vertex({1, 0, 0}), one.add_vertex({0, 1, 0});
+    one.add_triangle(0, 1, 2);
+    meshes.push_back(one);
+    const std::string dir = testing::shared_scenes_dir();
+    if (!dir.empty()) {
+        engine::Warnings w;
+        meshes.push_back(engine::load_obj(dir + "/models/spot.obj", w));
+    }
+    using accel::AccelKind;
+    for (const auto& m : meshes)
+        for (AccelKind kind : {AccelKind::brute, AccelKind::bvh_median, AccelKind::bvh_sah, AccelKind::lbvh, AccelKind::kdtree})
+            for (std::uint32_t leaf : {1u, 4u, 16u})
+                for (std::uint32_t width : {0u, 4u}) {
+                    accel::BuildConfig cfg;
+                    cfg.max_leaf_size = leaf;
+                    cfg.bvh_width = width;
+                    const auto a = accel::make_accel(kind, m.view(), cfg);
+                    const std::uint64_t estimate = accel::build_memory_estimate(kind, m.triangle_count(), cfg);
+                    const std::uint64_t peak = std::max(a->stats().build_peak_bytes, a->stats().memory_bytes);
+                    CAPTURE(accel::to_string(kind));
+                    CAPTURE(m.triangle_count());
+                    CAPTURE(leaf);
+                    CAPTURE(width);
+                    if (kind == AccelKind::kdtree) CHECK(estimate <= peak);
+                    else CHECK(estimate >= peak);
+                }
+}
+
+TEST_CASE("memory budget: --max-memory refuses a build before it starts, with one line naming the structure") {
+    accel::BuildConfig cfg;
+    cfg.max_memory = 1ull << 30;
+    // From the triangle count alone: a billion triangles need more than 1 GiB for every structure.
+    for (auto kind : {accel::AccelKind::brute, accel::AccelKind::bvh_sah, accel::AccelKind::lbvh, accel::AccelKind::kdtree}) {
+        CAPTURE(accel::to_string(kind));
+        CHECK_THROWS_AS(accel::check_build_memory(kind, 1000000000, cfg), accel::MemoryLimitError);
+        CHECK_NOTHROW(accel::check_build_memory(kind, 1000, cfg));
+    }
+    try {
+        accel::check_build_memory(accel::AccelKind::bvh_sah, 1000000000, cfg);
+    } catch (const accel::MemoryLimitError& e) {
+        CHECK(std::string(e.what()) ==
+              "bvh-sah: building over 1000000000 triangles needs about 366211.0 MiB, more than max_memory = 1024.0 MiB (1073741824 bytes)");
+    }
+    // Through make_accel: just under the estimate throws, the estimate itself builds.
+    const engine::Mesh m = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
+    for (auto kind : {accel::AccelKind::brute, accel::AccelKind::bvh_median, accel::AccelKind::bvh_sah, accel::AccelKind::lbvh}) {
+        CAPTURE(accel::to_string(kind));
+        const std::uint64_t need = accel::build_memory_estimate(kind, m.triangle_count(), {});
+        cfg.max_memory = need - 1;
+        CHECK_THROWS_AS((void)accel::make_accel(kind, m.view(), cfg), accel::MemoryLimitError);
+        cfg.max_memory = need;
+        CHECK(accel::make_accel(kind, m.view(), cfg)->stats().triangles == m.triangle_count());
+    }
+    // The kd-tree's own check as it grows, behind a lower-bound estimate: also a MemoryLimitError.
+    cfg.max_memory = accel::build_memory_estimate(accel::AccelKind::kdtree, m.triangle_count(), {});
+    CHECK_THROWS_AS((void)accel::make_accel(accel::AccelKind::kdtree, m.view(), cfg), accel::MemoryLimitError);
 }

@@ -38,7 +38,7 @@ std::size_t count_degenerate(const engine::Mesh& m) {
 
 int run_info(const InfoOptions& o) {
     engine::Warnings warnings;
-    const engine::Mesh mesh = engine::load_obj(o.model, warnings);
+    const engine::Mesh mesh = engine::load_obj(o.model, warnings, o.build.max_memory);
     nlohmann::json j;
     j["file"] = o.model;
     j["triangles"] = mesh.triangle_count();

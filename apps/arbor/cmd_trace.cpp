@@ -28,8 +28,8 @@ struct TraceOptions {
 int run_trace(const TraceOptions& o) {
     const auto limit = limit_threads(o.threads);
     engine::Warnings warnings;
-    const engine::Mesh mesh = engine::load_obj(o.scene, warnings);
-    const std::vector<accel::Ray> rays = engine::read_rays(o.rays);
+    const engine::Mesh mesh = engine::load_obj(o.scene, warnings, o.build.max_memory);
+    const std::vector<accel::Ray> rays = engine::read_rays(o.rays, o.build.max_memory);
     std::string reason;
     std::unique_ptr<accel::Accel> prebuilt;
     double auto_ms = 0.0;

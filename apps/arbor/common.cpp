@@ -2,6 +2,7 @@
 
 #include "accel/auto_select.h"
 #include "engine/error.h"
+#include "engine/memory_budget.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -23,6 +24,17 @@ void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
     cmd.add_option("--sah-bins", cfg.sah_bins, "bins per axis of the binned SAH build (bvh-sah)")
         ->check(CLI::Range(2u, 32u))
         ->capture_default_str();
+    cmd.add_option("--max-memory", cfg.max_memory,
+                   "most bytes the build may use, e.g. 2G or 512M (powers of 1024; default: no limit); trace and "
+                   "info also refuse input files that would not fit")
+        ->transform(CLI::Validator(
+            [](std::string& v) -> std::string {
+                const auto bytes = engine::parse_byte_size(v);
+                if (!bytes) return "'" + v + "' is not a size in bytes (e.g. 2G, 512M, 100000)";
+                v = std::to_string(*bytes);
+                return {};
+            },
+            "BYTES"));
     cmd.add_option("--bvh-width", cfg.bvh_width, "children per node of the BVHs' SIMD layout: 4, 8 or 16 (default: the measured best)")
         ->check(CLI::IsMember({4u, 8u, 16u}));
 }

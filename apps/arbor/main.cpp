@@ -1,6 +1,7 @@
 /// `arbor`: subcommand dispatch and the single error boundary. Bad input (InputError, option
 /// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else.
 #include "apps/arbor/commands.h"
+#include "accel/memory_estimate.h"
 #include "engine/error.h"
 
 #include <cstdio>
@@ -33,6 +34,9 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "arbor: %s\n", e.what());
         return 2;
+    } catch (const arbor::accel::MemoryLimitError& e) {
+        std::fprintf(stderr, "arbor: --max-memory: %s\n", e.what());
+        return 1;
     } catch (const arbor::engine::InputError& e) {
         std::fprintf(stderr, "arbor: %s\n", e.what());
         return 1;
