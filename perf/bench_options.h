@@ -26,9 +26,9 @@ struct BenchOptions {
     /// Also time brute (only sensible on tiny scenes).
     bool time_brute = false;
     /// Rays per (scene, kind).
-    std::size_t rays = std::size_t(1) << 17;
+    std::size_t rays = std::size_t(1) << 16;
     /// Rays per (scene, kind) on the replicated scaling scenes (only primary and diffuse run there).
-    std::size_t scaling_rays = std::size_t(1) << 17;
+    std::size_t scaling_rays = std::size_t(1) << 16;
     /// Wall-time budget for timing one (scene, kind): when the repeats would take longer, fewer
     /// rays of the same kind are timed (a coarser image, same seed), at least min_timed_rays.
     double kind_seconds = 4.0;
