@@ -45,6 +45,17 @@ struct Sample {
     accel::LbvhTimings steps;
 };
 
+/// The 1-minute load average (the machine is shared: read timings against it).
+std::string load_average() {
+    std::FILE* f = std::fopen("/proc/loadavg", "r");
+    if (!f) return "?";
+    char buf[64] = {};
+    const bool ok = std::fgets(buf, sizeof buf, f) != nullptr;
+    std::fclose(f);
+    std::string s = ok ? buf : "?";
+    return s.substr(0, s.find(' '));
+}
+
 double median(std::vector<double> v) {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());
@@ -230,8 +241,10 @@ int main(int argc, char** argv) {
         variants.erase(std::remove_if(variants.begin(), variants.end(),
                                       [&](const Variant& v) { return v.name.find(only) == std::string::npos; }),
                        variants.end());
-    std::printf("# arbor_lbvh_bench: %s, copies %d, repeat %d\n", model.c_str(), copies, repeat);
+    std::printf("# arbor_lbvh_bench: %s, copies %d, repeat %d, load average %s\n", model.c_str(), copies, repeat,
+                load_average().c_str());
     run_scene("model", mesh, variants, threads, repeat, rays, !no_trace);
     if (copies > 0) run_scene("replicated x" + std::to_string(copies), replicate(mesh, copies), variants, threads, repeat, rays, !no_trace);
+    std::printf("\nload average at the end: %s\n", load_average().c_str());
     return 0;
 }
