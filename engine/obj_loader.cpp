@@ -10,6 +10,7 @@
 #include <charconv>
 #include <filesystem>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string_view>
@@ -160,6 +161,20 @@ void on_face(void* user, tinyobj::index_t*, int) {
 
 Vec3f to_vec(const tinyobj::real_t* c) { return {float(c[0]), float(c[1]), float(c[2])}; }
 
+/// Clamps every component of `c` to [0, hi], non-finite ones to 0; true when something changed.
+/// Reflectances above 1 would add energy at every bounce, negative or NaN ones would make
+/// negative or NaN pixels.
+bool clamp_colour(Vec3f& c, float hi) {
+    bool changed = false;
+    for (int k = 0; k < 3; ++k) {
+        const float v = c[k];
+        const float clamped = std::isfinite(v) ? std::clamp(v, 0.0f, hi) : 0.0f;
+        changed |= !(clamped == v);
+        c[k] = clamped;
+    }
+    return changed;
+}
+
 void on_mtllib(void* user, const tinyobj::material_t* mats, int n) {
     auto& s = *static_cast<State*>(user);
     s.mesh.materials.assign(1, Material{});  // index 0: the default, for faces before any usemtl
@@ -170,6 +185,12 @@ void on_mtllib(void* user, const tinyobj::material_t* mats, int n) {
         m.emission = to_vec(mats[i].emission);
         // illum 3..7 turn ray-traced reflection on: Ks is then the mirror reflectance.
         if (mats[i].illum >= 3 && mats[i].illum <= 7) m.mirror = to_vec(mats[i].specular);
+        bool clamped = clamp_colour(m.diffuse, 1.0f);
+        clamped |= clamp_colour(m.mirror, 1.0f);
+        clamped |= clamp_colour(m.emission, std::numeric_limits<float>::max());
+        if (clamped)
+            s.warnings->add(s.name + ": material '" + m.name +
+                            "': Kd/Ks clamped to [0, 1] and Ke to [0, max], non-finite values set to 0");
         s.mesh.materials.push_back(m);
     }
 }
