@@ -30,6 +30,8 @@ public:
         : bvh_(bvh), tris_(tris), out_(out) {
         merge_ = cfg.merge_triangles ? cfg.merge_triangles : std::uint32_t(N);
         max_leaf_ = std::clamp<std::uint32_t>(cfg.max_leaf_triangles, 1, 65535);
+        node_cost_ = cfg.node_cost;
+        block_cost_ = cfg.block_cost;
         const std::size_t n = bvh.nodes.size();
         sub_tris_.assign(n, 0);
         for (std::size_t i = n; i-- > 0;) {  // children come after their parents
@@ -40,9 +42,10 @@ public:
 
     void run() {
         if (bvh_.nodes.empty() || sub_tris_[0] == 0) return;
+        plan();
         std::vector<Kid> kids;
-        if (leaf_like(0)) kids.push_back({0, 0, sub_tris_[0], true});
-        else kids = open(0);
+        if (leaf_[0]) kids.push_back({0, 0, sub_tris_[0], true});
+        else collect(0, std::uint32_t(N), kids);
         build_node(kids, 1);
         out_.blocks.resize(next_block_);
         out_.leaves = jobs_.size();
@@ -53,27 +56,63 @@ public:
     }
 
 private:
-    bool leaf_like(std::uint32_t bin) const { return bvh_.nodes[bin].is_leaf() || sub_tris_[bin] <= merge_; }
+    static constexpr std::size_t S = N + 1;  // cost table row: slots 1..N
 
-    /// The children of interior binary node `bin` after greedy opening: largest area first.
-    std::vector<Kid> open(std::uint32_t bin) const {
-        const BvhBuildNode& node = bvh_.nodes[bin];
-        std::vector<Kid> kids{{node.first, 0, sub_tris_[node.first], true},
-                              {node.first + 1, 0, sub_tris_[node.first + 1], true}};
-        while (kids.size() < N) {
-            std::size_t best = kids.size();
-            double best_area = -1.0;
-            for (std::size_t k = 0; k < kids.size(); ++k) {
-                if (leaf_like(kids[k].bin)) continue;
-                const double a = bvh_.nodes[kids[k].bin].box.area();
-                if (a > best_area) best_area = a, best = k;  // first of equals: deterministic
+    /// The SAH-optimal collapse of the binary tree by dynamic programming, bottom-up (Ylitie et al.,
+    /// "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017):
+    /// cost_[n][i] is the least SAH cost of binary node n's subtree spread over at most i slots of a
+    /// wide node; one slot is n itself, as a leaf (area x blocks x block cost, allowed up to
+    /// merge_ triangles; a binary leaf always) or as a wide node (area x node cost + its subtree
+    /// spread over N slots). choice_[n][i] records the split of i slots between n's children
+    /// (0: fewer slots suffice).
+    void plan() {
+        const std::size_t n = bvh_.nodes.size();
+        cost_.assign(n * S, 0.0f);
+        choice_.assign(n * S, 0);
+        leaf_.assign(n, 0);
+        for (std::size_t i = n; i-- > 0;) {  // children come after their parents
+            const BvhBuildNode& node = bvh_.nodes[i];
+            const double area = std::max(0.0, double(node.box.area()));
+            float* c = &cost_[i * S];
+            const double as_leaf = area * block_cost_ * double(wide_blocks<N>(sub_tris_[i]));
+            if (node.is_leaf()) {
+                leaf_[i] = 1;
+                for (std::size_t k = 1; k <= N; ++k) c[k] = float(as_leaf);
+                continue;
             }
-            if (best == kids.size()) break;
-            const BvhBuildNode& b = bvh_.nodes[kids[best].bin];
-            kids[best] = {b.first, 0, sub_tris_[b.first], true};
-            kids.insert(kids.begin() + std::ptrdiff_t(best) + 1, Kid{b.first + 1, 0, sub_tris_[b.first + 1], true});
+            const float* l = &cost_[std::size_t(node.first) * S];
+            const float* r = &cost_[std::size_t(node.first + 1) * S];
+            std::uint8_t* ch = &choice_[i * S];
+            for (std::size_t k = 2; k <= N; ++k) {  // the two children over k slots
+                float best = INFINITY;
+                std::uint8_t split = 1;
+                for (std::size_t a = 1; a < k; ++a) {
+                    const float v = l[a] + r[k - a];
+                    if (v < best) best = v, split = std::uint8_t(a);  // first of equals: deterministic
+                }
+                c[k] = best;
+                ch[k] = split;
+            }
+            const double as_node = area * node_cost_ + double(c[N]);
+            const bool leaf = sub_tris_[i] <= merge_ && as_leaf <= as_node;
+            leaf_[i] = leaf ? 1 : 0;
+            c[1] = float(leaf ? as_leaf : as_node);
+            for (std::size_t k = 2; k <= N; ++k)
+                if (c[k - 1] < c[k]) c[k] = c[k - 1], ch[k] = 0;
         }
-        return kids;
+    }
+
+    /// Appends the kids of binary node `bin` spread over at most `slots` slots, as planned.
+    void collect(std::uint32_t bin, std::uint32_t slots, std::vector<Kid>& kids) const {
+        const BvhBuildNode& node = bvh_.nodes[bin];
+        while (slots > 1 && !node.is_leaf() && choice_[bin * S + slots] == 0) --slots;
+        if (slots <= 1 || node.is_leaf()) {
+            kids.push_back({bin, 0, sub_tris_[bin], true});
+            return;
+        }
+        const std::uint32_t a = choice_[bin * S + slots];
+        collect(node.first, a, kids);
+        collect(node.first + 1, slots - a, kids);
     }
 
     /// Kids for a leaf too big for one wide leaf: up to N chunks of about equal size.
@@ -105,8 +144,10 @@ private:
         for (std::size_t c = 0; c < kids.size(); ++c) {
             const Kid& k = kids[c];
             std::uint32_t child = 0, count = 0;
-            if (k.whole && !leaf_like(k.bin)) {
-                child = build_node(open(k.bin), depth + 1);
+            if (k.whole && !leaf_[k.bin]) {
+                std::vector<Kid> sub;
+                collect(k.bin, std::uint32_t(N), sub);
+                child = build_node(sub, depth + 1);
             } else if (k.count > max_leaf_) {
                 child = build_node(chunk(k), depth + 1);
             } else {
@@ -164,7 +205,10 @@ private:
     const TriangleView& tris_;
     WideLayout<N>& out_;
     std::uint32_t merge_ = N, max_leaf_ = 65535;
+    double node_cost_ = 1.0, block_cost_ = 1.0;
     std::vector<std::uint32_t> sub_tris_;
+    std::vector<float> cost_;
+    std::vector<std::uint8_t> choice_, leaf_;
     std::vector<LeafJob> jobs_;
     std::uint32_t next_block_ = 0;
 };

@@ -8,14 +8,13 @@
 /// ORIGINAL vertices (the watertight test needs bit-identical inputs for shared edges); unused lanes
 /// hold NaN vertices, which never hit. Nodes are stored depth-first (pre-order).
 ///
-/// The collapse is greedy and SAH-aware: a node starts with the two children of its binary node and
-/// repeatedly opens the interior child of largest surface area (the one a random ray is most likely
-/// to enter, so the one whose own test is most worth saving) until it has N children; a binary
-/// subtree of at most `merge_triangles` triangles becomes one leaf (one block test instead of a node
-/// test plus several partly empty blocks). The child boxes are the binary boxes, so the collapse
-/// keeps the tree's bounds exactly. See "Shallow Bounding Volume Hierarchies for Fast SIMD Ray
-/// Tracing of Incoherent Rays", H. Dammertz et al., EGSR 2008, and Wald et al., "Getting Rid of
-/// Packets", RT 2008 (collapsing binary BVHs into 4- and 16-wide ones).
+/// The collapse is SAH-optimal for the given binary tree (dynamic programming over the slots each
+/// binary subtree may take, Ylitie et al., HPG 2017; see Collapser::plan): it chooses which binary
+/// nodes become wide nodes, which are skipped (their children pulled up into the parent's slots) and
+/// which subtrees of at most `merge_triangles` triangles become one leaf, pricing a node test and a
+/// leaf by its blocks. The child boxes are the binary boxes, so the collapse keeps the tree's bounds
+/// exactly. See also "Shallow Bounding Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent
+/// Rays", H. Dammertz et al., EGSR 2008, and Wald et al., "Getting Rid of Packets", RT 2008.
 #include "accel/binary_bvh.h"
 #include "simd/box_kernels.h"
 #include "simd/tri_kernels.h"
@@ -27,11 +26,15 @@ namespace arbor::accel {
 
 /// Settings of the collapse; the defaults are the measured best (perf/results/wide-*.md).
 struct WideConfig {
-    /// A binary subtree with at most this many triangles becomes one leaf. 0 = the width N.
+    /// A binary subtree with at most this many triangles may become one leaf (the SAH decides; a
+    /// binary leaf always stays one). 0 = the width N.
     std::uint32_t merge_triangles = 0;
     /// Most triangles in one leaf (1..65535): bigger binary leaves are split into chunks under
     /// extra nodes (all with the leaf's box).
     std::uint32_t max_leaf_triangles = 65535;
+    /// SAH costs of the collapse: one N-wide node test and one N-triangle block test (block / node
+    /// = 2, 3 or 4 measured alike; perf/results/wide-2026-11-22.md).
+    float node_cost = 1.0f, block_cost = 3.0f;
     /// Packet path: rays per packet, 8 or 16 (anything else: the default of the build).
     std::uint32_t packet_lanes = 0;
     /// Packet path: at a node reached by at most this many lanes, they go on as single rays

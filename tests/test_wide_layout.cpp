@@ -170,3 +170,63 @@ TEST_CASE("wide layout: a shared model at every width, identical with 1 and 2 th
     CHECK(std::memcmp(serial.nodes.data(), L16.nodes.data(), L16.nodes.size() * sizeof(L16.nodes[0])) == 0);
     CHECK(std::memcmp(serial.blocks.data(), L16.blocks.data(), L16.blocks.size() * sizeof(L16.blocks[0])) == 0);
 }
+
+namespace {
+
+/// The SAH cost the collapse minimizes, of a wide layout: node boxes' areas x node cost plus leaf
+/// boxes' areas x blocks x block cost (a node's box is the union of its children's).
+template <std::size_t N> double wide_sah(const accel::WideLayout<N>& L, const accel::WideConfig& wc) {
+    double cost = 0.0;
+    std::function<void(std::uint32_t)> node = [&](std::uint32_t i) {
+        const accel::WideNode<N>& n = L.nodes[i];
+        Bounds all;
+        for (std::size_t c = 0; c < n.children; ++c) {
+            const Bounds b{{n.boxes.b[0][0][c], n.boxes.b[0][1][c], n.boxes.b[0][2][c]},
+                           {n.boxes.b[1][0][c], n.boxes.b[1][1][c], n.boxes.b[1][2][c]}};
+            all.grow(b);
+            if (n.count[c]) cost += b.area() * wc.block_cost * accel::wide_blocks<N>(n.count[c]);
+            else node(n.child[c]);
+        }
+        cost += all.area() * wc.node_cost;
+    };
+    node(0);
+    return cost;
+}
+
+/// The same cost of the binary tree taken as it is (every interior node a 2-wide node): one of the
+/// collapses the optimum was chosen from.
+double binary_sah(const accel::BinaryBvh& bvh, std::size_t n, const accel::WideConfig& wc) {
+    double cost = 0.0;
+    for (const accel::BvhBuildNode& node : bvh.nodes)
+        cost += node.is_leaf() ? node.box.area() * wc.block_cost * double((node.count + n - 1) / n) : node.box.area() * wc.node_cost;
+    return cost;
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("wide layout: the SAH collapse costs no more than the binary tree, merged leaves no more than unmerged", W,
+                   std::integral_constant<std::size_t, 4>, std::integral_constant<std::size_t, 16>) {
+    constexpr std::size_t N = W::value;
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 5);
+    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 24, 10));
+    const accel::PrimRefs refs = accel::make_prim_refs(mesh.view());
+    for (const auto build : {accel::build_bvh_median, accel::build_bvh_sah, accel::build_lbvh}) {
+        const accel::BinaryBvh bvh = build(refs, {});
+        for (const float block_cost : {1.0f, 3.0f, 8.0f}) {
+            accel::WideConfig wc;
+            wc.block_cost = block_cost;
+            wc.merge_triangles = 1;  // only binary leaves: the binary tree itself is a candidate
+            const auto L = accel::make_wide_layout<N>(bvh, mesh.view(), wc);
+            CAPTURE(block_cost);
+            const double wide = wide_sah(L, wc), binary = binary_sah(bvh, N, wc);
+            CHECK(wide <= binary * (1.0 + 1e-5));
+            // Real collapsing happened: the optimum skips binary nodes (fewer, fuller nodes).
+            std::size_t interior = 0;
+            for (const auto& node : bvh.nodes) interior += !node.is_leaf();
+            CHECK(L.nodes.size() * 2 < interior);
+            // Merging allowed: never costlier than without.
+            wc.merge_triangles = 0;
+            CHECK(wide_sah(accel::make_wide_layout<N>(bvh, mesh.view(), wc), wc) <= wide * (1.0 + 1e-5));
+        }
+    }
+}
