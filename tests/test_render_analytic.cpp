@@ -1,6 +1,6 @@
 // Known answers: the white furnace, a plane under a point light (inverse-square cosine law per
 // pixel), a plane under a square area light (form factor), a closed emissive room
-// (L = Le / (1 - albedo)) and the 1/sqrt(spp) convergence of the error.
+// (L = Le / (1 - albedo)), the 1/sqrt(spp) convergence of the per-pixel error and of the image mean.
 #include "engine/image_metrics.h"
 #include "render_scenes.h"
 
@@ -49,6 +49,28 @@ double mean_and_stderr(const engine::Image& img, double& stderr_out) {
     stderr_out = std::sqrt(std::max(0.0, var) / double(r.size()));
     return m;
 }
+
+/// A 2x2 emitter (Le = 2) at height 1 over a ground plane of albedo 0.5; the camera looks at the
+/// origin through a narrow field of view. Irradiance E = pi Le F with F the form factor of four 1x1
+/// corner rectangles; the reflected radiance is rho Le F (area_light_expected).
+engine::Scene area_light_scene() {
+    engine::Scene s;
+    s.mesh = engine::with_material(engine::make_ground(0.0f, 0.0f, 0.0f, 10.0f), testing::diffuse(0.5f, 0.5f, 0.5f));
+    s.mesh.append(engine::with_material(engine::make_ground(1.0f, 0.0f, 0.0f, 1.0f), testing::emitter(2.0f)));
+    s.mesh.compute_bounds();
+    s.background = {0, 0, 0};
+    s.camera.eye = {0, 0.5f, 3};
+    s.camera.look_at = {0, 0, 0};
+    s.camera.vfov_degrees = 0.5f;
+    return s;
+}
+
+double corner_form_factor(double x, double y) {
+    return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
+            y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) / (2 * std::numbers::pi);
+}
+
+const double area_light_expected = 0.5 * 2.0 * 4 * corner_form_factor(1.0, 1.0);
 
 }  // namespace
 
@@ -116,29 +138,14 @@ TEST_CASE("point light over a plane: the inverse-square cosine law, pixel by pix
 }
 
 TEST_CASE("square area light over a plane: the form factor, by direct and by path") {
-    // A 2x2 emitter at height 1 over the origin; the camera looks at the origin through a narrow
-    // field of view. Irradiance E = pi Le F with F the form factor of four 1x1 corner rectangles;
-    // the reflected radiance is rho Le F.
-    const float rho = 0.5f, le = 2.0f, h = 1.0f;
-    engine::Scene s;
-    s.mesh = engine::with_material(engine::make_ground(0.0f, 0.0f, 0.0f, 10.0f), testing::diffuse(rho, rho, rho));
-    s.mesh.append(engine::with_material(engine::make_ground(h, 0.0f, 0.0f, 1.0f), testing::emitter(le)));
-    s.mesh.compute_bounds();
-    s.background = {0, 0, 0};
-    s.camera.eye = {0, 0.5f, 3};
-    s.camera.look_at = {0, 0, 0};
-    s.camera.vfov_degrees = 0.5f;
-    const double x = 1.0 / h, y = 1.0 / h;
-    const double corner = (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
-                           y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) / (2 * std::numbers::pi);
-    const double expected = rho * le * 4 * corner;
+    const auto s = area_light_scene();
     for (IntegratorKind k : {IntegratorKind::direct, IntegratorKind::path}) {
         CAPTURE(engine::to_string(k));
         const auto img = testing::render_brute(s, testing::tiny_settings(k, 8, 8, 256));
         double se = 0;
         const double m = mean_and_stderr(img, se);
         CHECK(se > 0.0);
-        CHECK(std::fabs(m - expected) < 5 * se + 2e-3 * expected);
+        CHECK(std::fabs(m - area_light_expected) < 5 * se + 2e-3 * area_light_expected);
     }
 }
 
@@ -164,4 +171,35 @@ TEST_CASE("closed emissive room: L = Le / (1 - a), and the error falls as 1/sqrt
     CAPTURE(ratio);
     CHECK(ratio > 4.0 / 1.5);
     CHECK(ratio < 4.0 * 1.5);
+}
+
+TEST_CASE("area light over a plane: the error of the image mean falls as 1/sqrt(spp) over independent seeds") {
+    // The mean of an image is itself an estimate of the known radiance; over 64 seeds its
+    // root-mean-square error must shrink by sqrt(16) = 4 from 2 to 32 samples per pixel, and the mean
+    // of the means must show no bias. (Light sampling here has finite variance; the closed room
+    // above does not: next-event estimation between neighbouring faces has a 1/d^2 singularity.)
+    const auto s = area_light_scene();
+    auto set = testing::tiny_settings(IntegratorKind::direct, 4, 4, 2);
+    const int seeds = 64;
+    const int spp[2] = {2, 32};
+    double rms[2];
+    for (int i = 0; i < 2; ++i) {
+        set.spp = spp[i];
+        double sum2 = 0.0, sum = 0.0;
+        for (int k = 0; k < seeds; ++k) {
+            set.seed = std::uint32_t(1000 + k);
+            double se = 0;
+            const double err = mean_and_stderr(testing::render_brute(s, set), se) - area_light_expected;
+            sum += err;
+            sum2 += err * err;
+        }
+        rms[i] = std::sqrt(sum2 / seeds);
+        CAPTURE(spp[i]);
+        CHECK(rms[i] > 0.0);
+        CHECK(std::fabs(sum / seeds) < 3.0 * rms[i] / std::sqrt(double(seeds)) + 2e-3 * area_light_expected);
+    }
+    const double ratio = rms[0] / rms[1];
+    CAPTURE(ratio);
+    CHECK(ratio > 4.0 / 1.4);
+    CHECK(ratio < 4.0 * 1.4);
 }
