@@ -32,6 +32,9 @@ struct BenchOptions {
     /// Wall-time budget for timing one (scene, kind): when the repeats would take longer, fewer
     /// rays of the same kind are timed (a coarser image, same seed), at least min_timed_rays.
     double kind_seconds = 4.0;
+    /// One timing repeats the pass over the timed rays until this many ms have passed (per-pass
+    /// time = elapsed / passes), so that no timing is a single scheduler slice.
+    double min_timed_ms = 10.0;
     std::size_t min_timed_rays = std::size_t(1) << 14;
     /// Scenes above this many triangles are built once, timed at all threads only, and run Embree's
     /// default mode only.

@@ -32,6 +32,7 @@ BenchOptions BenchOptions::quick() {
     o.scaling_rays = std::size_t(1) << 14;
     o.repeats = 3;
     o.kind_seconds = 1.5;
+    o.min_timed_ms = 5.0;
     o.min_timed_rays = std::size_t(1) << 12;
     o.build_repeats = 2;
     o.brute_budget = 2e8;

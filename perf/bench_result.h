@@ -22,6 +22,9 @@ struct BenchRow {
     std::string scene, family, kind, query;  ///< query: closest or any (shadow rays)
     std::string structure;                   ///< arbor structure name, or embree[-high][-robust]
     std::string path;                        ///< scalar|packet|single, or the Embree call 1|8|16|1M
+    /// The path TracePath::best takes on most chunks of these rays (what `arbor trace`, the
+    /// renderer and --accel auto run); false on Embree rows.
+    bool best_path = false;
     bool embree = false;
     int threads = 0;
     std::size_t triangles = 0;
@@ -32,6 +35,11 @@ struct BenchRow {
     Stat3 trace_ms;  ///< wall time of tracing all rays
     Stat3 mrays;     ///< rays / trace time, in millions per second (min from the slowest run)
     std::vector<double> build_samples, trace_samples;  ///< every build / timed trace, ms, in run order
+    /// Process CPU time of each timed trace divided by the thread count, ms (in run order): the
+    /// wall time the trace would take on an otherwise idle machine (perfect parallel speed-up),
+    /// untouched by the time other jobs hold the cores.
+    std::vector<double> trace_cpu_samples;
+    Stat3 trace_cpu_ms;
 
     // Structure statistics (NaN / 0 when the structure does not report them).
     double nodes = nan_value, leaves = nan_value, max_depth = nan_value, sah_cost = nan_value;
@@ -47,6 +55,8 @@ struct BenchRow {
 
     double ratio_embree = nan_value;  ///< median Mrays/s over Embree default's best call (same scene, kind, threads)
     std::vector<double> total_ms;     ///< build + trace time for each ray budget of the run
+    /// The same from the fastest build and the median CPU-time trace (trace_cpu_ms).
+    std::vector<double> total_cpu_ms;
 
     // --accel auto on this row's (scene, kind, threads): filled on the auto rows only.
 };
@@ -57,13 +67,21 @@ struct AutoRow {
     int threads = 0;
     double budget = 0.0;
     std::string picked, best;   ///< structure auto picked, structure with the smallest measured total
+    std::string picked_path, best_path;  ///< the path best takes on the picked one; the best row's path
+    /// picked_ms: the picked structure on the path TracePath::best takes (the row auto's pick would
+    /// run); best_ms: the smallest total of any arbor (structure, path) row.
     double picked_ms = 0.0, best_ms = 0.0;
     double regret = 0.0;        ///< picked_ms / best_ms - 1 (NaN: auto picked a structure not timed)
+    /// The same against the picked structure's own best path (as if auto also chose the path).
+    double regret_any_path = 0.0;
     double overhead_ms = 0.0;   ///< auto's own calibration: builds on the (sub)scene + sample traces
     double regret_with_overhead = 0.0;  ///< (picked_ms + overhead_ms) / best_ms - 1
     /// The regret with totals from the fastest build and trace repeats instead of the medians (less
     /// sensitive to other work on a shared machine).
     double regret_fastest = 0.0;
+    /// The regret with totals from total_cpu_ms (CPU time of the traces / threads, fastest build).
+    double regret_cpu = 0.0;
+    double oracle_split_regret_cpu = 0.0;  ///< the noise floor of regret_cpu
     /// Noise floor: the regret of an oracle that picks on half of the repeats and is judged on the
     /// other half. Where this is above 10%, no predictor can be reliably within 10% in this run.
     double oracle_split_regret = 0.0;

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <ctime>
 
 namespace arbor::perf {
 
@@ -42,6 +43,13 @@ private:
     bool on_;
     accel::Timer timer_;
 };
+
+/// CPU time of the whole process, ms (all threads).
+double process_cpu_ms() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
 
 /// The first three fields of /proc/loadavg ("" elsewhere): other processes skew every timing.
 std::string load_average() {
@@ -117,11 +125,11 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     // 2. Every configuration once on all rays (all threads): the answers for the error columns,
     // and a first time for planning.
     std::vector<std::vector<Hit>> answers(configs.size(), std::vector<Hit>(n));
-    double pass_ms = 0.0;
+    std::vector<double> pass_ms(configs.size());
     for (std::size_t c = 0; c < configs.size(); ++c) {
         const accel::Timer timer;
         configs[c].trace(rays, answers[c], in.query, in.coherent);
-        pass_ms += timer.ms();
+        pass_ms[c] = timer.ms();
     }
     const std::vector<Hit>* embree_ref = nullptr;
     std::map<const Built*, const std::vector<Hit>*> scalar_ref;
@@ -148,27 +156,54 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     // rotated each repeat. When that would take longer than o.kind_seconds, the timed rays are a
     // smaller set of the same kind and seed (a coarser image), never fewer than o.min_timed_rays.
     // The first pass ran on all threads; at t threads a pass takes about all/t times as long.
+    // Each timing traces the rays as often as it takes to fill o.min_timed_ms (a 2 ms trace on a
+    // shared machine is one scheduler slice: it runs undisturbed or waits a whole slice).
     const int all = *std::max_element(threads.begin(), threads.end());
-    double slowdown = 0.0;
-    for (const int t : threads) slowdown += double(all) / double(t);
-    const double projected_s = pass_ms * 1e-3 * double(o.repeats) * slowdown;
+    double projected_ms = 0.0, floor_ms = 0.0;
+    for (const int t : threads)
+        for (const double p : pass_ms) {
+            projected_ms += std::max(p * double(all) / double(t), o.min_timed_ms) * double(o.repeats);
+            floor_ms += o.min_timed_ms * double(o.repeats);
+        }
     std::vector<Ray> fewer;
-    if (projected_s > o.kind_seconds && n > o.min_timed_rays && in.make_rays) {
-        const auto m = std::max(o.min_timed_rays, std::size_t(double(n) * o.kind_seconds / projected_s));
-        fewer = in.make_rays(m);
+    if (projected_ms * 1e-3 > o.kind_seconds && n > o.min_timed_rays && in.make_rays) {
+        const double room = std::max(o.kind_seconds * 1e3 - floor_ms, 0.1 * o.kind_seconds * 1e3);
+        const auto m = std::max(o.min_timed_rays, std::size_t(double(n) * room / std::max(projected_ms - floor_ms, 1.0)));
+        if (m < n) fewer = in.make_rays(m);
     }
     const std::vector<Ray>& timed = fewer.empty() ? rays : fewer;
     const std::size_t nt = timed.size();
     std::vector<Hit> scratch(nt);
+    // The path TracePath::best takes, per arbor structure: the majority over the trace chunks.
+    std::map<const Built*, accel::TracePath> best_of;
+    for (const Built& b : built) {
+        if (!b.accel) continue;
+        std::map<accel::TracePath, std::size_t> votes;
+        for (std::size_t i = 0; i < nt; i += 1024) {
+            const auto chunk = std::span<const Ray>(timed).subspan(i, std::min<std::size_t>(1024, nt - i));
+            ++votes[b.accel->resolve_path(chunk, in.query == Query::any)];
+        }
+        best_of[&b] = std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) {
+                          return x.second < y.second;
+                      })->first;
+    }
     for (const int t : threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-        std::vector<std::vector<double>> ms(configs.size());
+        std::vector<std::vector<double>> ms(configs.size()), cpu(configs.size());
         for (int rep = 0; rep < o.repeats; ++rep) {
             for (std::size_t j = 0; j < configs.size(); ++j) {
                 const std::size_t c = (j + std::size_t(rep)) % configs.size();
+                const double cpu0 = process_cpu_ms();
                 const accel::Timer timer;
-                configs[c].trace(timed, scratch, in.query, in.coherent);
-                ms[c].push_back(timer.ms());
+                std::size_t passes = 0;
+                double elapsed = 0.0;
+                do {
+                    configs[c].trace(timed, scratch, in.query, in.coherent);
+                    ++passes;
+                    elapsed = timer.ms();
+                } while (elapsed < o.min_timed_ms);
+                ms[c].push_back(elapsed / double(passes));  // per pass over the timed rays
+                cpu[c].push_back((process_cpu_ms() - cpu0) / double(passes) / double(t));
             }
         }
         for (std::size_t c = 0; c < configs.size(); ++c) {
@@ -181,6 +216,7 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             r.query = in.query == Query::any ? "any" : "closest";
             r.structure = b.name;
             r.path = cfg.path;
+            r.best_path = b.accel && best_of.count(&b) && best_of.at(&b) == cfg.arbor_path;
             r.embree = b.is_embree();
             r.threads = t;
             r.triangles = tris;
@@ -190,6 +226,8 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second), r.build_samples = bt->second;
             r.trace_ms = summarize(ms[c]);
             r.trace_samples = ms[c];
+            r.trace_cpu_ms = summarize(cpu[c]);
+            r.trace_cpu_samples = cpu[c];
             const double mr = double(nt) * 1e-3;  // rays per ms -> Mrays/s
             r.mrays = {mr / r.trace_ms.median, mr / r.trace_ms.max, mr / r.trace_ms.min};
             if (b.accel) {
@@ -208,8 +246,10 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             if (const auto it = scalar_ref.find(&b); it != scalar_ref.end() && cfg.path != "scalar")
                 r.err_scalar = count_disagreements(answers[c], *it->second, in.query);
             if (embree_ref) r.err_embree = count_disagreements(answers[c], *embree_ref, in.query);
-            for (const double budget : o.budgets)
+            for (const double budget : o.budgets) {
                 r.total_ms.push_back(r.build_ms.median + budget / (r.mrays.median * 1e6) * 1e3);
+                r.total_cpu_ms.push_back(r.build_ms.min + budget * r.trace_cpu_ms.median / double(nt));
+            }
             out.rows.push_back(std::move(r));
         }
     }
@@ -223,15 +263,16 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
 /// itself spent: its calibration builds plus tracing the sample.
 /// The noise floor of the measurement: the structure with the smallest total on the even-numbered
 /// repeats, judged by the odd-numbered ones (its regret there). NaN with fewer than 2 repeats.
-double split_half_regret(const std::vector<BenchRow>& rows, std::size_t from, int threads, double budget) {
+double split_half_regret(const std::vector<BenchRow>& rows, std::size_t from, int threads, double budget, bool cpu = false) {
     std::map<std::string, std::pair<double, double>> half;  // structure -> (even total, odd total), best path
     for (std::size_t i = from; i < rows.size(); ++i) {
         const BenchRow& r = rows[i];
-        if (r.embree || r.threads != threads || r.trace_samples.size() < 2) continue;
+        const std::vector<double>& samples = cpu ? r.trace_cpu_samples : r.trace_samples;
+        if (r.embree || r.threads != threads || samples.size() < 2) continue;
         std::vector<double> even, odd;
-        for (std::size_t k = 0; k < r.trace_samples.size(); ++k) (k % 2 ? odd : even).push_back(r.trace_samples[k]);
+        for (std::size_t k = 0; k < samples.size(); ++k) (k % 2 ? odd : even).push_back(samples[k]);
         auto total = [&](const std::vector<double>& v) {
-            return r.build_ms.median + budget * summarize(v).median / double(r.rays);
+            return (cpu ? r.build_ms.min : r.build_ms.median) + budget * summarize(v).median / double(r.rays);
         };
         const std::pair<double, double> t{total(even), total(odd)};
         auto [it, fresh] = half.emplace(r.structure, t);
@@ -256,44 +297,66 @@ void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::si
     for (auto& [t, st] : autos) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
         const double before = st.selector->calibration_ms();
-        const auto preds = st.selector->predict(in.rays, in.query == Query::any);
-        const double overhead = st.construct_ms + (st.selector->calibration_ms() - before);
+        const bool any = in.query == Query::any;
+        std::vector<accel::AutoPrediction> preds;  // computed when a budget is not tiny
         for (std::size_t bi = 0; bi < o.budgets.size(); ++bi) {
-            const accel::AutoChoice choice = st.selector->pick(preds, o.budgets[bi]);
-            // structure -> best total over its paths, from the median and from the fastest repeat
-            std::map<std::string, double> measured, fastest;
+            // As `arbor trace --accel auto` would run it: the tiny-budget shortcut first, then the
+            // predictions (made once per kind), refined for this budget.
+            accel::AutoChoice choice = st.selector->choose_tiny(in.rays, any, o.budgets[bi]);
+            if (choice.predictions.empty()) {
+                if (preds.empty()) preds = st.selector->predict(in.rays, any);
+                preds = st.selector->refine(preds, in.rays, any, o.budgets[bi]);
+                choice = st.selector->pick(preds, o.budgets[bi]);
+            }
+            const double overhead = st.construct_ms + (st.selector->calibration_ms() - before);
+            // Totals per structure: on the path best takes (what the pick runs) and on its best
+            // path, from the median repeats and from the fastest ones.
+            std::map<std::string, double> on_best_path, any_path, fastest_best_path, cpu_best_path;
+            double cpu_best = 0.0;
+            std::map<std::string, std::string> best_path_name;
+            double best_ms = 0.0, fastest_best = 0.0;
+            std::string best_name, best_row_path;
             for (std::size_t i = from; i < out.rows.size(); ++i) {
                 const BenchRow& r = out.rows[i];
                 if (r.embree || r.threads != t || bi >= r.total_ms.size()) continue;
-                auto [it, fresh] = measured.emplace(r.structure, r.total_ms[bi]);
-                if (!fresh) it->second = std::min(it->second, r.total_ms[bi]);
                 const double fast = r.build_ms.min + o.budgets[bi] / (r.mrays.max * 1e6) * 1e3;
-                auto [jt, fresh2] = fastest.emplace(r.structure, fast);
-                if (!fresh2) jt->second = std::min(jt->second, fast);
+                if (best_name.empty() || r.total_ms[bi] < best_ms) best_ms = r.total_ms[bi], best_name = r.structure, best_row_path = r.path;
+                if (fastest_best == 0.0 || fast < fastest_best) fastest_best = fast;
+                if (bi < r.total_cpu_ms.size() && (cpu_best == 0.0 || r.total_cpu_ms[bi] < cpu_best)) cpu_best = r.total_cpu_ms[bi];
+                auto [it, fresh] = any_path.emplace(r.structure, r.total_ms[bi]);
+                if (!fresh) it->second = std::min(it->second, r.total_ms[bi]);
+                if (r.best_path) {
+                    on_best_path[r.structure] = r.total_ms[bi];
+                    fastest_best_path[r.structure] = fast;
+                    if (bi < r.total_cpu_ms.size()) cpu_best_path[r.structure] = r.total_cpu_ms[bi];
+                    best_path_name[r.structure] = r.path;
+                }
             }
-            if (measured.empty()) continue;
+            if (best_name.empty()) continue;
             AutoRow a;
             a.scene = in.scene->name;
             a.kind = std::string(engine::to_string(in.kind));
             a.threads = t;
             a.budget = o.budgets[bi];
             a.picked = std::string(accel::to_string(choice.kind));
-            const auto best = std::min_element(measured.begin(), measured.end(),
-                                               [](const auto& x, const auto& y) { return x.second < y.second; });
-            a.best = best->first;
-            a.best_ms = best->second;
-            const auto picked = measured.find(a.picked);
-            a.picked_ms = picked == measured.end() ? nan_value : picked->second;
+            a.picked_path = best_path_name.count(a.picked) ? best_path_name[a.picked] : std::string(accel::to_string(choice.path));
+            a.best = best_name;
+            a.best_path = best_row_path;
+            a.best_ms = best_ms;
+            const auto picked = on_best_path.find(a.picked);
+            a.picked_ms = picked == on_best_path.end() ? nan_value : picked->second;
             a.regret = a.picked_ms / a.best_ms - 1.0;
+            const auto picked_any = any_path.find(a.picked);
+            a.regret_any_path = picked_any == any_path.end() ? nan_value : picked_any->second / a.best_ms - 1.0;
             a.overhead_ms = overhead;
             a.regret_with_overhead = (a.picked_ms + overhead) / a.best_ms - 1.0;
-            const double fastest_best =
-                std::min_element(fastest.begin(), fastest.end(), [](const auto& x, const auto& y) { return x.second < y.second; })
-                    ->second;
-            const auto fastest_picked = fastest.find(a.picked);
-            a.regret_fastest = fastest_picked == fastest.end() ? nan_value : fastest_picked->second / fastest_best - 1.0;
+            const auto fastest_picked = fastest_best_path.find(a.picked);
+            a.regret_fastest = fastest_picked == fastest_best_path.end() ? nan_value : fastest_picked->second / fastest_best - 1.0;
+            const auto cpu_picked = cpu_best_path.find(a.picked);
+            a.regret_cpu = cpu_picked == cpu_best_path.end() || cpu_best <= 0 ? nan_value : cpu_picked->second / cpu_best - 1.0;
             a.reason = choice.reason;
             a.oracle_split_regret = split_half_regret(out.rows, from, t, o.budgets[bi]);
+            a.oracle_split_regret_cpu = split_half_regret(out.rows, from, t, o.budgets[bi], true);
             out.autos.push_back(std::move(a));
         }
     }

@@ -14,7 +14,10 @@
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include <map>
+#include <set>
 #include <sstream>
+#include <tuple>
 
 using namespace arbor;
 
@@ -121,6 +124,14 @@ TEST_CASE("bench: summarize gives median, min, max") {
     CHECK(std::isnan(perf::summarize({}).median));
 }
 
+namespace {
+/// The tiny scene's triangles, to ask a structure which paths it has.
+accel::TriangleView s_view_for_paths() {
+    static const perf::BenchScene s = perf::tiny_scene();
+    return s.scene.mesh.view();
+}
+}  // namespace
+
 TEST_CASE("bench: a tiny run validates every row against brute and writes consistent reports") {
     perf::BenchOptions o;
     o.scenes = {"tiny"};
@@ -149,6 +160,34 @@ TEST_CASE("bench: a tiny run validates every row against brute and writes consis
         }
     }
     CHECK(brute_rows == 4 * 2 * 1);  // kinds x threads x paths (brute has only scalar)
+    // Every path each structure has is timed, and exactly one of them is the one best takes.
+    std::map<std::tuple<std::string, std::string, int>, std::pair<int, std::set<std::string>>> per_structure;
+    for (const auto& row : r.rows) {
+        if (row.embree) {
+            CHECK_FALSE(row.best_path);
+            continue;
+        }
+        auto& e = per_structure[{row.structure, row.kind, row.threads}];
+        e.first += row.best_path;
+        e.second.insert(row.path);
+    }
+    for (const auto& [key, e] : per_structure) {
+        INFO(std::get<0>(key), " ", std::get<1>(key));
+        CHECK(e.first == 1);
+        const auto kind = *accel::parse_accel_kind(std::get<0>(key));
+        const auto acc = accel::make_accel(kind, s_view_for_paths());
+        for (const auto p : {accel::TracePath::packet, accel::TracePath::single})
+            CHECK(e.second.count(std::string(accel::to_string(p))) == (acc->has_path(p) ? 1u : 0u));
+    }
+    // auto on every (kind, threads, budget), judged against the best (structure, path) row.
+    CHECK(r.autos.size() == 4 * 2 * o.budgets.size());
+    for (const auto& a : r.autos) {
+        INFO(a.kind, " ", a.budget, " ", a.reason);
+        CHECK_FALSE(a.picked_path.empty());
+        CHECK(a.regret >= -1e-12);  // best_ms is the smallest total of any row
+        CHECK(a.regret_any_path <= a.regret + 1e-12);
+        CHECK(a.best_ms > 0.0);
+    }
     const auto j = nlohmann::json::parse(perf::to_json(r));
     CHECK(j["rows"].size() == r.rows.size());
     CHECK(j["meta"]["budgets"].size() == 3);
