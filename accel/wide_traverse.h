@@ -65,10 +65,9 @@ inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>
                     const int c = std::countr_zero(m);
                     const char* p = n.count[c] ? reinterpret_cast<const char*>(blocks + n.child[c])
                                                : reinterpret_cast<const char*>(nodes + n.child[c]);
-                    _mm_prefetch(p, _MM_HINT_T0);
-                    _mm_prefetch(p + 128, _MM_HINT_T0);
-                    _mm_prefetch(p + 256, _MM_HINT_T0);
-                    _mm_prefetch(p + 384, _MM_HINT_T0);
+                    // Every line of a node (boxes, child and count), the vertex lines of a
+                    // block's first 8 (of 9) arrays: measured over every other line, +5% on random rays.
+                    for (std::size_t q = 0; q < sizeof(WideNode<N>) / 64; ++q) _mm_prefetch(p + 64 * q, _MM_HINT_T0);
                 }
                 alignas(64) float d[N];
                 t.store_aligned(d);

@@ -80,7 +80,7 @@ inline TriHit<T> ray_triangles(const WideRay<T>& r, const Vec3<T>& v0, const Vec
 
 /// One ray against lanes<T> triangles stored as TrisSoA<lanes<T>> (`soa` points at its v[0][0][0]):
 /// only the three axes the ray's permutation needs are loaded, already in (kx, ky, kz) order.
-template <class T> ARBOR_INLINE TriHit<T> ray_triangles(const WideRay<T>& r, const float* soa) {
+template <class T, bool EarlyOut = false> ARBOR_INLINE TriHit<T> ray_triangles(const WideRay<T>& r, const float* soa) {
     constexpr std::size_t n = lanes<T>;
     const auto rel = [&r, soa](std::size_t vertex) {
         const float* v = soa + vertex * 3 * n;
@@ -88,7 +88,7 @@ template <class T> ARBOR_INLINE TriHit<T> ray_triangles(const WideRay<T>& r, con
                        load_lanes<T>(v + std::size_t(r.kz) * n)} -
                r.org_perm;
     };
-    return woop_permuted<T>(rel(0), rel(1), rel(2), r.sx, r.sy, r.sz, r.tnear, r.tfar);
+    return woop_permuted<T, EarlyOut>(rel(0), rel(1), rel(2), r.sx, r.sy, r.sz, r.tnear, r.tfar);
 }
 template <class T, std::size_t N> inline TriHit<T> ray_triangles(const WideRay<T>& r, const TrisSoA<N>& tris) {
     static_assert(N == lanes<T>, "one lane per triangle");

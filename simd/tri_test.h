@@ -82,8 +82,9 @@ inline void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>& V, x
 
 /// The test on vertices already taken relative to the ray origin and permuted into the ray's
 /// (kx, ky, kz) frame (so .z is the dominant axis). Accepts t in [tnear, tfar]; a hit on an edge
-/// or vertex counts. Degenerate triangles (det == 0) and NaN results never hit.
-template <class T>
+/// or vertex counts. Degenerate triangles (det == 0) and NaN results never hit. EarlyOut: when no
+/// lane can hit, return before the division with t = u = v = 0 (the hits are the same).
+template <class T, bool EarlyOut = false>
 ARBOR_INLINE TriHit<T> woop_permuted(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const T& sx, const T& sy,
                                const T& sz, const T& tnear, const T& tfar) {
     const T ax = a.x - sx * a.z, ay = a.y - sy * a.z;
@@ -97,6 +98,16 @@ ARBOR_INLINE TriHit<T> woop_permuted(const Vec3<T>& a, const Vec3<T>& b, const V
     const auto negative = (U < zero) | (V < zero) | (W < zero);
     const auto positive = (U > zero) | (V > zero) | (W > zero);
     const T det = U + V + W;
+    if constexpr (EarlyOut) {
+        // Every lane misses by its edge signs, or has a NaN det (so a NaN t): skip the division and
+        // the rest; the returned t, u, v are zeros, never read where no lane hits.
+        if (all((negative & positive) | !(det == det))) {
+            TriHit<T> none;
+            none.hit = negative & !negative;
+            none.t = none.u = none.v = zero;
+            return none;
+        }
+    }
     const T Tv = U * (sz * a.z) + V * (sz * b.z) + W * (sz * c.z);
     const T rcp = T(1.0f) / det;
     TriHit<T> r;

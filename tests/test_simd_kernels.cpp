@@ -280,8 +280,10 @@ TEST_CASE_TEMPLATE("ray_triangles: one ray against a triangle block agrees bit f
                 one.set(0, tris[j].v0, tris[j].v1, tris[j].v2);
                 const Where at{std::size_t(&r - rays.data()), j};
                 compare_tri(bad, "scalar instantiation", at, 0, ray_triangles(w1, one), ref);
+                compare_tri(bad, "scalar instantiation, early out", at, 0, ray_triangles<float, true>(w1, &one.v[0][0][0]), ref);
                 compare_tri(bad, "wide", at, i, h, ref);
                 compare_tri(bad, "wide registers", at, i, hr, ref);
+                compare_tri(bad, "wide, early out", at, i, ray_triangles<T, true>(w, &blocks[blk].v[0][0][0]), ref);
                 hits += ref.hit;
             }
         }
