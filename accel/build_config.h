@@ -39,10 +39,13 @@ struct BuildConfig {
     /// BVHs: a binary subtree with at most this many triangles becomes one leaf of the SIMD layout
     /// (0 = the width).
     std::uint32_t wide_merge = 0;
-    /// BVHs, packet path: rays per packet, 8 or 16 (0 = 16 with AVX-512, else 8).
+    /// kd-tree, SIMD paths: triangles per SIMD block of a leaf, 8 or 16 (0 = the measured best,
+    /// accel/kdtree_simd.h; 16 needs AVX-512, else 8 is used).
+    std::uint32_t kd_block_width = 0;
+    /// BVHs and kd-tree, packet path: rays per packet, 8 or 16 (0 = 16 with AVX-512, else 8).
     std::uint32_t packet_lanes = 0;
     /// BVHs, packet path: at a node reached by at most this many lanes they go on as single rays
-    /// (-1 = lanes / 8).
+    /// (kd-tree: a leaf reached by at most this many lanes is tested lane by lane) (-1 = lanes / 8).
     int packet_switch = -1;
     /// Upper bound on build memory in bytes (0 = no limit); a build that would exceed it throws
     /// MemoryLimitError (memory_estimate.h): checked from the triangle count before building, by the

@@ -1,15 +1,19 @@
 #include "accel/kdtree_accel.h"
 
+#include "accel/coherence.h"
 #include "accel/kdtree_build.h"
 #include "accel/kdtree_traverse.h"
 #include "accel/timer.h"
 #include "simd/tri_test.h"
+
+#include <cstdio>
 
 namespace arbor::accel {
 
 KdTreeAccel::KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg) {
     const Timer timer;
     tree_ = build_kdtree(tris, cfg);
+    simd_ = make_kd_simd_paths(tree_, cfg);
     stats_.build_ms = timer.ms();
     const KdTreeStats st = kd_tree_stats(tree_, cfg.traversal_cost, cfg.intersection_cost);
     stats_.triangles = tris.triangle_count();
@@ -19,7 +23,7 @@ KdTreeAccel::KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg) {
     stats_.max_depth = st.max_depth;
     stats_.mean_leaf_depth = st.mean_leaf_depth;
     stats_.sah_cost = st.sah_cost;
-    stats_.memory_bytes = tree_.memory_bytes();
+    stats_.memory_bytes = tree_.memory_bytes() + simd_->memory_bytes();
     stats_.build_peak_bytes = tree_.build_peak_bytes;
 }
 
@@ -68,11 +72,29 @@ bool KdTreeAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, 
     return true;
 }
 
-void KdTreeAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+TracePath KdTreeAccel::resolve_path(std::span<const Ray> rays, bool, std::string* reason) const {
+    const float diagonal = tree_.empty() ? 0.0f : simd::length(tree_.box.extent());
+    const std::size_t group = simd_->packet_lanes();
+    const double f = coherent_fraction(rays, group, 0.05f * diagonal);
+    const TracePath path = f >= 0.5 ? TracePath::packet : TracePath::single;
+    if (reason) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene)",
+                      100.0 * f, group);
+        *reason = buf;
+    }
+    return path;
+}
+
+void KdTreeAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::best) path = resolve_path(rays, false);
+    if (path != TracePath::scalar) return simd_->trace(tree_, rays, hits, path, false);
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<false>(rays[i]);
 }
 
-void KdTreeAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+void KdTreeAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::best) path = resolve_path(rays, true);
+    if (path != TracePath::scalar) return simd_->trace(tree_, rays, hits, path, true);
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<true>(rays[i]);
 }
 

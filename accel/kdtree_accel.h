@@ -1,8 +1,11 @@
 #pragma once
-/// `kdtree`: the SAH kd-tree with ropes (kdtree_build.h) and its stackless scalar traversal
-/// (kdtree_traverse.h).
+/// `kdtree`: the SAH kd-tree with ropes (kdtree_build.h), its stackless scalar traversal
+/// (kdtree_traverse.h) and its SIMD paths `single` and `packet` (kdtree_simd.h).
 #include "accel/accel.h"
 #include "accel/kdtree_node.h"
+#include "accel/kdtree_simd.h"
+
+#include <memory>
 
 namespace arbor::accel {
 
@@ -13,6 +16,11 @@ public:
 
     AccelKind kind() const override { return AccelKind::kdtree; }
     const BuildStats& stats() const override { return stats_; }
+    bool has_path(TracePath) const override { return true; }
+    /// `packet` when at least half of the groups of consecutive rays that would share a packet are
+    /// coherent (accel/coherence.h: one direction octant, origins within 5% of the scene's
+    /// diagonal), else `single` (measured: perf/results/kdtree-simd-*.md).
+    TracePath resolve_path(std::span<const Ray> rays, bool any_hit, std::string* reason = nullptr) const override;
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
 
@@ -23,9 +31,11 @@ public:
     /// adds nodes (interior nodes tested, leaves entered) and triangle tests to `counters`.
     template <bool AnyHit, bool Count = false> Hit trace(const Ray& ray, TraceCounters* counters = nullptr) const;
     const KdTree& tree() const { return tree_; }
+    const KdSimdPaths& simd_paths() const { return *simd_; }
 
 private:
     KdTree tree_;
+    std::unique_ptr<KdSimdPaths> simd_;
     BuildStats stats_;
 };
 

@@ -105,52 +105,134 @@ bool visit_point(const KdNode* nodes, const RopeRay& s, double t, LeafFn& leaf_f
     }
 }
 
+/// What a step of the walk ended with.
+enum class RopeStep { end, leaf, stop };  ///< the pass is over; `node` is the next leaf; leaf_fn stopped it
+
+/// The first leaf of a pass from distance t0: `node` is set to it (RopeStep::leaf), unless a
+/// visit_point around the start stopped the walk (RopeStep::stop).
+template <bool Count, class LeafFn>
+RopeStep rope_first(const KdTree& tree, const RopeRay& s, double t0, std::uint32_t& node, LeafFn& leaf_fn,
+                    std::uint64_t& visited) {
+    bool near = false;
+    node = descend<Count>(tree.nodes.data(), s, 0, t0, near, visited);
+    if (near && visit_point<Count>(tree.nodes.data(), s, t0, leaf_fn, visited)) return RopeStep::stop;
+    return RopeStep::leaf;
+}
+
+/// After the leaf at `node` (at distance t) has been tested: moves `node` and t to the next leaf
+/// along the ray, testing the leaves around an edge or corner passed near (visit_point). `touched`
+/// gets bit k when this leaf has a face (not on the scene box) in the plane of a flat axis k, i.e.
+/// leaves on the other side of that plane touch the ray too.
+template <bool AnyHit, bool Count, class LeafFn>
+RopeStep rope_next(const KdTree& tree, const RopeRay& s, double& t, std::uint32_t& node, const float& best_t,
+                   LeafFn& leaf_fn, unsigned& touched, std::uint64_t& visited) {
+    const KdNode* nodes = tree.nodes.data();
+    const KdLeaf& leaf = tree.leaves[nodes[node].index()];
+    double t_exit = INFINITY, t_far[3] = {0, 0, 0}, t_near[3] = {0, 0, 0};
+    int axis = -1;
+    for (int k = 0; k < 3; ++k) {
+        if (s.flat[k]) {
+            const bool on_lo = s.o[k] == leaf.box.lo[k] && leaf.box.lo[k] != tree.box.lo[k];
+            const bool on_hi = s.o[k] == leaf.box.hi[k] && leaf.box.hi[k] != tree.box.hi[k];
+            if (on_lo || on_hi) touched |= 1u << k;
+            continue;
+        }
+        t_far[k] = cross_t(s, k, s.up[k] ? leaf.box.hi[k] : leaf.box.lo[k]);
+        t_near[k] = cross_t(s, k, s.up[k] ? leaf.box.lo[k] : leaf.box.hi[k]);
+        if (t_far[k] < t_exit) t_exit = t_far[k], axis = k;
+    }
+    if (axis < 0) return RopeStep::end;
+    if (!AnyHit && double(best_t) <= t_exit) return RopeStep::end;  // nothing further on can be closer
+    if (t_exit > s.t_end + s.tol[axis] * std::fabs(s.t_end)) return RopeStep::end;
+    // Leaving near an edge or corner of this leaf (or exactly through one)?
+    bool corner = false, near_exit = false;
+    for (int k = 0; k < 3; ++k) {
+        if (s.flat[k]) continue;
+        corner |= k != axis && t_far[k] == t_exit;
+        near_exit |= (k != axis && near_plane(s, k, t_far[k], t_exit)) || near_plane(s, k, t_near[k], t_exit);
+    }
+    t = t_exit;
+    const std::uint32_t rope = leaf.rope[kd_face(axis, s.up[axis])];
+    if (rope == kd_no_rope)
+        return near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited) ? RopeStep::stop : RopeStep::end;
+    // Leaving exactly through an edge or corner, the next leaf is not across the exit face.
+    node = descend<Count>(nodes, s, corner ? 0u : rope, t, near_exit, visited);
+    if (near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited)) return RopeStep::stop;
+    return RopeStep::leaf;
+}
+
+/// Every step moves t forward (see the header comment); this bound on the leaves of one pass is
+/// only a safety net.
+inline std::size_t rope_max_steps(const KdTree& tree) { return 2 * tree.leaves.size() + 64; }
+
 /// One walk from distance t0 with the current tie sides. Returns true when leaf_fn stopped it.
-/// `touched` gets bit k when a visited leaf has a face (not on the scene box) in the plane of a
-/// flat axis k, i.e. leaves on the other side of that plane touch the ray too.
+/// `touched`: see rope_next.
 template <bool AnyHit, bool Count, class LeafFn>
 bool walk_pass(const KdTree& tree, const RopeRay& s, double t0, const float& best_t, LeafFn& leaf_fn,
                unsigned& touched, std::uint64_t& visited) {
-    const KdNode* nodes = tree.nodes.data();
     double t = t0;
-    bool near = false;
-    std::uint32_t node = descend<Count>(nodes, s, 0, t, near, visited);
-    if (near && visit_point<Count>(nodes, s, t, leaf_fn, visited)) return true;
-    // Every step moves t forward (see the header comment); the bound is only a safety net.
-    const std::size_t max_steps = 2 * tree.leaves.size() + 64;
+    std::uint32_t node = 0;
+    RopeStep st = rope_first<Count>(tree, s, t0, node, leaf_fn, visited);
+    const std::size_t max_steps = rope_max_steps(tree);
     for (std::size_t step = 0; step < max_steps; ++step) {
-        const std::uint32_t li = nodes[node].index();
-        if (leaf_fn(li)) return true;
-        const KdLeaf& leaf = tree.leaves[li];
-        double t_exit = INFINITY, t_far[3] = {0, 0, 0}, t_near[3] = {0, 0, 0};
-        int axis = -1;
-        for (int k = 0; k < 3; ++k) {
-            if (s.flat[k]) {
-                const bool on_lo = s.o[k] == leaf.box.lo[k] && leaf.box.lo[k] != tree.box.lo[k];
-                const bool on_hi = s.o[k] == leaf.box.hi[k] && leaf.box.hi[k] != tree.box.hi[k];
-                if (on_lo || on_hi) touched |= 1u << k;
-                continue;
-            }
-            t_far[k] = cross_t(s, k, s.up[k] ? leaf.box.hi[k] : leaf.box.lo[k]);
-            t_near[k] = cross_t(s, k, s.up[k] ? leaf.box.lo[k] : leaf.box.hi[k]);
-            if (t_far[k] < t_exit) t_exit = t_far[k], axis = k;
+        if (st != RopeStep::leaf) return st == RopeStep::stop;
+        if (leaf_fn(tree.nodes[node].index())) return true;
+        st = rope_next<AnyHit, Count>(tree, s, t, node, best_t, leaf_fn, touched, visited);
+    }
+    return false;
+}
+
+/// How the walk of a ray begins (rope_start).
+enum class RopeStart { none, walk, point };  ///< nothing to visit; walk from t0; only visit_point at t0
+
+/// The per-ray constants of ray `r` (traceable) and its entry distance t0 into the scene box.
+/// RopeStart::point: the ray passes by the scene box, but within the point tolerance of it (exactly
+/// through an edge or corner of the box, up to the double rounding of the entry and exit, or a hair
+/// outside), where the sheared triangle test may still hit: the leaves at t0 are to be tested
+/// (visit_point; found by arbor's fuzzer).
+inline RopeStart rope_start(const KdTree& tree, const Ray& r, RopeRay& s, double& t0) {
+    t0 = r.tnear;
+    double t1 = r.tfar;
+    const double dmax = std::max({std::fabs(double(r.dir.x)), std::fabs(double(r.dir.y)), std::fabs(double(r.dir.z))});
+    for (int k = 0; k < 3; ++k) {
+        s.o[k] = r.org[k];
+        s.flat[k] = r.dir[k] == 0.0f;
+        s.up[k] = !std::signbit(r.dir[k]);
+        s.tie_right[k] = s.up[k];
+        s.rcp[k] = 1.0 / double(r.dir[k]);
+        s.tol[k] = point_tolerance * dmax * std::fabs(s.rcp[k]);
+        const float lo = tree.box.lo[k], hi = tree.box.hi[k];
+        if (s.flat[k]) {
+            if (s.o[k] < lo || s.o[k] > hi) return RopeStart::none;
+            continue;
         }
-        if (axis < 0) return false;
-        if (!AnyHit && double(best_t) <= t_exit) return false;  // nothing further on can be closer
-        if (t_exit > s.t_end + s.tol[axis] * std::fabs(s.t_end)) return false;
-        // Leaving near an edge or corner of this leaf (or exactly through one)?
-        bool corner = false, near_exit = false;
-        for (int k = 0; k < 3; ++k) {
-            if (s.flat[k]) continue;
-            corner |= k != axis && t_far[k] == t_exit;
-            near_exit |= (k != axis && near_plane(s, k, t_far[k], t_exit)) || near_plane(s, k, t_near[k], t_exit);
-        }
-        t = t_exit;
-        const std::uint32_t rope = leaf.rope[kd_face(axis, s.up[axis])];
-        if (rope == kd_no_rope) return near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited);
-        // Leaving exactly through an edge or corner, the next leaf is not across the exit face.
-        node = descend<Count>(nodes, s, corner ? 0u : rope, t, near_exit, visited);
-        if (near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited)) return true;
+        const double a = cross_t(s, k, lo), b = cross_t(s, k, hi);
+        t0 = std::max(t0, s.up[k] ? a : b);
+        t1 = std::min(t1, s.up[k] ? b : a);
+    }
+    s.t_end = t1;
+    if (t0 <= t1) return RopeStart::walk;
+    double tol = 0.0;
+    for (int k = 0; k < 3; ++k)
+        if (!s.flat[k]) tol = std::max(tol, s.tol[k]);
+    return t0 - t1 <= tol * std::max(std::fabs(t0), std::fabs(t1)) ? RopeStart::point : RopeStart::none;
+}
+
+/// The walks after a first pass that found the ray lying in leaf faces of flat axes (`touched`):
+/// one more pass per other combination of tie sides of the flat axes. Returns true when leaf_fn
+/// stopped the walk.
+template <bool AnyHit, bool Count, class LeafFn>
+bool walk_other_sides(const KdTree& tree, const RopeRay& s, double t0, const float& best_t, LeafFn& leaf_fn,
+                      std::uint64_t& visited) {
+    int flat_axes[3], nf = 0;
+    for (int k = 0; k < 3; ++k)
+        if (s.flat[k]) flat_axes[nf++] = k;
+    for (unsigned combo = 1; combo < (1u << nf); ++combo) {
+        RopeRay other = s;
+        for (int i = 0; i < nf; ++i)
+            if (combo & (1u << i)) other.tie_right[flat_axes[i]] = !s.tie_right[flat_axes[i]];
+        unsigned unused = 0;
+        if (walk_pass<AnyHit, Count>(tree, other, t0, best_t, leaf_fn, unused, visited)) return true;
     }
     return false;
 }
@@ -164,49 +246,16 @@ template <bool AnyHit, bool Count = false, class LeafFn>
 void walk_ropes(const KdTree& tree, const Ray& r, const float& best_t, LeafFn&& leaf_fn, std::uint64_t& visited) {
     if (tree.empty() || !ray_is_traceable(r)) return;
     RopeRay s;
-    double t0 = r.tnear, t1 = r.tfar;
-    const double dmax = std::max({std::fabs(double(r.dir.x)), std::fabs(double(r.dir.y)), std::fabs(double(r.dir.z))});
-    for (int k = 0; k < 3; ++k) {
-        s.o[k] = r.org[k];
-        s.flat[k] = r.dir[k] == 0.0f;
-        s.up[k] = !std::signbit(r.dir[k]);
-        s.tie_right[k] = s.up[k];
-        s.rcp[k] = 1.0 / double(r.dir[k]);
-        s.tol[k] = point_tolerance * dmax * std::fabs(s.rcp[k]);
-        const float lo = tree.box.lo[k], hi = tree.box.hi[k];
-        if (s.flat[k]) {
-            if (s.o[k] < lo || s.o[k] > hi) return;
-            continue;
-        }
-        const double a = cross_t(s, k, lo), b = cross_t(s, k, hi);
-        t0 = std::max(t0, s.up[k] ? a : b);
-        t1 = std::min(t1, s.up[k] ? b : a);
-    }
-    s.t_end = t1;
-    if (t0 > t1) {
-        // The ray passes by the scene box. Within the point tolerance of it (exactly through an edge
-        // or corner of the box, up to the double rounding of t0 and t1, or a hair outside), the
-        // sheared triangle test may still hit: test the leaves at that point (found by arbor's fuzzer).
-        double tol = 0.0;
-        for (int k = 0; k < 3; ++k)
-            if (!s.flat[k]) tol = std::max(tol, s.tol[k]);
-        if (t0 - t1 <= tol * std::max(std::fabs(t0), std::fabs(t1)))
-            visit_point<Count>(tree.nodes.data(), s, t0, leaf_fn, visited);
-        return;
+    double t0 = 0.0;
+    switch (rope_start(tree, r, s, t0)) {
+    case RopeStart::none: return;
+    case RopeStart::point: visit_point<Count>(tree.nodes.data(), s, t0, leaf_fn, visited); return;
+    case RopeStart::walk: break;
     }
     unsigned touched = 0;
     if (walk_pass<AnyHit, Count>(tree, s, t0, best_t, leaf_fn, touched, visited) || touched == 0) return;
     // The ray lies in a leaf face plane of a flat axis: walk the other sides too.
-    int flat_axes[3], nf = 0;
-    for (int k = 0; k < 3; ++k)
-        if (s.flat[k]) flat_axes[nf++] = k;
-    for (unsigned combo = 1; combo < (1u << nf); ++combo) {
-        RopeRay other = s;
-        for (int i = 0; i < nf; ++i)
-            if (combo & (1u << i)) other.tie_right[flat_axes[i]] = !s.tie_right[flat_axes[i]];
-        unsigned unused = 0;
-        if (walk_pass<AnyHit, Count>(tree, other, t0, best_t, leaf_fn, unused, visited)) return;
-    }
+    walk_other_sides<AnyHit, Count>(tree, s, t0, best_t, leaf_fn, visited);
 }
 
 }  // namespace arbor::accel::kd

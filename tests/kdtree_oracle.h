@@ -2,6 +2,7 @@
 /// Oracle comparison for the kd-tree tests: closest and any hit against `brute`.
 #include "accel/brute_accel.h"
 #include "accel/kdtree_accel.h"
+#include "kd_simd_check.h"
 #include "simd/tri_test.h"
 #include "testing.h"
 
@@ -41,7 +42,8 @@ inline OracleResult compare_with_brute(const accel::KdTreeAccel& kd, const accel
     return r;
 }
 
-/// Builds both structures over `mesh` and requires full agreement on `rays`.
+/// Builds both structures over `mesh` and requires full agreement on `rays`; the kd-tree's SIMD
+/// paths must give the scalar path's answers bit for bit (kd_simd_check.h).
 inline void require_agreement(const engine::Mesh& mesh, const std::vector<Ray>& rays,
                               const accel::BuildConfig& cfg = {}) {
     const accel::KdTreeAccel kd(mesh.view(), cfg);
@@ -51,6 +53,7 @@ inline void require_agreement(const engine::Mesh& mesh, const std::vector<Ray>& 
     CAPTURE(r.hits);
     CHECK(r.closest_bad == 0);
     CHECK(r.any_bad == 0);
+    CHECK(check_kd_simd(kd, rays) > 0);
 }
 
 }  // namespace arbor::testing

@@ -1,0 +1,93 @@
+#pragma once
+/// Checks of the kd-tree's SIMD paths (accel/kdtree_simd.h): every path is bit-identical to the
+/// kd-tree's scalar path (t, prim, u, v), closest and any hit, in several settings (block width,
+/// packet lanes, switch threshold) made from one built tree.
+#include "accel/kdtree_accel.h"
+#include "testing.h"
+
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace arbor::testing {
+
+/// Bitwise equality of two hit records.
+inline bool same_hit(const accel::Hit& a, const accel::Hit& b) { return std::memcmp(&a, &b, sizeof(accel::Hit)) == 0; }
+
+/// Settings of the SIMD paths to check: block widths 8 and 16 (when the build has AVX-512),
+/// packets of 8 and 16 lanes, switch thresholds 0 (always together), 1 and 3.
+inline std::vector<accel::BuildConfig> kd_simd_configs() {
+    std::vector<accel::BuildConfig> out;
+    const bool has16 = XSIMD_WITH_AVX512F;
+    const std::uint32_t blocks[] = {8, 16, 8};
+    const std::uint32_t lanes[] = {16, 8, 8};
+    const int switches[] = {1, 0, 3};
+    for (int i = 0; i < 3; ++i) {
+        accel::BuildConfig c;
+        c.kd_block_width = has16 ? blocks[i] : 8;
+        c.packet_lanes = has16 ? lanes[i] : 8;
+        c.packet_switch = switches[i];
+        out.push_back(c);
+    }
+    return out;
+}
+
+/// The rays through `paths` in chunks of `chunk` rays (chunk boundaries make partial packets).
+inline std::vector<Hit> kd_simd_trace(const accel::KdSimdPaths& paths, const accel::KdTree& tree,
+                                      const std::vector<Ray>& rays, accel::TracePath path, bool any_hit,
+                                      std::size_t chunk) {
+    std::vector<Hit> hits(rays.size());
+    for (std::size_t base = 0; base < rays.size(); base += chunk) {
+        const std::size_t n = std::min(chunk, rays.size() - base);
+        paths.trace(tree, std::span(rays).subspan(base, n), std::span(hits).subspan(base, n), path, any_hit);
+    }
+    return hits;
+}
+
+/// Every SIMD path of `kd` (as built, then in each of kd_simd_configs()) against its scalar path:
+/// bitwise equal answers for closest and any hit. Returns the number of path runs compared.
+inline std::size_t check_kd_simd(const accel::KdTreeAccel& kd, const std::vector<Ray>& rays,
+                                 std::vector<std::size_t> chunks = {1024}) {
+    std::vector<Hit> closest(rays.size()), any(rays.size());
+    kd.intersect(rays, closest, accel::TracePath::scalar);
+    kd.occluded(rays, any, accel::TracePath::scalar);
+    std::size_t runs = 0;
+    const auto compare = [&](const std::vector<Hit>& got, bool any_hit, const std::string& what) {
+        const std::vector<Hit>& ref = any_hit ? any : closest;
+        std::size_t bad = 0, first_bad = rays.size();
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            if (!same_hit(got[i], ref[i])) {
+                if (bad++ == 0) first_bad = i;
+            }
+        CAPTURE(what);
+        CAPTURE(first_bad);
+        CHECK(bad == 0);
+        ++runs;
+    };
+    // As built, through the Accel interface (best included).
+    for (const auto path : {accel::TracePath::single, accel::TracePath::packet, accel::TracePath::best}) {
+        std::vector<Hit> got(rays.size());
+        kd.intersect(rays, got, path);
+        compare(got, false, "accel closest " + std::string(accel::to_string(path)));
+        kd.occluded(rays, got, path);
+        compare(got, true, "accel any " + std::string(accel::to_string(path)));
+    }
+    for (const accel::BuildConfig& cfg : kd_simd_configs()) {
+        const auto paths = accel::make_kd_simd_paths(kd.tree(), cfg);
+        for (const std::size_t chunk : chunks)
+            for (const auto path : {accel::TracePath::single, accel::TracePath::packet})
+                for (const bool any_hit : {false, true}) {
+                    const std::string what = std::string(accel::to_string(path)) + (any_hit ? " any" : " closest") +
+                                             " block " + std::to_string(paths->block_width()) + " lanes " +
+                                             std::to_string(paths->packet_lanes()) + " switch " +
+                                             std::to_string(cfg.packet_switch) + " chunk " + std::to_string(chunk);
+                    compare(kd_simd_trace(*paths, kd.tree(), rays, path, any_hit, chunk), any_hit, what);
+                }
+    }
+    return runs;
+}
+
+}  // namespace arbor::testing

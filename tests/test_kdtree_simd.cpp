@@ -1,0 +1,229 @@
+// The kd-tree's SIMD paths (single, packet, best) against its scalar path (bitwise equal answers)
+// and brute (the rayfile.md rule): every shared model with primary, shadow, diffuse and random rays
+// (engine/ray_gen.h); the triangle blocks; ties between coplanar duplicates; NaN/Inf/zero and
+// inactive lanes, partial packets, packets whose lanes part and meet again; the same answers
+// with 1 and 2 threads; what `best` picks. (The stiff and degenerate kd-tree cases run the SIMD
+// paths too: kdtree_oracle.h's require_agreement.)
+#include "accel/kdtree_blocks.h"
+#include "accel/trace.h"
+#include "engine/obj_loader.h"
+#include "engine/procedural.h"
+#include "engine/ray_gen.h"
+#include "kd_simd_check.h"
+#include "kdtree_checks.h"
+#include "wide_check.h"
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+using namespace arbor;
+using accel::Hit;
+using accel::Ray;
+using accel::Vec3f;
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr std::size_t rays_per_kind = 96;
+#else
+constexpr std::size_t rays_per_kind = 1024;
+#endif
+
+/// Rays of the four kinds of engine/ray_gen.h over `mesh`, `n` of each, concatenated.
+std::vector<Ray> four_kinds(const engine::Mesh& mesh, std::size_t n, const accel::Accel& tracer) {
+    engine::Scene scene;
+    scene.mesh = mesh;
+    const engine::RayGenScene gs = engine::ray_gen_scene(scene);
+    std::vector<Ray> rays;
+    for (const auto kind : {engine::RayKind::primary, engine::RayKind::shadow, engine::RayKind::diffuse, engine::RayKind::random}) {
+        engine::RayGenConfig cfg;
+        cfg.kind = kind;
+        cfg.count = n;
+        cfg.seed = 11;
+        const auto r = engine::generate_rays(gs, cfg, &tracer);
+        rays.insert(rays.end(), r.begin(), r.end());
+    }
+    return rays;
+}
+
+/// `s` indices spread over [0, n).
+std::vector<std::size_t> spread(std::size_t n, std::size_t s) {
+    std::vector<std::size_t> idx;
+    for (std::size_t i = 0; i < std::min(n, s); ++i) idx.push_back(i * n / std::min(n, s));
+    return idx;
+}
+
+/// SIMD paths vs scalar (bitwise) and vs brute (on `brute_rays` of the rays) on `mesh`.
+void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::size_t brute_rays,
+                std::vector<std::size_t> chunks = {1024}, accel::BuildConfig cfg = {}) {
+    const accel::KdTreeAccel kd(mesh.view(), cfg);
+    CHECK(testing::check_kd_simd(kd, rays, chunks) > 0);
+    const accel::BruteAccel brute(mesh.view());
+    const auto sample = spread(rays.size(), brute_rays);
+    std::vector<Ray> sub;
+    for (std::size_t i : sample) sub.push_back(rays[i]);
+    const auto ref = testing::brute_answers(brute, sub);
+    CHECK(testing::check_paths(kd, rays, sample, ref, chunks.front()) == 3);
+}
+
+}  // namespace
+
+TEST_CASE("kdtree simd: every shared model, primary/shadow/diffuse/random rays, all paths") {
+    for (const auto& path : testing::model_paths()) {
+        CAPTURE(path);
+        engine::Warnings w;
+        const engine::Mesh mesh = engine::load_obj(path, w);
+        const auto tracer = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view());
+        const std::size_t n = mesh.triangle_count() > 30000 ? rays_per_kind / 2 : rays_per_kind;
+        const auto rays = four_kinds(mesh, n, *tracer);
+        check_mesh(mesh, rays, testing::oracle_ray_count(mesh.triangle_count(), 32, 1024));
+    }
+}
+
+TEST_CASE("kdtree simd: the blocks hold each leaf's triangles in order, NaN-padded") {
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2, 0.1f, 3);
+    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 24, 8));
+    const accel::KdTreeAccel kd(mesh.view());
+    const accel::KdTree& tree = kd.tree();
+    const auto check = [&tree](const auto& blocks, std::size_t n) {
+        REQUIRE(blocks.first.size() == tree.leaves.size() + 1);
+        CHECK(blocks.first.front() == 0);
+        CHECK(blocks.first.back() == blocks.blocks.size());
+        std::size_t bad = 0;
+        for (std::size_t l = 0; l < tree.leaves.size(); ++l) {
+            const accel::KdLeaf& leaf = tree.leaves[l];
+            CHECK(blocks.first[l + 1] - blocks.first[l] == (leaf.count + n - 1) / n);
+            for (std::size_t i = 0; i < (blocks.first[l + 1] - blocks.first[l]) * n; ++i) {
+                const auto& b = blocks.blocks[blocks.first[l] + i / n];
+                const std::size_t s = i % n;
+                if (i < leaf.count) {
+                    const accel::KdTriangle& t = tree.tris[tree.refs[leaf.first + i]];
+                    bad += b.ids[s] != t.prim || b.tris.v[0][0][s] != t.v0.x || b.tris.v[1][1][s] != t.v1.y ||
+                           b.tris.v[2][2][s] != t.v2.z;
+                } else {
+                    bad += b.ids[s] != accel::invalid_prim || !std::isnan(b.tris.v[0][0][s]) || !std::isnan(b.tris.v[2][2][s]);
+                }
+            }
+        }
+        CHECK(bad == 0);
+    };
+    check(accel::make_kd_blocks<8>(tree), 8);
+    check(accel::make_kd_blocks<16>(tree), 16);
+    const accel::KdTree empty;
+    const auto none = accel::make_kd_blocks<8>(empty);
+    CHECK(none.blocks.empty());
+    CHECK(none.first.size() == 1);
+}
+
+TEST_CASE("kdtree simd: coplanar duplicates (equal t, the lowest prim wins) and overlapping leaves") {
+    // Stacked copies of one quad grid: every hit is a tie between several prims, in several leaves.
+    engine::Mesh mesh;
+    for (int copy = 0; copy < 3; ++copy) mesh.append(testing::integer_grid(5));
+    mesh.append(engine::make_icosphere({2.5f, 2.5f, 0.0f}, 1.5f, 2));
+    mesh.append(engine::make_icosphere({2.5f, 2.5f, 0.0f}, 1.5f, 2));  // the same sphere again
+    mesh.compute_bounds();
+    auto rays = testing::camera_rays(mesh.bounds, 32, 32);
+    const auto inside = testing::random_rays_inside(mesh.bounds, 400, 5);
+    const auto into = testing::random_rays_into(mesh.bounds, 400, 6);
+    rays.insert(rays.end(), inside.begin(), inside.end());
+    rays.insert(rays.end(), into.begin(), into.end());
+    for (const bool perfect : {true, false}) {
+        accel::BuildConfig cfg;
+        cfg.kd_perfect_splits = perfect;
+        CAPTURE(perfect);
+        check_mesh(mesh, rays, rays.size(), {1024, 13}, cfg);
+    }
+}
+
+TEST_CASE("kdtree simd: axis-parallel rays with +-0 components on grids, in split planes, from leaf corners") {
+    const engine::Mesh cubes = testing::integer_cubes(4);
+    std::vector<Ray> rays;
+    for (int i = -1; i <= 9; ++i)
+        for (int j = -1; j <= 9; ++j) {
+            const float a = float(i) * 0.5f, b = float(j) * 0.5f;
+            for (const float zero : {0.0f, -0.0f})
+                for (const float s : {1.0f, -1.0f}) {
+                    rays.push_back({{a, b, -3.0f * s + 2.0f}, 0.0f, {zero, zero, s}, INFINITY});
+                    rays.push_back({{-3.0f * s + 2.0f, a, b}, 0.0f, {s, zero, -zero}, INFINITY});
+                    rays.push_back({{a, 2.0f, b}, 0.0f, {zero, s, zero}, INFINITY});   // origin on a split plane
+                    rays.push_back({{a, b, 2.0f}, 0.0f, {s, s, zero}, INFINITY});      // diagonal in the plane z = 2
+                    rays.push_back({{a, b, 1.0f}, 0.0f, {s, 0.5f * s, 0.25f}, INFINITY});  // through edges
+                }
+        }
+    // Packets whose lanes part at different faces: a fan of rays from one corner.
+    for (int i = 0; i < 64; ++i) {
+        const float u = float(i % 8) / 7.0f, v = float(i / 8) / 7.0f;
+        rays.push_back({{0.0f, 0.0f, 0.0f}, 0.0f, {1.0f, u, v}, INFINITY});
+        rays.push_back({{4.0f, 4.0f, 4.0f}, 0.0f, {-u, -1.0f, -v}, INFINITY});
+    }
+    check_mesh(cubes, rays, rays.size(), {1024, 7, 1});
+}
+
+TEST_CASE("kdtree simd: NaN, Inf, zero and inactive rays miss; partial and mixed-sign packets") {
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2);
+    mesh.append(engine::make_box({-3, -3, -3}, {-2, -2, -2}));
+    const float nan = NAN, inf = INFINITY;
+    const std::vector<Ray> bad{{{nan, 0, 0}, 0, {1, 0, 0}, inf},  {{0, 0, -5}, 0, {0, nan, 1}, inf}, {{inf, 0, 0}, 0, {-1, 0, 0}, inf},
+                               {{0, 0, -5}, 0, {0, 0, inf}, inf}, {{0, 0, -5}, 0, {0, 0, 0}, inf},   {{0, 0, -5}, 0, {-0.0f, 0, -0.0f}, inf},
+                               {{0, 0, -5}, nan, {0, 0, 1}, inf}, {{0, 0, -5}, 0, {0, 0, 1}, nan},   {{0, 0, -5}, 3, {0, 0, 1}, 2},
+                               {{0, 0, -5}, inf, {0, 0, 1}, inf}, {{0, 0, -5}, 0, {1e-39f, 0, -1e-40f}, inf}};
+    std::vector<Ray> rays;
+    for (int i = 0; i < 300; ++i) {
+        const float s = (i % 2) ? 1.0f : -1.0f, x = float(i % 17) * 0.1f - 0.8f, y = float(i % 13) * 0.12f - 0.7f;
+        rays.push_back({{x, y, -5.0f * s}, 0.0f, {0.01f * float(i % 5) * s, -0.02f * s, s}, INFINITY});
+        if (i % 7 == 0) rays.push_back(bad[std::size_t(i / 7) % bad.size()]);
+        if (i % 11 == 0) rays.push_back({{-5.0f * s, x, y}, 0.0f, {s, 0.0f, -0.0f}, INFINITY});
+        if (i % 5 == 0) rays.push_back({{x, y, -5.0f}, 4.0f, {0.0f, 0.0f, 1.0f}, 4.5f});  // a short interval
+    }
+    const accel::KdTreeAccel kd(mesh.view());
+    for (const auto& cfg : testing::kd_simd_configs()) {
+        const auto paths = accel::make_kd_simd_paths(kd.tree(), cfg);
+        for (const auto path : {accel::TracePath::single, accel::TracePath::packet})
+            for (const bool any_hit : {false, true}) {
+                const auto hits = testing::kd_simd_trace(*paths, kd.tree(), bad, path, any_hit, 16);
+                for (const Hit& h : hits) CHECK(!h.is_hit());
+            }
+    }
+    check_mesh(mesh, rays, rays.size(), {1, 3, 16, 17, 64, 1024});
+    // An empty scene: every path misses.
+    const engine::Mesh empty;
+    const accel::KdTreeAccel none(empty.view());
+    for (const auto path : {accel::TracePath::single, accel::TracePath::packet, accel::TracePath::best}) {
+        std::vector<Hit> hits(rays.size());
+        none.intersect(rays, hits, path);
+        for (const Hit& h : hits) CHECK(!h.is_hit());
+    }
+}
+
+TEST_CASE("kdtree simd: identical answers with 1 and 2 threads") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 4);
+    auto rays = testing::random_rays_into(mesh.bounds, 2000, 8);
+    const auto cam = testing::camera_rays(mesh.bounds, 48, 48);
+    rays.insert(rays.end(), cam.begin(), cam.end());
+    const accel::KdTreeAccel kd(mesh.view());
+    for (const auto path : {accel::TracePath::single, accel::TracePath::packet, accel::TracePath::best})
+        for (const auto q : {accel::Query::closest, accel::Query::any}) {
+            std::vector<Hit> one(rays.size()), two(rays.size());
+            {
+                tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+                accel::trace_parallel(kd, rays, one, q, path, 64);
+            }
+            {
+                tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+                accel::trace_parallel(kd, rays, two, q, path, 64);
+            }
+            CHECK(std::memcmp(one.data(), two.data(), one.size() * sizeof(Hit)) == 0);
+        }
+}
+
+TEST_CASE("kdtree simd: best takes packets for camera rays and single rays for random rays") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
+    const accel::KdTreeAccel kd(mesh.view());
+    CHECK(kd.has_path(accel::TracePath::single));
+    CHECK(kd.has_path(accel::TracePath::packet));
+    std::string reason;
+    CHECK(kd.resolve_path(testing::camera_rays(mesh.bounds, 64, 16), false, &reason) == accel::TracePath::packet);
+    CHECK(!reason.empty());
+    CHECK(kd.resolve_path(testing::random_rays_inside(mesh.bounds, 1024, 3), true) == accel::TracePath::single);
+}
