@@ -17,9 +17,8 @@ public:
     AccelKind kind() const override { return AccelKind::kdtree; }
     const BuildStats& stats() const override { return stats_; }
     bool has_path(TracePath) const override { return true; }
-    /// `packet` when at least half of the groups of consecutive rays that would share a packet are
-    /// coherent (accel/coherence.h: one direction octant, origins within 5% of the scene's
-    /// diagonal), else `single` (measured: perf/results/kdtree-simd-*.md).
+    /// `single` for every batch: the packet path measured slower on every kind of ray, coherent
+    /// ones included (perf/results/kdtree-simd-2026-11-22.md).
     TracePath resolve_path(std::span<const Ray> rays, bool any_hit, std::string* reason = nullptr) const override;
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
