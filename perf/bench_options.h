@@ -26,16 +26,16 @@ struct BenchOptions {
     /// Also time brute (only sensible on tiny scenes).
     bool time_brute = false;
     /// Rays per (scene, kind).
-    std::size_t rays = std::size_t(1) << 16;
+    std::size_t rays = std::size_t(1) << 14;
     /// Rays per (scene, kind) on the replicated scaling scenes (only primary and diffuse run there).
-    std::size_t scaling_rays = std::size_t(1) << 16;
+    std::size_t scaling_rays = std::size_t(1) << 14;
     /// Wall-time budget for timing one (scene, kind): when the repeats would take longer, fewer
     /// rays of the same kind are timed (a coarser image, same seed), at least min_timed_rays.
-    double kind_seconds = 4.0;
+    double kind_seconds = 2.0;
     /// One timing repeats the pass over the timed rays until this many ms have passed (per-pass
     /// time = elapsed / passes), so that no timing is a single scheduler slice.
-    double min_timed_ms = 10.0;
-    std::size_t min_timed_rays = std::size_t(1) << 14;
+    double min_timed_ms = 6.0;
+    std::size_t min_timed_rays = std::size_t(1) << 13;
     /// Scenes above this many triangles are built once, timed at all threads only, and run Embree's
     /// default mode only.
     std::size_t big_scene = 2000000;
@@ -47,15 +47,15 @@ struct BenchOptions {
     /// Timed repeats per configuration (median, min, max); builds repeat `build_repeats` times
     /// (once on scenes above 2M triangles).
     int repeats = 5;
-    int build_repeats = 3;
+    int build_repeats = 2;
     /// Thread counts; 0 means all hardware threads.
     std::vector<int> threads{1, 0};
     /// Brute-force validation budget: about this many ray/triangle tests per (scene, kind); the
     /// sample is budget / triangles rays, clamped to [min_sample, max_sample].
     double brute_budget = 5e8;
-    std::size_t min_sample = 32, max_sample = 2048;
+    std::size_t min_sample = 32, max_sample = 512;
     /// Rays per (scene, kind, structure) traced in the statistics mode (TraceCounters).
-    std::size_t count_sample = 4096;
+    std::size_t count_sample = 2048;
     /// Ray budgets for the build + trace totals.
     std::vector<double> budgets{1e6, 16e6, 256e6};
     /// Run the Embree peer when it is built.

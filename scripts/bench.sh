@@ -2,8 +2,9 @@
 # The benchmark report in one command (perf/README.md):
 #   scripts/bench.sh           full matrix, about 15 minutes on the 2-core reference machine
 #   scripts/bench.sh --quick   small scenes, about 2 minutes
-# Builds the release preset, runs arbor_bench, draws the plots and describes the machine, all into
-# perf/results/DATE/ (DATE-quick/ for --quick). Further arguments go to arbor_bench.
+# Builds the release preset, runs arbor_bench, draws the plots, writes the summary tables
+# (scripts/bench_summary.py) and describes the machine, all into perf/results/DATE/ (DATE-quick/
+# for --quick; ARBOR_BENCH_OUT=DIR overrides). Further arguments go to arbor_bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 suffix=""
@@ -34,4 +35,6 @@ cmake --build --preset release -j2 --target arbor_bench arbor >/dev/null
 
 build/release/perf/arbor_bench -o "$out" "$@"
 /usr/bin/python3 scripts/plot_bench.py "$out/bench.json" "$out"
-echo "report: $out/bench.md (machine: $out/machine.md)"
+/usr/bin/python3 scripts/bench_summary.py "$out/bench.json" >"$out/tables.md"
+echo "Whole script (build, matrix, plots): ${SECONDS} s; load average after: $(cut -d' ' -f1-3 /proc/loadavg)" >>"$out/machine.md"
+echo "report: $out/bench.md, tables $out/tables.md (machine: $out/machine.md), ${SECONDS} s"
