@@ -52,6 +52,8 @@ struct AutoConfig {
     /// refine_margin of the best predicted total whose predicted build is at most refine_fraction of
     /// it are built on the whole scene and timed there.
     double refine_margin = 0.25, refine_fraction = 0.10;
+    /// Calibration builds faster than this (ms) are built twice, the faster time kept.
+    double rebuild_below_ms = 100.0;
     /// Predicted totals within this fraction of the smallest are a tie (the calibration's noise).
     double tie = 0.05;
     /// brute is a candidate only up to this many triangles.

@@ -15,6 +15,13 @@ import json
 import sys
 
 
+def budget_name(b):
+    for div, suffix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
+        if b >= div:
+            return f"{b / div:.0f}{suffix}"
+    return f"{b:.0f}"
+
+
 def fmt(v, d=2):
     return "–" if v is None else f"{v:.{d}f}"
 
@@ -123,7 +130,7 @@ def builds(rows, t):
 
 def trade(rows, budgets, t):
     print(f"### lbvh against bvh-sah: build + trace total (s) per budget, primary rays, {t} threads (best path each)\n")
-    print("| scene | tris | " + " | ".join(f"{b:.0e} rays" for b in budgets) + " | crossover (rays) |")
+    print("| scene | tris | " + " | ".join(f"{budget_name(b)} rays" for b in budgets) + " | crossover (rays) |")
     print("|---|---:|" + "---:|" * (len(budgets) + 1))
     scenes = []
     for r in rows:
@@ -155,6 +162,29 @@ def trade(rows, budgets, t):
           "trace pays for its slower build.\n")
 
 
+def errors(rows, notes):
+    print("### Error columns (all rows, both thread counts)\n")
+    print("| structure | path | disagreements with brute / sampled rays | with its scalar path / rays | rows with brute errors |")
+    print("|---|---|---:|---:|---|")
+    keys = []
+    for r in rows:
+        k = (r["structure"], r["path"])
+        if k not in keys:
+            keys.append(k)
+    for st, p in keys:
+        sel = [r for r in rows if r["structure"] == st and r["path"] == p]
+        eb = sum(max(r["err_brute"], 0) for r in sel)
+        nb = sum(r["brute_sample"] for r in sel)
+        es = [r["err_scalar"] for r in sel if r["err_scalar"] is not None]
+        ns = sum(r["validated_rays"] for r in sel if r["err_scalar"] is not None)
+        where = sorted({f'{r["scene"]} {r["kind"]}' for r in sel if r["err_brute"] > 0})
+        print(f"| {st} | {p} | {eb} / {nb} | {str(sum(es)) + ' / ' + str(ns) if es else '–'} | "
+              f"{', '.join(where[:6]) + (' …' if len(where) > 6 else '')} |")
+    print()
+    if notes:
+        print("Notes of the run: " + "; ".join(notes) + "\n")
+
+
 def main():
     data = json.load(open(sys.argv[1]))
     rows = data["rows"]
@@ -166,6 +196,7 @@ def main():
     auto(data)
     builds(rows, t)
     trade(rows, m["budgets"], t)
+    errors(rows, data.get("notes", []))
 
 
 if __name__ == "__main__":
