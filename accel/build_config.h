@@ -5,6 +5,12 @@
 
 namespace arbor::accel {
 
+/// Which traversal layouts a structure builds: `all` (every path can be traced: tests, benchmarks),
+/// `scalar` (only the reference path's layout) or `simd` (only the layouts of the SIMD paths
+/// `single` and `packet`, which `best` takes). A path whose layout was not built is traced on one
+/// that was (Accel::has_path says which exist; every path gives the same answers).
+enum class Layouts : std::uint8_t { all, scalar, simd };
+
 struct BuildConfig {
     /// Maximum triangles per BVH leaf (bvh-median splits down to this; SAH and LBVH use it as the
     /// cap). The seed report used 1.
@@ -51,6 +57,13 @@ struct BuildConfig {
     /// MemoryLimitError (memory_estimate.h): checked from the triangle count before building, by the
     /// kd-tree builder as it grows, and against the measured peak afterwards.
     std::uint64_t max_memory = 0;
+    /// Traversal layouts to build (BVHs: the two-box scalar layout and/or the N-wide SIMD layout;
+    /// kd-tree: its SIMD leaf blocks or not). The command line builds only what the requested path
+    /// reads.
+    Layouts layouts = Layouts::all;
 };
+
+/// The layouts a trace on `path` reads (scalar: the reference layout; anything else: the SIMD ones).
+inline Layouts layouts_for(bool scalar_path) { return scalar_path ? Layouts::scalar : Layouts::simd; }
 
 }  // namespace arbor::accel

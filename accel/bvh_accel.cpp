@@ -5,6 +5,8 @@
 #include "accel/timer.h"
 #include "simd/tri_test.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -15,13 +17,18 @@ namespace arbor::accel {
 BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
     : kind_(kind) {
     const Timer timer;
-    layout_ = make_bvh2_layout(bvh, tris);
+    has_scalar_ = cfg.layouts != Layouts::simd;
+    const bool wide = cfg.layouts != Layouts::scalar;
+    if (!bvh.nodes.empty()) diagonal_ = simd::length(bvh.nodes[0].box.extent());
     WideConfig wide_cfg;
     wide_cfg.merge_triangles = cfg.wide_merge;
     wide_cfg.packet_lanes = cfg.packet_lanes;
     wide_cfg.switch_lanes = cfg.packet_switch;
-    wide_ = make_wide_paths(cfg.bvh_width, bvh, tris, wide_cfg);
-    const BvhTreeStats tree = bvh_tree_stats(bvh, cfg.traversal_cost, cfg.intersection_cost);
+    BvhTreeStats tree;
+    // The layouts and the statistics only read the binary tree: made side by side.
+    tbb::parallel_invoke([&] { if (has_scalar_) layout_ = make_bvh2_layout(bvh, tris); },
+                         [&] { if (wide) wide_ = make_wide_paths(cfg.bvh_width, bvh, tris, wide_cfg); },
+                         [&] { tree = bvh_tree_stats(bvh, cfg.traversal_cost, cfg.intersection_cost); });
     stats_.triangles = tris.triangle_count();
     stats_.dropped_nonfinite = bvh.dropped_nonfinite;
     stats_.nodes = tree.nodes;
@@ -30,11 +37,11 @@ BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, co
     stats_.mean_leaf_depth = tree.mean_leaf_depth;
     stats_.sah_cost = tree.sah_cost;
     // Both layouts: the scalar reference path and the SIMD paths.
-    stats_.memory_bytes = layout_.memory_bytes() + wide_->memory_bytes();
+    stats_.memory_bytes = (has_scalar_ ? layout_.memory_bytes() : 0) + (wide_ ? wide_->memory_bytes() : 0);
     // While converting, the binary tree, the layout and the converter's three words per node live together.
     const std::size_t binary_bytes = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
                                      bvh.prim_ids.capacity() * sizeof(std::uint32_t);
-    const std::size_t convert_peak = binary_bytes + layout_.memory_bytes() + wide_->memory_bytes() + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+    const std::size_t convert_peak = binary_bytes + stats_.memory_bytes + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
     stats_.build_peak_bytes = std::max(bvh.build_peak_bytes, convert_peak);
     stats_.build_ms = build_ms + timer.ms();
 }
@@ -94,8 +101,21 @@ Hit BvhAccel::trace(const Ray& ray, bool any_hit) const {
     return h;
 }
 
+bool BvhAccel::has_path(TracePath path) const {
+    switch (path) {
+    case TracePath::scalar: return has_scalar_;
+    case TracePath::packet:
+    case TracePath::single: return wide_ != nullptr;
+    default: return true;
+    }
+}
+
 TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* reason) const {
-    const float diagonal = layout_.empty() ? 0.0f : simd::length(layout_.root_box.extent());
+    if (!wide_) {
+        if (reason) *reason = "only the scalar layout was built";
+        return TracePath::scalar;
+    }
+    const float diagonal = diagonal_;
     const std::size_t group = wide_->packet_lanes();
     const double f = coherent_fraction(rays, group, 0.05f * diagonal);
     const TracePath path = f >= 0.5 ? TracePath::packet : TracePath::single;
@@ -109,18 +129,19 @@ TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* r
 }
 
 void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best) path = resolve_path(rays, false);
+    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, false);
     if (path == TracePath::scalar) trace_batch<false>(rays, hits);
     else wide_->trace(rays, hits, path, false);
 }
 
 void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best) path = resolve_path(rays, true);
+    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, true);
     if (path == TracePath::scalar) trace_batch<true>(rays, hits);
     else wide_->trace(rays, hits, path, true);
 }
 
 bool BvhAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceCounters& counters) const {
+    if (!has_scalar_) return false;
     if (any_hit) trace_batch<true, true>(rays, hits, &counters);
     else trace_batch<false, true>(rays, hits, &counters);
     return true;

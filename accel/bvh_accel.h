@@ -21,7 +21,9 @@ public:
     BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms);
 
     AccelKind kind() const override { return kind_; }
-    bool has_path(TracePath path) const override { return true; }
+    /// scalar: when the scalar layout was built; packet and single: when the wide layout was
+    /// (BuildConfig::layouts). A path without its layout is traced on the one `best` takes.
+    bool has_path(TracePath path) const override;
     /// `packet` when at least half of the groups of consecutive rays that would share a packet are
     /// coherent (accel/coherence.h: one direction octant, origins within 5% of the scene's
     /// diagonal), else `single` (measured: perf/results/wide-*.md).
@@ -32,9 +34,11 @@ public:
     bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
                        TraceCounters& counters) const override;
 
-    /// One ray through the scalar loop: closest hit, or with any_hit the first hit found.
+    /// One ray through the scalar loop (needs the scalar layout): closest hit, or with any_hit the
+    /// first hit found.
     Hit trace(const Ray& ray, bool any_hit) const;
     const Bvh2Layout& layout() const { return layout_; }
+    /// The SIMD paths (needs the wide layout).
     const WidePaths& wide() const { return *wide_; }
 
 private:
@@ -44,7 +48,9 @@ private:
 
     AccelKind kind_;
     Bvh2Layout layout_;
-    std::unique_ptr<WidePaths> wide_;
+    bool has_scalar_ = true;
+    std::unique_ptr<WidePaths> wide_;  ///< null when only the scalar layout was built
+    float diagonal_ = 0.0f;  ///< of the root box (the coherence measure's scale)
     BuildStats stats_;
 };
 

@@ -11,7 +11,7 @@ namespace arbor::accel {
 KdTreeAccel::KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg) {
     const Timer timer;
     tree_ = build_kdtree(tris, cfg);
-    simd_ = make_kd_simd_paths(tree_, cfg);
+    if (cfg.layouts != Layouts::scalar) simd_ = make_kd_simd_paths(tree_, cfg);
     stats_.build_ms = timer.ms();
     const KdTreeStats st = kd_tree_stats(tree_, cfg.traversal_cost, cfg.intersection_cost);
     stats_.triangles = tris.triangle_count();
@@ -21,7 +21,7 @@ KdTreeAccel::KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg) {
     stats_.max_depth = st.max_depth;
     stats_.mean_leaf_depth = st.mean_leaf_depth;
     stats_.sah_cost = st.sah_cost;
-    stats_.memory_bytes = tree_.memory_bytes() + simd_->memory_bytes();
+    stats_.memory_bytes = tree_.memory_bytes() + (simd_ ? simd_->memory_bytes() : 0);
     stats_.build_peak_bytes = tree_.build_peak_bytes;
 }
 
@@ -71,6 +71,10 @@ bool KdTreeAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, 
 }
 
 TracePath KdTreeAccel::resolve_path(std::span<const Ray>, bool, std::string* reason) const {
+    if (!simd_) {
+        if (reason) *reason = "only the scalar path's layout was built";
+        return TracePath::scalar;
+    }
     // Measured (perf/results/kdtree-simd-2026-11-22.md): the packet path runs at 0.65-0.75x of the
     // single path on every kind of ray, coherent primary and shadow rays included, because each lane
     // still walks the ropes alone; only the triangle tests are shared.
@@ -79,13 +83,13 @@ TracePath KdTreeAccel::resolve_path(std::span<const Ray>, bool, std::string* rea
 }
 
 void KdTreeAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best) path = resolve_path(rays, false);
+    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, false);
     if (path != TracePath::scalar) return simd_->trace(tree_, rays, hits, path, false);
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<false>(rays[i]);
 }
 
 void KdTreeAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best) path = resolve_path(rays, true);
+    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, true);
     if (path != TracePath::scalar) return simd_->trace(tree_, rays, hits, path, true);
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<true>(rays[i]);
 }

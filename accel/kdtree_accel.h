@@ -16,7 +16,8 @@ public:
 
     AccelKind kind() const override { return AccelKind::kdtree; }
     const BuildStats& stats() const override { return stats_; }
-    bool has_path(TracePath) const override { return true; }
+    /// packet and single need the SIMD leaf blocks (BuildConfig::layouts != scalar).
+    bool has_path(TracePath path) const override { return simd_ || path == TracePath::scalar || path == TracePath::best; }
     /// `single` for every batch: the packet path measured slower on every kind of ray, coherent
     /// ones included (perf/results/kdtree-simd-2026-11-22.md).
     TracePath resolve_path(std::span<const Ray> rays, bool any_hit, std::string* reason = nullptr) const override;

@@ -1,9 +1,13 @@
 #include "accel/wide_layout.h"
 
+#include "accel/scratch_array.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace arbor::accel {
@@ -24,6 +28,16 @@ struct LeafJob {
     std::uint32_t bin, offset, count, first_block;
 };
 
+/// At most N kids of one wide node (no heap allocation per node).
+template <std::size_t N> struct Kids {
+    std::array<Kid, N> kid;
+    std::uint32_t size = 0;
+    void push_back(const Kid& k) { kid[size++] = k; }
+};
+
+/// Subtrees with more triangles than this are planned as two parallel tasks.
+constexpr std::uint32_t parallel_plan_tris = 4096;
+
 template <std::size_t N> class Collapser {
 public:
     Collapser(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg, WideLayout<N>& out)
@@ -33,17 +47,32 @@ public:
         node_cost_ = cfg.node_cost;
         block_cost_ = cfg.block_cost;
         const std::size_t n = bvh.nodes.size();
-        sub_tris_.assign(n, 0);
+        sub_tris_.resize(n);
+        slots_.resize(n);
         for (std::size_t i = n; i-- > 0;) {  // children come after their parents
             const BvhBuildNode& node = bvh.nodes[i];
-            sub_tris_[i] = node.is_leaf() ? node.count : sub_tris_[node.first] + sub_tris_[node.first + 1];
+            if (node.is_leaf()) {
+                sub_tris_[i] = node.count, slots_[i] = 1;
+            } else {
+                sub_tris_[i] = sub_tris_[node.first] + sub_tris_[node.first + 1];
+                slots_[i] = std::uint8_t(std::min<std::uint32_t>(std::uint32_t(N), slots_[node.first] + slots_[node.first + 1]));
+            }
         }
+        // Row i of the cost and choice tables holds slots 1..slots_[i] (a subtree cannot fill more
+        // slots than it has binary leaves): rows back to back, about 3 entries a node instead of N.
+        row_.resize(n + 1);
+        std::size_t at = 0;
+        for (std::size_t i = 0; i < n; ++i) row_[i] = at, at += slots_[i];
+        row_[n] = at;
     }
 
     void run() {
         if (bvh_.nodes.empty() || sub_tris_[0] == 0) return;
-        plan();
-        std::vector<Kid> kids;
+        cost_ = ScratchArray<float>(row_.back());
+        choice_ = ScratchArray<std::uint8_t>(row_.back());
+        leaf_ = ScratchArray<std::uint8_t>(bvh_.nodes.size());
+        plan(0);
+        Kids<N> kids;
         if (leaf_[0]) kids.push_back({0, 0, sub_tris_[0], true});
         else collect(0, std::uint32_t(N), kids);
         build_node(kids, 1);
@@ -56,69 +85,76 @@ public:
     }
 
 private:
-    static constexpr std::size_t S = N + 1;  // cost table row: slots 1..N
+    /// Cost of binary node n's subtree over at most k slots (1 <= k <= slots_[n]), and the split.
+    float& cost(std::uint32_t n, std::uint32_t k) { return cost_[row_[n] + k - 1]; }
+    std::uint8_t choice(std::uint32_t n, std::uint32_t k) const { return choice_[row_[n] + k - 1]; }
 
-    /// The SAH-optimal collapse of the binary tree by dynamic programming, bottom-up (Ylitie et al.,
-    /// "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017):
-    /// cost_[n][i] is the least SAH cost of binary node n's subtree spread over at most i slots of a
-    /// wide node; one slot is n itself, as a leaf (area x blocks x block cost, allowed up to
-    /// merge_ triangles; a binary leaf always) or as a wide node (area x node cost + its subtree
-    /// spread over N slots). choice_[n][i] records the split of i slots between n's children
-    /// (0: fewer slots suffice).
-    void plan() {
-        const std::size_t n = bvh_.nodes.size();
-        cost_.assign(n * S, 0.0f);
-        choice_.assign(n * S, 0);
-        leaf_.assign(n, 0);
-        for (std::size_t i = n; i-- > 0;) {  // children come after their parents
-            const BvhBuildNode& node = bvh_.nodes[i];
-            const double area = std::max(0.0, double(node.box.area()));
-            float* c = &cost_[i * S];
-            const double as_leaf = area * block_cost_ * double(wide_blocks<N>(sub_tris_[i]));
-            if (node.is_leaf()) {
-                leaf_[i] = 1;
-                for (std::size_t k = 1; k <= N; ++k) c[k] = float(as_leaf);
-                continue;
-            }
-            const float* l = &cost_[std::size_t(node.first) * S];
-            const float* r = &cost_[std::size_t(node.first + 1) * S];
-            std::uint8_t* ch = &choice_[i * S];
-            for (std::size_t k = 2; k <= N; ++k) {  // the two children over k slots
-                float best = INFINITY;
-                std::uint8_t split = 1;
-                for (std::size_t a = 1; a < k; ++a) {
-                    const float v = l[a] + r[k - a];
-                    if (v < best) best = v, split = std::uint8_t(a);  // first of equals: deterministic
-                }
-                c[k] = best;
-                ch[k] = split;
-            }
-            const double as_node = area * node_cost_ + double(c[N]);
-            const bool leaf = sub_tris_[i] <= merge_ && as_leaf <= as_node;
-            leaf_[i] = leaf ? 1 : 0;
-            c[1] = float(leaf ? as_leaf : as_node);
-            for (std::size_t k = 2; k <= N; ++k)
-                if (c[k - 1] < c[k]) c[k] = c[k - 1], ch[k] = 0;
+    /// The SAH-optimal collapse of binary node i's subtree by dynamic programming, bottom-up (Ylitie
+    /// et al., "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017):
+    /// cost(n, k) is the least SAH cost of n's subtree spread over at most k slots of a wide node;
+    /// one slot is n itself, as a leaf (area x blocks x block cost, allowed up to merge_
+    /// triangles; a binary leaf always) or as a wide node (area x node cost + its subtree spread
+    /// over N slots). choice(n, k) records how many of the k slots go to the left child (0: fewer
+    /// slots suffice). Slots beyond a subtree's leaf count change nothing, so the tables stop
+    /// there. Children are planned before their parent, big subtrees as parallel tasks (each
+    /// writes only its own rows: the same tables for any thread count).
+    void plan(std::uint32_t i) {
+        const BvhBuildNode& node = bvh_.nodes[i];
+        const double area = std::max(0.0, double(node.box.area()));
+        const double as_leaf = area * block_cost_ * double(wide_blocks<N>(sub_tris_[i]));
+        if (node.is_leaf()) {
+            leaf_[i] = 1;
+            cost(i, 1) = float(as_leaf);
+            choice_[row_[i]] = 0;
+            return;
         }
+        const std::uint32_t lc = node.first, rc = node.first + 1;
+        if (sub_tris_[i] > parallel_plan_tris) tbb::parallel_invoke([&] { plan(lc); }, [&] { plan(rc); });
+        else plan(lc), plan(rc);
+        const std::uint32_t nl = slots_[lc], nr = slots_[rc], ni = slots_[i];
+        const float* l = &cost_[row_[lc]] - 1;  // l[a]: a = 1..nl
+        const float* r = &cost_[row_[rc]] - 1;
+        float* c = &cost_[row_[i]] - 1;
+        std::uint8_t* ch = &choice_[row_[i]] - 1;
+        for (std::uint32_t k = 2; k <= ni; ++k) {  // the two children over k slots
+            float best = INFINITY;
+            std::uint8_t split = 1;
+            const std::uint32_t a_lo = k > nr ? k - nr : 1, a_hi = std::min(k - 1, nl);
+            for (std::uint32_t a = a_lo; a <= a_hi; ++a) {
+                const float v = l[a] + r[k - a];
+                if (v < best) best = v, split = std::uint8_t(a);  // first of equals: deterministic
+            }
+            c[k] = best;
+            ch[k] = split;
+        }
+        // A wide node spreads the subtree over all N slots; ni of them are all it can fill.
+        const double as_node = area * node_cost_ + double(c[ni]);
+        const bool leaf = sub_tris_[i] <= merge_ && as_leaf <= as_node;
+        leaf_[i] = leaf ? 1 : 0;
+        c[1] = float(leaf ? as_leaf : as_node);
+        ch[1] = 0;
+        for (std::uint32_t k = 2; k <= ni; ++k)
+            if (c[k - 1] < c[k]) c[k] = c[k - 1], ch[k] = 0;
     }
 
     /// Appends the kids of binary node `bin` spread over at most `slots` slots, as planned.
-    void collect(std::uint32_t bin, std::uint32_t slots, std::vector<Kid>& kids) const {
+    void collect(std::uint32_t bin, std::uint32_t slots, Kids<N>& kids) const {
         const BvhBuildNode& node = bvh_.nodes[bin];
-        while (slots > 1 && !node.is_leaf() && choice_[bin * S + slots] == 0) --slots;
+        slots = std::min<std::uint32_t>(slots, slots_[bin]);
+        while (slots > 1 && !node.is_leaf() && choice(bin, slots) == 0) --slots;
         if (slots <= 1 || node.is_leaf()) {
             kids.push_back({bin, 0, sub_tris_[bin], true});
             return;
         }
-        const std::uint32_t a = choice_[bin * S + slots];
+        const std::uint32_t a = choice(bin, slots);
         collect(node.first, a, kids);
         collect(node.first + 1, slots - a, kids);
     }
 
     /// Kids for a leaf too big for one wide leaf: up to N chunks of about equal size.
-    std::vector<Kid> chunk(const Kid& k) const {
+    Kids<N> chunk(const Kid& k) const {
         const std::uint32_t pieces = std::min<std::uint32_t>(std::uint32_t(N), (k.count + max_leaf_ - 1) / max_leaf_);
-        std::vector<Kid> kids;
+        Kids<N> kids;
         for (std::uint32_t p = 0; p < pieces; ++p) {
             const std::uint32_t b = std::uint32_t(std::uint64_t(k.count) * p / pieces);
             const std::uint32_t e = std::uint32_t(std::uint64_t(k.count) * (p + 1) / pieces);
@@ -128,7 +164,7 @@ private:
     }
 
     /// Appends a node for `kids` (and, depth first, its descendants); returns its index.
-    std::uint32_t build_node(const std::vector<Kid>& kids, std::uint32_t depth) {
+    std::uint32_t build_node(const Kids<N>& kids, std::uint32_t depth) {
         const auto index = std::uint32_t(out_.nodes.size());
         out_.nodes.emplace_back();
         out_.depth = std::max(out_.depth, depth);
@@ -139,13 +175,13 @@ private:
                 n.child[c] = 0;
                 n.count[c] = 0;
             }
-            n.children = std::uint8_t(kids.size());
+            n.children = std::uint8_t(kids.size);
         }
-        for (std::size_t c = 0; c < kids.size(); ++c) {
-            const Kid& k = kids[c];
+        for (std::size_t c = 0; c < kids.size; ++c) {
+            const Kid& k = kids.kid[c];
             std::uint32_t child = 0, count = 0;
             if (k.whole && !leaf_[k.bin]) {
-                std::vector<Kid> sub;
+                Kids<N> sub;
                 collect(k.bin, std::uint32_t(N), sub);
                 child = build_node(sub, depth + 1);
             } else if (k.count > max_leaf_) {
@@ -207,8 +243,10 @@ private:
     std::uint32_t merge_ = N, max_leaf_ = 65535;
     double node_cost_ = 1.0, block_cost_ = 1.0;
     std::vector<std::uint32_t> sub_tris_;
-    std::vector<float> cost_;
-    std::vector<std::uint8_t> choice_, leaf_;
+    std::vector<std::uint8_t> slots_;   ///< min(N, binary leaves in the subtree)
+    std::vector<std::size_t> row_;      ///< first entry of each node's row in cost_ / choice_
+    ScratchArray<float> cost_;
+    ScratchArray<std::uint8_t> choice_, leaf_;
     std::vector<LeafJob> jobs_;
     std::uint32_t next_block_ = 0;
 };

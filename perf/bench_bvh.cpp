@@ -100,11 +100,16 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
     const std::vector<std::pair<std::string, accel::AccelKind>> kinds = {
         {"bvh-median", accel::AccelKind::bvh_median}, {"bvh-sah", accel::AccelKind::bvh_sah},
         {"lbvh", accel::AccelKind::lbvh}, {"kdtree", accel::AccelKind::kdtree}};
-    std::map<std::string, std::vector<double>> times;
+    // Each structure is built twice per round: with the scalar layout only (the structure of its
+    // reference path) and with the SIMD layout only (what `arbor trace` builds for its default path).
+    accel::BuildConfig scalar_cfg = cfg, simd_cfg = cfg;
+    scalar_cfg.layouts = accel::Layouts::scalar;
+    simd_cfg.layouts = accel::Layouts::simd;
+    std::map<std::string, std::vector<double>> times, times_simd;
     std::map<std::string, std::unique_ptr<accel::Accel>> built;
-    std::vector<double> t_refs, t_build, t_convert;
+    std::vector<double> t_refs, t_build, t_scalar, t_simd;
     std::vector<double> t_embree;
-    std::map<std::string, std::vector<double>> ratio;  // per round: build ms / Embree's build ms
+    std::map<std::string, std::vector<double>> ratio, ratio_simd;  // per round: build ms / Embree's build ms
 #if ARBOR_HAVE_EMBREE
     std::unique_ptr<perf::EmbreePeer> embree;
 #endif
@@ -118,41 +123,52 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
             if (o.build_only) break;
             try {
                 const accel::Timer t;
-                auto a = accel::make_accel(kind, view, cfg);
+                auto a = accel::make_accel(kind, view, scalar_cfg);
                 times[kname].push_back(t.ms());
                 if (!t_embree.empty()) ratio[kname].push_back(times[kname].back() / t_embree.back());
                 built[kname] = std::move(a);
+                const accel::Timer ts;
+                auto b = accel::make_accel(kind, view, simd_cfg);
+                times_simd[kname].push_back(ts.ms());
+                if (!t_embree.empty()) ratio_simd[kname].push_back(times_simd[kname].back() / t_embree.back());
             } catch (const std::invalid_argument&) {  // not in this build yet
             }
         }
-        // bvh-sah by phases: prim refs, binned SAH build, conversion to the traversal layout.
+        // bvh-sah by phases: prim refs, binned SAH build, conversion to each traversal layout.
         const accel::Timer t0;
         const accel::PrimRefs refs = accel::make_prim_refs(view);
         const double a = t0.ms();
         accel::BinaryBvh bvh = accel::build_bvh_sah(refs, cfg);
         const double b = t0.ms();
-        const auto acc = accel::make_bvh_accel(accel::AccelKind::bvh_sah, std::move(bvh), view, cfg, 0.0);
-        t_refs.push_back(a), t_build.push_back(b - a), t_convert.push_back(t0.ms() - b);
+        accel::BinaryBvh copy = bvh;
+        const accel::Timer t1;
+        const auto acc = accel::make_bvh_accel(accel::AccelKind::bvh_sah, std::move(bvh), view, scalar_cfg, 0.0);
+        const double c = t1.ms();
+        const accel::Timer t2;
+        const auto acc2 = accel::make_bvh_accel(accel::AccelKind::bvh_sah, std::move(copy), view, simd_cfg, 0.0);
+        t_refs.push_back(a), t_build.push_back(b - a), t_scalar.push_back(c), t_simd.push_back(t2.ms());
     }
-    std::printf("bvh-sah phases: prim refs %.1f ms, binned SAH %.1f ms, layout %.1f ms\n", median(t_refs),
-                median(t_build), median(t_convert));
+    std::printf("bvh-sah phases: prim refs %.1f ms, binned SAH %.1f ms, scalar layout %.1f ms, SIMD layout %.1f ms\n",
+                median(t_refs), median(t_build), median(t_scalar), median(t_simd));
     if (o.build_only) return;
 
     const auto sets = make_rays(mesh, o.rays);
     const accel::BruteAccel brute(view);
     const std::size_t check = std::max<std::size_t>(16, std::size_t(2e8 / double(mesh.triangle_count()) / 2));
-    std::printf("| structure | build ms | build / Embree's | SAH cost | nodes | depth | B/tri | brute disagreements (%zu rays) |",
+    std::printf("| structure | build ms, scalar layout | / Embree's | build ms, SIMD layout | / Embree's | SAH cost | nodes | depth | B/tri (scalar layout) | brute disagreements (%zu rays) |",
                 std::min(check, o.rays) * 2);
     for (const auto& s : sets) std::printf(" %s Mrays/s |", s.name.c_str());
-    std::printf("\n|---|---|---|---|---|---|---|---|");
+    std::printf("\n|---|---|---|---|---|---|---|---|---|---|");
     for (std::size_t i = 0; i < sets.size(); ++i) std::printf("---|");
     std::printf("\n");
     for (const auto& [kname, kind] : kinds) {
         if (!built.count(kname)) continue;
         const accel::Accel& a = *built[kname];
         const std::size_t bad = validate(a, brute, sets, check);
-        std::printf("| %s | %.1f | %s | %.2f | %zu | %u | %.1f | %zu |", kname.c_str(), median(times[kname]),
+        std::printf("| %s | %.1f | %s | %.1f | %s | %.2f | %zu | %u | %.1f | %zu |", kname.c_str(), median(times[kname]),
                     ratio.count(kname) ? std::to_string(median(ratio[kname])).substr(0, 4).c_str() : "-",
+                    median(times_simd[kname]),
+                    ratio_simd.count(kname) ? std::to_string(median(ratio_simd[kname])).substr(0, 4).c_str() : "-",
                     a.stats().sah_cost, a.stats().nodes, a.stats().max_depth, a.stats().bytes_per_triangle(), bad);
         for (const auto& s : sets) {
             std::vector<accel::Hit> hits(s.rays.size());
@@ -167,8 +183,8 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
         std::printf("\n");
     }
 #if ARBOR_HAVE_EMBREE
-    std::printf("| embree (medium, %s) | %.1f | 1 | - | - | - | %.1f | - |", perf::embree_config_name(embree->config()).c_str(),
-                median(t_embree), double(embree->memory_bytes()) / double(mesh.triangle_count()));
+    std::printf("| embree (medium, %s) | %.1f | 1 | %.1f | 1 | - | - | - | %.1f | - |", perf::embree_config_name(embree->config()).c_str(),
+                median(t_embree), median(t_embree), double(embree->memory_bytes()) / double(mesh.triangle_count()));
     for (const auto& s : sets) {
         std::vector<accel::Hit> hits(s.rays.size());
         std::vector<double> tt;

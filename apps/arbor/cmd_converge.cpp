@@ -108,7 +108,9 @@ int run_converge(ConvergeCommand& o) {
         std::string reason;
         const auto kind = resolve_accel(std::string(accel::to_string(kinds[a])), scene.mesh.view(), &reason);
         const accel::Timer build_timer;
-        const auto structure = accel::make_accel(kind, scene.mesh.view(), o.build);
+        accel::BuildConfig build = o.build;
+        build.layouts = accel::Layouts::simd;  // the renderer traces the SIMD paths only
+        const auto structure = accel::make_accel(kind, scene.mesh.view(), build);
         const double build_ms = build_timer.ms();
         for (std::size_t i = 0; i < integrators.size(); ++i) {
             engine::RenderSettings set = to_settings(o.render, integrators[i]);

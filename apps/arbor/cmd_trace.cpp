@@ -30,6 +30,12 @@ int run_trace(const TraceOptions& o) {
     engine::Warnings warnings;
     const engine::Mesh mesh = engine::load_obj(o.scene, warnings, o.build.max_memory);
     const std::vector<accel::Ray> rays = engine::read_rays(o.rays, o.build.max_memory);
+    // Only the layout the path reads is built: the scalar one for --path scalar, else the SIMD ones.
+    auto path = *accel::parse_trace_path(o.path);
+    accel::BuildConfig build = o.build;
+    build.layouts = accel::layouts_for(path == accel::TracePath::scalar);
+    const char* skipped = path == accel::TracePath::scalar ? "SIMD layouts (--path scalar does not read them)"
+                                                           : "scalar layout (only --path scalar reads it)";
     std::string reason;
     std::unique_ptr<accel::Accel> prebuilt;
     double auto_ms = 0.0;
@@ -37,16 +43,15 @@ int run_trace(const TraceOptions& o) {
     hints.sample = rays;
     hints.any_hit = o.occluded;
     hints.budget = double(rays.size()) * double(o.repeat);
-    hints.build = o.build;
+    hints.build = build;
     hints.prebuilt = &prebuilt;
     hints.auto_ms = &auto_ms;
     const accel::AccelKind kind = resolve_accel(o.accel, mesh.view(), &reason, hints);
-    auto path = *accel::parse_trace_path(o.path);
 
     // With auto, calibration may have built the pick already: then its own build time counts.
     const bool was_prebuilt = prebuilt != nullptr;
     const accel::Timer build_timer;
-    const auto structure = was_prebuilt ? std::move(prebuilt) : accel::make_accel(kind, mesh.view(), o.build);
+    const auto structure = was_prebuilt ? std::move(prebuilt) : accel::make_accel(kind, mesh.view(), build);
     const double build_ms = was_prebuilt ? structure->stats().build_ms : build_timer.ms();
 
     // `best`: the structure measures the rays once and says which path it takes, and why.
@@ -86,6 +91,9 @@ int run_trace(const TraceOptions& o) {
     j["mrays_per_s"] = median_ms > 0 ? double(rays.size()) / (median_ms * 1e3) : 0.0;
     j["threads"] = active_threads();
     j["leaf_size"] = o.build.max_leaf_size;
+    const bool has_layouts = kind != accel::AccelKind::brute;
+    j["layouts"] = has_layouts ? (build.layouts == accel::Layouts::scalar ? "scalar" : "simd") : "none";
+    j["skipped"] = has_layouts ? nlohmann::json::array({skipped}) : nlohmann::json::array();
     put_stats(j, structure->stats());
     if (o.json) {
         std::cout << j.dump() << '\n';
@@ -93,10 +101,10 @@ int run_trace(const TraceOptions& o) {
     }
     engine::print_warnings(warnings);
     std::printf("%s: %zu triangles, %zu rays, %zu hits; build %.2f ms, trace %.2f ms (median of %d), "
-                "%.2f Mrays/s, %d threads, path %s (%s)\n",
+                "%.2f Mrays/s, %d threads, path %s (%s)%s%s\n",
                 std::string(j["accel"]).c_str(), mesh.triangle_count(), rays.size(), nhit, build_ms, median_ms,
                 o.repeat, double(j["mrays_per_s"]), int(j["threads"]), std::string(accel::to_string(path)).c_str(),
-                path_reason.c_str());
+                path_reason.c_str(), has_layouts ? "; skipped: " : "", has_layouts ? skipped : "");
     return 0;
 }
 

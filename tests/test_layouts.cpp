@@ -1,0 +1,55 @@
+// BuildConfig::layouts: a structure built with only the scalar layout or only the SIMD layouts
+// says so through has_path, traces a path whose layout is missing on one it has (same answers as
+// brute), and the statistics mode needs the scalar layout.
+#include "accel/brute_accel.h"
+#include "accel/bvh_accel.h"
+#include "engine/procedural.h"
+#include "testing.h"
+
+#include <doctest/doctest.h>
+
+using namespace arbor;
+using accel::Layouts;
+using accel::TracePath;
+
+TEST_CASE("layouts: only the asked-for traversal layouts are built, every path still answers") {
+    const engine::Mesh mesh = engine::make_icosphere({0.0f, 0.0f, 0.0f}, 1.0f, 3, 0.02f, 11);
+    const accel::TriangleView view = mesh.view();
+    const accel::BruteAccel brute(view);
+    const auto rays = testing::random_rays_into(mesh.bounds, 600, 5);
+    std::vector<accel::Hit> ref(rays.size()), ref_any(rays.size());
+    brute.intersect(rays, ref, TracePath::scalar);
+    for (const auto kind : {accel::AccelKind::bvh_median, accel::AccelKind::bvh_sah, accel::AccelKind::lbvh, accel::AccelKind::kdtree}) {
+        accel::BuildConfig all_cfg;
+        const auto all = accel::make_accel(kind, view, all_cfg);
+        for (const Layouts layouts : {Layouts::scalar, Layouts::simd}) {
+            CAPTURE(accel::to_string(kind));
+            CAPTURE(int(layouts));
+            accel::BuildConfig cfg;
+            cfg.layouts = layouts;
+            const auto a = accel::make_accel(kind, view, cfg);
+            const bool simd = layouts == Layouts::simd;
+            CHECK(a->has_path(TracePath::best));
+            CHECK(a->has_path(TracePath::packet) == simd);
+            CHECK(a->has_path(TracePath::single) == simd);
+            // The kd-tree's scalar walk reads the tree every path shares; a BVH's reads its own layout.
+            CHECK(a->has_path(TracePath::scalar) == (!simd || kind == accel::AccelKind::kdtree));
+            if (simd && kind == accel::AccelKind::kdtree) CHECK(a->stats().memory_bytes == all->stats().memory_bytes);
+            else CHECK(a->stats().memory_bytes < all->stats().memory_bytes);
+            CHECK(a->stats().sah_cost == all->stats().sah_cost);
+            CHECK(a->resolve_path(rays, false) != TracePath::best);
+            if (!simd) CHECK(a->resolve_path(rays, false) == TracePath::scalar);
+            for (const TracePath p : {TracePath::best, TracePath::scalar, TracePath::packet, TracePath::single}) {
+                CAPTURE(accel::to_string(p));
+                std::vector<accel::Hit> got(rays.size()), any(rays.size());
+                a->intersect(rays, got, p);
+                a->occluded(rays, any, p);
+                CHECK(testing::count_disagreements(got, ref) == 0);
+                CHECK(testing::count_occlusion_disagreements(any, ref) == 0);
+            }
+            std::vector<accel::Hit> counted(rays.size());
+            accel::TraceCounters counters;
+            CHECK(a->trace_counted(rays, counted, false, counters) == a->has_path(TracePath::scalar));
+        }
+    }
+}
