@@ -100,33 +100,49 @@ struct AutoSelector::Impl {
     std::size_t last_sample = 0;  // rays of the last predict()
     std::size_t refined = 0;      // candidates built whole by refine()
 
-    /// Trace time per ray, ns, of each structure, on the path TracePath::best takes: the fastest
-    /// of cfg.repeats timings of `rays` (process CPU time / threads), the repeats of all structures interleaved so that a burst
-    /// of other work does not hit one alone. One timing traces the sample as often as it takes to
-    /// fill cfg.min_timed_ms.
+    /// Trace time per ray, ns, of each structure on its fastest path: each SIMD path it has
+    /// (packet, single; the scalar path where it has none) is timed, and the faster one is the
+    /// structure's path, the one a trace with --accel auto then runs. A time is the fastest of
+    /// cfg.repeats timings of `rays` (process CPU time / threads), the repeats of all (structure,
+    /// path) pairs interleaved so that a burst of other work does not hit one alone. One timing
+    /// traces the sample as often as it takes to fill cfg.min_timed_ms.
     std::vector<Timed> time(const std::vector<const Accel*>& accels, std::span<const Ray> rays, bool any_hit) const {
         std::vector<Timed> out(accels.size());
-        if (rays.empty()) return out;
+        if (rays.empty()) {
+            for (std::size_t i = 0; i < accels.size(); ++i) out[i].path = accels[i]->resolve_path(rays, any_hit);
+            return out;
+        }
+        struct Config {
+            std::size_t accel;
+            TracePath path;
+            double ns = std::numeric_limits<double>::infinity();
+        };
+        std::vector<Config> configs;
         for (std::size_t i = 0; i < accels.size(); ++i) {
-            out[i].path = accels[i]->resolve_path(rays, any_hit);
-            out[i].ns = std::numeric_limits<double>::infinity();
+            const std::size_t before = configs.size();
+            for (const TracePath p : {TracePath::packet, TracePath::single})
+                if (accels[i]->has_path(p)) configs.push_back({i, p});
+            if (configs.size() == before) configs.push_back({i, accels[i]->resolve_path(rays, any_hit)});
         }
         std::vector<Hit> hits(rays.size());
         const double threads = active_threads();
         for (int r = 0; r < std::max(cfg.repeats, 1); ++r)
-            for (std::size_t i = 0; i < accels.size(); ++i) {
+            for (Config& c : configs) {
                 const Timer t;
                 const double cpu0 = process_cpu_ms();
                 std::size_t traced = 0;
                 do {
-                    trace_parallel(*accels[i], rays, hits, any_hit ? Query::any : Query::closest, TracePath::best);
+                    trace_parallel(*accels[c.accel], rays, hits, any_hit ? Query::any : Query::closest, c.path);
                     traced += rays.size();
                 } while (t.ms() < cfg.min_timed_ms);
                 // CPU time / threads: the wall time on an idle machine, not the time other jobs
                 // held the cores (the same on an idle machine, far steadier on a shared one).
                 const double ms = (process_cpu_ms() - cpu0) / threads;
-                out[i].ns = std::min(out[i].ns, ms * 1e6 / double(traced));
+                c.ns = std::min(c.ns, ms * 1e6 / double(traced));
             }
+        for (std::size_t i = 0; i < accels.size(); ++i) out[i].ns = std::numeric_limits<double>::infinity();
+        for (const Config& c : configs)  // the first of equal times: deterministic order
+            if (c.ns < out[c.accel].ns) out[c.accel] = {c.ns, c.path};
         return out;
     }
 

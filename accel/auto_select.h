@@ -16,8 +16,10 @@
 ///   N log N (top-down builders) or N (lbvh). Then, when the budget is large enough, contenders
 ///   (predicted total within refine_margin of the best) whose predicted build costs at most
 ///   refine_fraction of the best total are built whole and timed there ("refined").
-/// Every calibration trace goes through trace_parallel with TracePath::best, as the real trace
-/// does, so each structure is timed on the path it will use (AutoPrediction::path). Each timed
+/// Every structure is timed through trace_parallel on each of its SIMD paths (packet and single;
+/// scalar where it has none), and its faster path is part of the pick (AutoChoice::path): `arbor
+/// trace --accel auto` runs the pick on that path. (TracePath::best decides by a coherence
+/// measure alone, which misjudges some ray sets by up to 2x, perf/results/2026-11-22-simd.) Each timed
 /// trace repeats the sample for at least min_timed_ms, so sub-millisecond traces are not timer
 /// noise. Predicted totals within `tie` of the smallest count as a tie: then the cheapest build
 /// wins when the build is most of the total, else bvh-sah (the most robust tree) when it is tied.
@@ -68,12 +70,12 @@ struct AutoPrediction {
     double ns_per_ray = 0.0;  ///< predicted trace time per ray at the current thread count
     double total_ms = 0.0;    ///< build_ms + budget * ns_per_ray
     bool built_whole = false; ///< calibration built it on the whole scene
-    TracePath path = TracePath::scalar;  ///< the path TracePath::best took on the sample
+    TracePath path = TracePath::scalar;  ///< its fastest path on the sample (ns_per_ray is on it)
 };
 
 struct AutoChoice {
     AccelKind kind = AccelKind::brute;
-    TracePath path = TracePath::scalar;       ///< the path best took on the calibration sample
+    TracePath path = TracePath::scalar;       ///< the pick's fastest path on the calibration sample: trace on it
     std::string reason;                       ///< one line: the pick, its prediction, the runner-up
     std::vector<AutoPrediction> predictions;  ///< every candidate, smallest total first
     double calibration_ms = 0.0;              ///< wall time spent calibrating (builds + sample traces)

@@ -67,13 +67,15 @@ struct AutoRow {
     int threads = 0;
     double budget = 0.0;
     std::string picked, best;   ///< structure auto picked, structure with the smallest measured total
-    std::string picked_path, best_path;  ///< the path best takes on the picked one; the best row's path
-    /// picked_ms: the picked structure on the path TracePath::best takes (the row auto's pick would
-    /// run); best_ms: the smallest total of any arbor (structure, path) row.
+    std::string picked_path, best_path;  ///< the path auto picked with the structure; the best row's path
+    /// picked_ms: the picked structure on the picked path (the row `arbor trace --accel auto` runs);
+    /// best_ms: the smallest total of any arbor (structure, path) row.
     double picked_ms = 0.0, best_ms = 0.0;
     double regret = 0.0;        ///< picked_ms / best_ms - 1 (NaN: auto picked a structure not timed)
-    /// The same against the picked structure's own best path (as if auto also chose the path).
+    /// The same against the picked structure's fastest measured path.
     double regret_any_path = 0.0;
+    /// The regret had the pick run on the path TracePath::best takes (its coherence rule).
+    double regret_best_path = 0.0;
     double overhead_ms = 0.0;   ///< auto's own calibration: builds on the (sub)scene + sample traces
     double regret_with_overhead = 0.0;  ///< (picked_ms + overhead_ms) / best_ms - 1
     /// The regret with totals from the fastest build and trace repeats instead of the medians (less

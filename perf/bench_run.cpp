@@ -311,9 +311,11 @@ void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::si
             const double overhead = st.construct_ms + (st.selector->calibration_ms() - before);
             // Totals per structure: on the path best takes (what the pick runs) and on its best
             // path, from the median repeats and from the fastest ones.
-            std::map<std::string, double> on_best_path, any_path, fastest_best_path, cpu_best_path;
+            // Keyed by structure; on_pick*: the row of the path auto picked for that structure.
+            const std::string pick_name(accel::to_string(choice.kind)), pick_path(accel::to_string(choice.path));
+            double on_pick = nan_value, fastest_pick = nan_value, cpu_pick = nan_value;
+            std::map<std::string, double> on_best_path, any_path;
             double cpu_best = 0.0;
-            std::map<std::string, std::string> best_path_name;
             double best_ms = 0.0, fastest_best = 0.0;
             std::string best_name, best_row_path;
             for (std::size_t i = from; i < out.rows.size(); ++i) {
@@ -325,11 +327,13 @@ void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::si
                 if (bi < r.total_cpu_ms.size() && (cpu_best == 0.0 || r.total_cpu_ms[bi] < cpu_best)) cpu_best = r.total_cpu_ms[bi];
                 auto [it, fresh] = any_path.emplace(r.structure, r.total_ms[bi]);
                 if (!fresh) it->second = std::min(it->second, r.total_ms[bi]);
+                if (r.structure == pick_name && r.path == pick_path) {
+                    on_pick = r.total_ms[bi];
+                    fastest_pick = fast;
+                    if (bi < r.total_cpu_ms.size()) cpu_pick = r.total_cpu_ms[bi];
+                }
                 if (r.best_path) {
                     on_best_path[r.structure] = r.total_ms[bi];
-                    fastest_best_path[r.structure] = fast;
-                    if (bi < r.total_cpu_ms.size()) cpu_best_path[r.structure] = r.total_cpu_ms[bi];
-                    best_path_name[r.structure] = r.path;
                 }
             }
             if (best_name.empty()) continue;
@@ -339,21 +343,20 @@ void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::si
             a.threads = t;
             a.budget = o.budgets[bi];
             a.picked = std::string(accel::to_string(choice.kind));
-            a.picked_path = best_path_name.count(a.picked) ? best_path_name[a.picked] : std::string(accel::to_string(choice.path));
+            a.picked_path = pick_path;
             a.best = best_name;
             a.best_path = best_row_path;
             a.best_ms = best_ms;
-            const auto picked = on_best_path.find(a.picked);
-            a.picked_ms = picked == on_best_path.end() ? nan_value : picked->second;
+            a.picked_ms = on_pick;
             a.regret = a.picked_ms / a.best_ms - 1.0;
+            const auto on_best = on_best_path.find(a.picked);
+            a.regret_best_path = on_best == on_best_path.end() ? nan_value : on_best->second / a.best_ms - 1.0;
             const auto picked_any = any_path.find(a.picked);
             a.regret_any_path = picked_any == any_path.end() ? nan_value : picked_any->second / a.best_ms - 1.0;
             a.overhead_ms = overhead;
             a.regret_with_overhead = (a.picked_ms + overhead) / a.best_ms - 1.0;
-            const auto fastest_picked = fastest_best_path.find(a.picked);
-            a.regret_fastest = fastest_picked == fastest_best_path.end() ? nan_value : fastest_picked->second / fastest_best - 1.0;
-            const auto cpu_picked = cpu_best_path.find(a.picked);
-            a.regret_cpu = cpu_picked == cpu_best_path.end() || cpu_best <= 0 ? nan_value : cpu_picked->second / cpu_best - 1.0;
+            a.regret_fastest = fastest_pick / fastest_best - 1.0;
+            a.regret_cpu = cpu_best <= 0 ? nan_value : cpu_pick / cpu_best - 1.0;
             a.reason = choice.reason;
             a.oracle_split_regret = split_half_regret(out.rows, from, t, o.budgets[bi]);
             a.oracle_split_regret_cpu = split_half_regret(out.rows, from, t, o.budgets[bi], true);

@@ -1,7 +1,7 @@
 // --accel auto (accel/auto_select.h): the pick is the smallest predicted total among the
 // structures this build has (up to the tie rule, tested on fixed predictions), the reason is one
 // line, a tiny budget picks the cheapest build without calibrating the others and a huge budget
-// the fastest tracer (by the selector's own predictions), calibration times the path best takes,
+// the fastest tracer (by the selector's own predictions), calibration times every SIMD path and keeps the faster,
 // subset calibration builds only the anchor whole until refine() builds the contenders, and the
 // structure handed over traces correctly.
 #include "accel/auto_select.h"
@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 
 using namespace arbor;
 
@@ -66,7 +67,7 @@ TEST_CASE("auto: whole-scene calibration picks the smallest predicted total") {
     CHECK(testing::count_disagreements(a, b) == 0);
 }
 
-TEST_CASE("auto: calibration times each structure on the path TracePath::best takes") {
+TEST_CASE("auto: calibration times each structure on its SIMD paths and keeps the faster one") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 3);
     const auto view = mesh.view();
     const auto coherent = testing::camera_rays(mesh.bounds, 64, 32);        // 2048 rays, one camera
@@ -78,7 +79,13 @@ TEST_CASE("auto: calibration times each structure on the path TracePath::best ta
             INFO(accel::to_string(p.kind));
             auto built = sel.take_built(p.kind);
             REQUIRE(built);
-            CHECK(p.path == built->resolve_path(*rays, false));  // the sample is the rays (<= 4096)
+            CHECK(built->has_path(p.path));
+            if (built->has_path(accel::TracePath::single))  // a SIMD structure runs a SIMD path
+                CHECK((p.path == accel::TracePath::packet || p.path == accel::TracePath::single));
+            else
+                CHECK(p.path == built->resolve_path(*rays, false));
+            CHECK(std::isfinite(p.ns_per_ray));
+            CHECK(p.ns_per_ray > 0.0);
         }
     }
 }

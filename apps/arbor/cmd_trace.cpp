@@ -46,6 +46,8 @@ int run_trace(const TraceOptions& o) {
     hints.build = build;
     hints.prebuilt = &prebuilt;
     hints.auto_ms = &auto_ms;
+    accel::TracePath auto_path = accel::TracePath::best;
+    hints.path = &auto_path;
     const accel::AccelKind kind = resolve_accel(o.accel, mesh.view(), &reason, hints);
 
     // With auto, calibration may have built the pick already: then its own build time counts.
@@ -56,6 +58,10 @@ int run_trace(const TraceOptions& o) {
 
     // `best`: the structure measures the rays once and says which path it takes, and why.
     std::string path_reason = "forced with --path";
+    if (path == accel::TracePath::best && auto_path != accel::TracePath::best && structure->has_path(auto_path)) {
+        path = auto_path;
+        path_reason = "the faster path in auto's calibration";
+    }
     if (path == accel::TracePath::best) path = structure->resolve_path(rays, o.occluded, &path_reason);
 
     std::vector<accel::Hit> hits(rays.size());

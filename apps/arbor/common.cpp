@@ -65,6 +65,7 @@ accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleVie
     if (reason) *reason = choice.reason;
     if (hints.prebuilt) *hints.prebuilt = selector.take_built(choice.kind);
     if (hints.auto_ms) *hints.auto_ms = choice.calibration_ms;
+    if (hints.path) *hints.path = choice.path;
     return choice.kind;
 }
 

@@ -36,6 +36,7 @@ struct AutoHints {
     /// When set, receives the picked structure if calibration already built it on the whole scene.
     std::unique_ptr<accel::Accel>* prebuilt = nullptr;
     double* auto_ms = nullptr;           ///< when set, receives the time auto spent calibrating
+    accel::TracePath* path = nullptr;    ///< when set, receives the pick's fastest calibrated path
 };
 
 /// Resolves an --accel name to a buildable kind. `auto` calibrates and picks the structure with
