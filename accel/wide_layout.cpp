@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 namespace arbor::accel {
 
@@ -170,6 +171,7 @@ private:
         out_.depth = std::max(out_.depth, depth);
         {
             WideNode<N>& n = out_.nodes[index];
+            std::memset(static_cast<void*>(&n), 0, sizeof n);  // padding too: the same bytes for any thread count
             for (std::size_t c = 0; c < N; ++c) {
                 n.boxes.set_empty(c);
                 n.child[c] = 0;

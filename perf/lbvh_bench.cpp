@@ -79,9 +79,13 @@ engine::Mesh replicate(const engine::Mesh& m, int copies) {
     return out;
 }
 
+/// Traversal layouts the builds make (--layouts; the scalar trace columns need `all` or `scalar`).
+accel::Layouts g_layouts = accel::Layouts::all;
+
 /// One timed build of `v`; returns the Accel (nullptr for Embree) and fills `s`.
 std::unique_ptr<accel::Accel> build_once(const Variant& v, const accel::TriangleView& tris, Sample& s) {
-    const accel::BuildConfig cfg;
+    accel::BuildConfig cfg;
+    cfg.layouts = g_layouts;
 #ifdef ARBOR_HAVE_EMBREE
     if (v.embree) {
         perf::EmbreePeer peer(tris);
@@ -203,6 +207,10 @@ int main(int argc, char** argv) {
     app.add_option("--rays", rays, "rays per kind for the trace speed")->capture_default_str();
     app.add_flag("--all", all_variants, "every LBVH variant (hierarchy x bits x digits), not only the main ones");
     app.add_flag("--no-trace", no_trace, "build times only");
+    std::string layouts = "all";
+    app.add_option("--layouts", layouts, "traversal layouts built: all, scalar, simd (what arbor trace builds by default)")
+        ->check(CLI::IsMember({"all", "scalar", "simd"}))
+        ->capture_default_str();
     app.add_option("--only", only, "run only the variants whose name contains this");
     CLI11_PARSE(app, argc, argv);
 
@@ -243,6 +251,7 @@ int main(int argc, char** argv) {
                        variants.end());
     std::printf("# arbor_lbvh_bench: %s, copies %d, repeat %d, load average %s\n", model.c_str(), copies, repeat,
                 load_average().c_str());
+    g_layouts = layouts == "scalar" ? accel::Layouts::scalar : layouts == "simd" ? accel::Layouts::simd : accel::Layouts::all;
     run_scene("model", mesh, variants, threads, repeat, rays, !no_trace);
     if (copies > 0) run_scene("replicated x" + std::to_string(copies), replicate(mesh, copies), variants, threads, repeat, rays, !no_trace);
     std::printf("\nload average at the end: %s\n", load_average().c_str());
