@@ -5,7 +5,7 @@ packages=(
   build-essential cmake ninja-build pkg-config python3
   libxsimd-dev libtbb-dev libglm-dev libopenexr-dev libpng-dev libtinyobjloader-dev
   libcli11-dev nlohmann-json3-dev doctest-dev
-  libbenchmark-dev libembree-dev python3-matplotlib
+  libbenchmark-dev libembree-dev python3-matplotlib python3-numpy
   clang libclang-rt-14-dev
 )
 missing=()
