@@ -10,7 +10,7 @@
 /// the conversion of a 2.5M-triangle scene 2x slower, for no gain in the scalar traversal. The wide
 /// layouts of the SIMD issue are collapsed from the same BinaryBvh (they do not start from this one).
 #include "accel/binary_bvh.h"
-#include "accel/huge_page_vector.h"
+#include "accel/uninit_vector.h"
 
 #include <cstdint>
 #include <vector>
@@ -42,9 +42,9 @@ struct alignas(16) TriBlock4 {
 static_assert(sizeof(TriBlock4) == 144);
 
 struct Bvh2Layout {
-    HugePageVector<Bvh2Node> nodes;          ///< interior nodes, depth-first; nodes[0] is the root when interior
-    HugePageVector<TriBlock4> blocks;        ///< triangles in leaf order
-    HugePageVector<std::uint32_t> prim_ids;  ///< per slot (4 per block): the original triangle number
+    UninitVector<Bvh2Node> nodes;          ///< interior nodes, depth-first; nodes[0] is the root when interior
+    UninitVector<TriBlock4> blocks;        ///< triangles in leaf order
+    UninitVector<std::uint32_t> prim_ids;  ///< per slot (4 per block): the original triangle number
     Bounds root_box;                      ///< box of the root (empty for an empty scene)
     std::uint32_t root_child = 0;         ///< root as a child reference: node 0, or a leaf when
     std::uint32_t root_count = 0;         ///< root_count > 0 (a tiny scene whose root is a leaf)

@@ -16,7 +16,7 @@
 /// exactly. See also "Shallow Bounding Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent
 /// Rays", H. Dammertz et al., EGSR 2008, and Wald et al., "Getting Rid of Packets", RT 2008.
 #include "accel/binary_bvh.h"
-#include "accel/huge_page_vector.h"
+#include "accel/uninit_vector.h"
 #include "simd/box_kernels.h"
 #include "simd/tri_kernels.h"
 
@@ -74,8 +74,8 @@ template <std::size_t N> struct WideBlock {
 
 template <std::size_t N> struct WideLayout {
     static constexpr std::size_t width = N;
-    HugePageVector<WideNode<N>> nodes;     ///< nodes[0] is the root (always a node); none when empty
-    HugePageVector<WideBlock<N>> blocks;   ///< triangle blocks in leaf order
+    UninitVector<WideNode<N>> nodes;     ///< nodes[0] is the root (always a node); none when empty
+    UninitVector<WideBlock<N>> blocks;   ///< triangle blocks in leaf order
     std::uint32_t depth = 0;               ///< node levels on the deepest path (root = 1)
     std::size_t leaves = 0;
 
