@@ -61,7 +61,10 @@ Surface surface_at(const RenderContext& ctx, const Ray& ray, const Hit& hit) {
     if (!(len > 0.0f) || !std::isfinite(len)) return s;  // zero-area or overflowing: ignore the hit
     n = n / len;
     s.normal = dot(n, ray.dir) > 0.0f ? -n : n;
-    if (ctx.plan.position) s.position = v0 * (1.0f - hit.u - hit.v) + v1 * hit.u + v2 * hit.v;
+    if (ctx.plan.position) {
+        s.position = v0 * (1.0f - hit.u - hit.v) + v1 * hit.u + v2 * hit.v;
+        s.scale = accel::triangle_scale(v0, v1, v2);
+    }
     s.material = &ctx.material(hit.prim);
     s.valid = true;
     return s;
@@ -88,7 +91,7 @@ void sample_direct_light(const RenderContext& ctx, const Surface& s, const Vec3f
     const Material& m = *s.material;
     if (is_black(m.diffuse)) return;
     const Vec3f f = m.diffuse * weight * (1.0f / std::numbers::pi_v<float>);
-    const Vec3f origin = accel::offset_ray_origin(s.position, s.normal);
+    const Vec3f origin = accel::offset_ray_origin(s.position, s.normal, s.scale);
     if (ctx.plan.point_shadows) {
         for (const PointLight& light : ctx.lights.points()) {
             const Vec3f to = light.position - origin;
@@ -103,7 +106,7 @@ void sample_direct_light(const RenderContext& ctx, const Surface& s, const Vec3f
         const AreaSample a = ctx.lights.sample_area(u0, u1, u2);
         // End the shadow ray just in front of the emitter, on the side of the receiver.
         const Vec3f nl = dot(a.normal, origin - a.point) > 0.0f ? a.normal : -a.normal;
-        const Vec3f to = accel::offset_ray_origin(a.point, nl) - origin;
+        const Vec3f to = accel::offset_ray_origin(a.point, nl, a.scale) - origin;
         const float d2 = dot(to, to);
         const float d = std::sqrt(d2);
         const float cos_s = dot(s.normal, to) / d, cos_l = dot(nl, to) / -d;

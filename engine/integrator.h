@@ -73,6 +73,7 @@ int samples_per_pass(const Tile& tile, int spp);
 struct Surface {
     Vec3f position{0.0f};
     Vec3f normal{0.0f, 0.0f, 1.0f};
+    float scale = 0.0f;  ///< accel::triangle_scale of the hit triangle (for offset_ray_origin)
     const Material* material = nullptr;
     bool valid = false;  ///< false for zero-area triangles (the hit is then ignored)
 };

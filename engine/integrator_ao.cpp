@@ -38,7 +38,7 @@ public:
                     film.color[px] += Vec3f{1.0f};
                     continue;
                 }
-                const Vec3f origin = accel::offset_ray_origin(s.position, s.normal);
+                const Vec3f origin = accel::offset_ray_origin(s.position, s.normal, s.scale);
                 for (int k = 0; k < plan.ao_samples; ++k) {
                     const float u1 = paths[i].rng.next(), u2 = paths[i].rng.next();
                     ao_rays.push_back({origin, 0.0f, cosine_hemisphere(s.normal, u1, u2), plan.ao_radius});

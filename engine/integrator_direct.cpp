@@ -43,7 +43,7 @@ public:
                     if (plan.shadows()) sample_direct_light(ctx, s, path.throughput, path, shadows);
                     if (plan.mirror && depth < plan.depth && !is_black(m.mirror)) {
                         const Vec3f d = rays[i].dir - s.normal * (2.0f * dot(rays[i].dir, s.normal));
-                        next_rays.push_back({accel::offset_ray_origin(s.position, s.normal), 0.0f, d,
+                        next_rays.push_back({accel::offset_ray_origin(s.position, s.normal, s.scale), 0.0f, d,
                                              std::numeric_limits<float>::infinity()});
                         PathState next = path;
                         next.throughput = path.throughput * m.mirror;

@@ -94,7 +94,7 @@ private:
             next.throughput = next.throughput * (1.0f / q);
         }
         next.rng = path.rng;  // after every draw of this vertex, so the next vertex gets fresh dimensions
-        const accel::Ray r{accel::offset_ray_origin(s.position, s.normal), 0.0f, dir,
+        const accel::Ray r{accel::offset_ray_origin(s.position, s.normal, s.scale), 0.0f, dir,
                            std::numeric_limits<float>::infinity()};
         if (mirror) {
             mirror_rays.push_back(r);

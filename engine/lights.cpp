@@ -1,5 +1,7 @@
 #include "engine/lights.h"
 
+#include "accel/offset_ray.h"
+
 #include "engine/sampling.h"
 
 #include <algorithm>
@@ -53,6 +55,7 @@ AreaSample LightSet::sample_area(float u_pick, float u1, float u2) const {
     AreaSample s;
     s.point = e.v0 + e.e1 * b1 + e.e2 * b2;
     s.normal = e.normal;
+    s.scale = accel::triangle_scale(e.v0, e.v0 + e.e1, e.v0 + e.e2);
     s.radiance = e.radiance;
     s.pdf_area = pick_[i] / e.area;
     return s;

@@ -12,6 +12,7 @@ namespace arbor::engine {
 struct AreaSample {
     Vec3f point;       ///< on the triangle
     Vec3f normal;      ///< unit geometric normal of the triangle (either side emits)
+    float scale = 0.0f;  ///< accel::triangle_scale of the triangle (for offset_ray_origin)
     Vec3f radiance;    ///< Ke of the triangle
     float pdf_area = 0.0f;  ///< density per unit area over all emitters (selection x 1/area)
 };

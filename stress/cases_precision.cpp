@@ -120,11 +120,12 @@ void add_surface(std::vector<StressCase>& out, bool full, double scale) {
         RayTag tag;
         tag.source_prim = h.prim;
         const Vec3f reflect = dn - ng * (2.0f * simd::dot(dn, ng));
-        c.add({accel::offset_ray_origin(p, ng), 0.0f, reflect, inf}, tag);
-        c.add({accel::offset_ray_origin(p, -ng), 0.0f, dn, inf}, tag);
+        const float tri_scale = accel::triangle_scale(v0, v1, v2);
+        c.add({accel::offset_ray_origin(p, ng, tri_scale), 0.0f, reflect, inf}, tag);
+        c.add({accel::offset_ray_origin(p, -ng, tri_scale), 0.0f, dn, inf}, tag);
         Vec3f rnd{normal(rng), normal(rng), normal(rng)};
         if (simd::dot(rnd, ng) < 0.0f) rnd = -rnd;
-        if (simd::dot(rnd, rnd) > 0.0f) c.add({accel::offset_ray_origin(p, ng), 0.0f, rnd, inf}, tag);
+        if (simd::dot(rnd, rnd) > 0.0f) c.add({accel::offset_ray_origin(p, ng, tri_scale), 0.0f, rnd, inf}, tag);
     }
     out.push_back(std::move(c));
 }
