@@ -26,7 +26,7 @@ TEST_CASE("offset: 8 ulps of the triangle's scale along the normal, nothing for 
     CHECK(accel::triangle_scale({1, -3, 2}, {0, 0, 0}, {-2.5f, 1, 1}) == 3.0f);
 }
 
-TEST_CASE("offset: stadium shadow and diffuse rays never re-hit the floor; every structure and path agrees with brute") {
+TEST_CASE("offset: stadium shadow and diffuse rays never re-hit the floor, and every structure and path agrees with brute") {
     const perf::BenchScene s = perf::teapot_in_stadium(nullptr);
     const accel::TriangleView view = s.scene.mesh.view();
     const accel::BruteAccel brute(view);
