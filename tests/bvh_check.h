@@ -16,7 +16,7 @@
 namespace arbor::testing {
 
 /// Brute force costs rays x triangles; sanitizer builds run ~10x slower, so they get a smaller budget.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(ARBOR_SANITIZED_BUILD)
 inline constexpr double brute_budget = 6e5;
 #else
 inline constexpr double brute_budget = 6e6;

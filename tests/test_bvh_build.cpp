@@ -57,7 +57,7 @@ TEST_CASE("bvh build: invariants and leaf limits on procedural meshes, for every
     }
 }
 
-TEST_CASE("bvh build: invariants on every shared model; SAH cost ordering median > sah ~ sweep") {
+TEST_CASE("bvh build: invariants on every shared model, SAH cost ordering median > sah ~ sweep") {
     const auto paths = testing::model_paths();
     if (paths.empty()) MESSAGE("shared/scenes/models not found: model invariant test skipped");
     for (const auto& path : paths) {

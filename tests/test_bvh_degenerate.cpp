@@ -93,7 +93,7 @@ TEST_CASE("bvh degenerate: all triangles in one plane (zero extent on one axis),
     CHECK(check_all(mesh, rays, 4) > 400);
 }
 
-TEST_CASE("bvh degenerate: a single triangle; coordinates near FLT_MAX") {
+TEST_CASE("bvh degenerate: a single triangle, coordinates near FLT_MAX") {
     engine::Mesh one;
     one.add_vertex({0, 0, 0}), one.add_vertex({1, 0, 0}), one.add_vertex({0, 1, 0});
     one.add_triangle(0, 1, 2);

@@ -64,7 +64,7 @@ void check_against_brute(const engine::Mesh& mesh, const accel::BvhAccel& bvh, c
 
 }  // namespace
 
-TEST_CASE("bvh layout: every triangle slot keeps its original vertices and id; sizes add up") {
+TEST_CASE("bvh layout: every triangle slot keeps its original vertices and id, sizes add up") {
     engine::Mesh mesh = engine::make_torus({0, 0, 0}, 1.0f, 0.3f, 20, 9);  // 360 triangles
     mesh.x[3] = std::numeric_limits<float>::quiet_NaN();
     const auto view = mesh.view();

@@ -102,8 +102,10 @@ TEST_CASE("bvh oracle: watertight jittered icospheres, rays aimed at vertices an
 
 TEST_CASE("bvh oracle: axis-parallel rays with +0/-0 components, rays in box faces, far and tiny scenes") {
     const float s0 = 0.0f, n0 = -0.0f;
-    for (const auto& [offset, scale] : {std::pair{0.0f, 1.0f}, std::pair{1e6f, 1.0f}, std::pair{-3e6f, 10.0f},
-                                        std::pair{0.0f, 1e-6f}}) {
+    for (const auto& placement : {std::pair{0.0f, 1.0f}, std::pair{1e6f, 1.0f}, std::pair{-3e6f, 10.0f},
+                                  std::pair{0.0f, 1e-6f}}) {
+        // Plain variables, not a structured binding: clang 14 cannot capture bindings in lambdas.
+        const float offset = placement.first, scale = placement.second;
         engine::Mesh mesh = engine::make_box({-1, -1, -1}, {1, 1, 1});
         mesh.append(engine::make_box({-1, -1, 1}, {1, 1, 3}));  // shares the face z = 1
         mesh.append(engine::make_icosphere({0, 0, -3}, 1.0f, 2));

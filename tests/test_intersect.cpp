@@ -69,7 +69,7 @@ TEST_CASE("triangle: a ray through a shared edge hits exactly one side or both, 
     }
 }
 
-TEST_CASE("triangle: tnear/tfar bound the hit; inactive rays miss") {
+TEST_CASE("triangle: tnear/tfar bound the hit, inactive rays miss") {
     CHECK(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 0.0f, 1.0f).hit);   // t == tfar accepted
     CHECK(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 1.0f, 2.0f).hit);   // t == tnear accepted
     CHECK_FALSE(shoot({0.2f, 0.2f, 1.0f}, {0, 0, -1}, 0.0f, 0.999f).hit);

@@ -24,7 +24,7 @@ using accel::Vec3f;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(ARBOR_SANITIZED_BUILD)
 constexpr std::size_t rays_per_kind = 96;
 #else
 constexpr std::size_t rays_per_kind = 1024;
@@ -160,7 +160,7 @@ TEST_CASE("kdtree simd: axis-parallel rays with +-0 components on grids, in spli
     check_mesh(cubes, rays, rays.size(), {1024, 7, 1});
 }
 
-TEST_CASE("kdtree simd: NaN, Inf, zero and inactive rays miss; partial and mixed-sign packets") {
+TEST_CASE("kdtree simd: NaN, Inf, zero and inactive rays miss, partial and mixed-sign packets") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2);
     mesh.append(engine::make_box({-3, -3, -3}, {-2, -2, -2}));
     const float nan = NAN, inf = INFINITY;

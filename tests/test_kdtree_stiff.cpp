@@ -126,8 +126,10 @@ TEST_CASE("kdtree stiff: origins exactly on split planes and on leaf corners, ra
 }
 
 TEST_CASE("kdtree stiff: far from the origin and tiny scenes") {
-    for (const auto& [offset, scale] : {std::pair{1.0e6f, 1.0f}, std::pair{1.0e7f, 10.0f}, std::pair{0.0f, 1e-6f},
-                                        std::pair{1e-3f, 1e-6f}}) {
+    for (const auto& placement : {std::pair{1.0e6f, 1.0f}, std::pair{1.0e7f, 10.0f}, std::pair{0.0f, 1e-6f},
+                                  std::pair{1e-3f, 1e-6f}}) {
+        // Plain variables, not a structured binding: clang 14 cannot capture bindings in lambdas.
+        const float offset = placement.first, scale = placement.second;
         CAPTURE(offset);
         CAPTURE(scale);
         engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 2);

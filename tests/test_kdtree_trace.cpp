@@ -90,7 +90,7 @@ TEST_CASE("kdtree trace: watertight closed mesh through the kd-tree (rays at ver
     }
 }
 
-TEST_CASE("kdtree trace: untraceable rays miss; empty and one-triangle scenes") {
+TEST_CASE("kdtree trace: untraceable rays miss, empty and one-triangle scenes") {
     const engine::Mesh mesh = engine::make_box({-1, -1, -1}, {1, 1, 1});
     const accel::KdTreeAccel kd(mesh.view());
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

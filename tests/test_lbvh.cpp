@@ -121,7 +121,7 @@ void check_oracle_all_kinds(const engine::Mesh& mesh, const accel::Accel& accel,
 
 }  // namespace
 
-TEST_CASE("lbvh: valid trees on procedural meshes; Karras and top-down build the same tree") {
+TEST_CASE("lbvh: valid trees on procedural meshes, Karras and top-down build the same tree") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.1f, 3);
     mesh.append(engine::make_torus({3, 0, 0}, 1.0f, 0.25f, 30, 10));
     mesh.append(engine::make_box({-5, -5, -5}, {-4, 6, -4.5f}));

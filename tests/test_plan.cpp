@@ -76,7 +76,7 @@ TEST_CASE("plan: no lights, no mirrors, one material") {
     CHECK(lit.depth == 8);
 }
 
-TEST_CASE("plan: primary and ao trace no light rays; layers default per integrator") {
+TEST_CASE("plan: primary and ao trace no light rays, layers default per integrator") {
     const auto s = testing::small_scene();
     const auto primary = plan_for(s, IntegratorKind::primary);
     CHECK_FALSE(primary.shadows());
@@ -94,7 +94,7 @@ TEST_CASE("plan: primary and ao trace no light rays; layers default per integrat
     CHECK(skipped(ao, "shadow, mirror and bounce rays"));
 }
 
-TEST_CASE("plan: --depth 0 skips mirrors and bounces; black diffuse skips shadow rays") {
+TEST_CASE("plan: --depth 0 skips mirrors and bounces, black diffuse skips shadow rays") {
     auto s = testing::small_scene();
     const auto p = plan_for(s, IntegratorKind::path, 0);
     CHECK_FALSE(p.mirror);

@@ -49,7 +49,7 @@ TEST_CASE("render: every integrator gives finite, non-negative pixels, identical
     }
 }
 
-TEST_CASE("render: the seed selects independent streams; the same seed repeats the image") {
+TEST_CASE("render: the seed selects independent streams, the same seed repeats the image") {
     const auto s = small_scene();
     auto set = tiny_settings(IntegratorKind::path);
     const auto a = render_brute(s, set), b = render_brute(s, set);

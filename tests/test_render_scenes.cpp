@@ -132,7 +132,7 @@ TEST_CASE("materials: negative, non-finite and above-one values are clamped with
     CHECK(w.lines[0].find("odd") != std::string::npos);
 }
 
-TEST_CASE("scene_from_mesh: a model without emitters gets one point light; the framing shows the whole box") {
+TEST_CASE("scene_from_mesh: a model without emitters gets one point light, the framing shows the whole box") {
     const engine::Mesh box = engine::make_box({10, -2, 3}, {14, 5, 4});
     const engine::Scene s = engine::scene_from_mesh(box, "box");
     REQUIRE(s.lights.size() == 1);

@@ -21,7 +21,7 @@ using accel::Vec3f;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(ARBOR_SANITIZED_BUILD)
 constexpr std::size_t rays_per_kind = 160;
 #else
 constexpr std::size_t rays_per_kind = 1024;
@@ -153,7 +153,7 @@ TEST_CASE("wide paths: axis-parallel rays with +-0 components on an integer grid
     check_mesh(mesh, rays, rays.size(), {}, 7);  // small chunks: partial packets everywhere
 }
 
-TEST_CASE("wide paths: NaN, Inf, zero and inactive rays miss; partial and mixed-sign packets") {
+TEST_CASE("wide paths: NaN, Inf, zero and inactive rays miss, partial and mixed-sign packets") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2);
     mesh.append(engine::make_box({-3, -3, -3}, {-2, -2, -2}));
     const float nan = NAN, inf = INFINITY;
