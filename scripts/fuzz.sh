@@ -40,7 +40,12 @@ for name in obj rays; do
   echo "fuzz $name: $execs runs in ${seconds}s, $cov, corpus $(ls "$work/corpus-$name" | wc -l) new inputs"
 done
 if [ $status -ne 0 ]; then
-  echo "fuzzing found a problem; inputs in $build/findings:"; ls "$build/findings"
+  echo "fuzzing found a problem (logs: $work/obj.log, $work/rays.log)"
   for name in obj rays; do grep -E "ERROR|FuzzFinding|what\(\)|SUMMARY" "$work/$name.log" | head -5 || true; done
+  for f in "$build"/findings/*; do
+    [ -e "$f" ] || continue
+    name=$(basename "$f"); name=${name%%-*}
+    echo "reproducer: $f   (replay: $build/fuzz/arbor_fuzz_$name $f)"
+  done
 fi
 exit $status

@@ -1,15 +1,55 @@
 #!/usr/bin/env bash
-# The whole test suite: install what is missing, build and test the release preset, then build and
-# test the sanitizer preset (ASan + UBSan).
+# The whole test suite (CI runs exactly this), in three builds; each phase's seconds are printed at
+# the end, also when a phase fails.
+#  1. release (gcc -O3): everything is built; the test suite, the CLI, bench and install tests.
+#  2. fuzz (clang 14, ASan + UBSan, libFuzzer coverage): the same tests under ASan + UBSan, then the
+#     two libFuzzer harnesses (OBJ loader, ray/hit readers) for ARBOR_FUZZ_SECONDS (default 60) each,
+#     side by side (scripts/fuzz.sh: seeds, and where a finding is saved).
+#  3. tsan (gcc, ThreadSanitizer, with oneTBB built instrumented by scripts/tsan-tbb.sh): the tests
+#     of the parallel builders, of tracing in parallel and of the renderer (tsan_tests below).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup-deps.sh
 jobs=$(nproc)
+fuzz_seconds=${ARBOR_FUZZ_SECONDS:-60}
+# ThreadSanitizer runs ~10x slower: the tests that run our TBB code with more than one thread and
+# check it (every case named "... 1 and 2 threads" or "... parallel ..."), and every test of the
+# parallel builders (radix sort, lbvh, bvh-median/bvh-sah, kd-tree, primitive references, wide
+# layout), of the auto selector (it builds and times every structure), of ray generation and of the
+# renderer. ctest runs each doctest case in its own process; this regex picks them by name.
+tsan_tests='1 and 2 threads|parallel|^(radix_sort|lbvh|bvh build|kdtree build|prim_refs|wide layout|auto|ray_gen|render|tracer):'
+
 start=$(date +%s)
-cmake --preset release >/dev/null
-cmake --build --preset release -j "$jobs"
-ctest --preset release -j "$jobs"
-cmake --preset sanitize >/dev/null
-cmake --build --preset sanitize -j "$jobs"
-ctest --preset sanitize -j "$jobs"
-echo "all tests passed in $(( $(date +%s) - start )) s"
+times=()
+current=""
+phase() {  # phase NAME COMMAND...: runs the command and keeps its time
+  current=$1; shift
+  local t0; t0=$(date +%s)
+  echo "== $current"
+  "$@"
+  times+=("$(printf '%-28s %5d s' "$current" $(( $(date +%s) - t0 )))")
+  current=""
+}
+report() {
+  local status=$?
+  echo "== phase times"
+  [ ${#times[@]} -gt 0 ] && printf '%s\n' "${times[@]}"
+  if [ $status -ne 0 ]; then
+    echo "FAILED in phase '${current:-?}' after $(( $(date +%s) - start )) s"
+  else
+    echo "all tests passed in $(( $(date +%s) - start )) s"
+  fi
+}
+trap report EXIT
+
+phase "release: build" bash -c "cmake --preset release >/dev/null && cmake --build --preset release -j $jobs"
+phase "release: tests" ctest --preset release -j "$jobs"
+
+phase "asan+ubsan+fuzz: build" bash -c "cmake --preset fuzz >/dev/null && cmake --build --preset fuzz -j $jobs \
+  --target arbor_tests arbor arbor_bench arbor_fuzz_obj arbor_fuzz_rays"
+phase "asan+ubsan: tests" ctest --preset fuzz -j "$jobs"
+phase "fuzz: ${fuzz_seconds} s per harness" scripts/fuzz.sh "$fuzz_seconds"
+
+phase "tsan: instrumented oneTBB" scripts/tsan-tbb.sh
+phase "tsan: build" bash -c "cmake --preset tsan >/dev/null && cmake --build --preset tsan -j $jobs --target arbor_tests"
+phase "tsan: tests" ctest --preset tsan -j "$jobs" -R "$tsan_tests" --no-tests=error
