@@ -60,7 +60,7 @@ public:
             }
         }
         // Row i of the cost and choice tables holds slots 1..slots_[i] (a subtree cannot fill more
-        // slots than it has binary leaves): rows back to back, about 3 entries a node instead of N.
+        // slots than it has binary leaves): rows back to back, most of them far shorter than N.
         row_.resize(n + 1);
         std::size_t at = 0;
         for (std::size_t i = 0; i < n; ++i) row_[i] = at, at += slots_[i];
