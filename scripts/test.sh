@@ -6,18 +6,13 @@
 #     two libFuzzer harnesses (OBJ loader, ray/hit readers) for ARBOR_FUZZ_SECONDS (default 60) each,
 #     side by side (scripts/fuzz.sh: seeds, and where a finding is saved).
 #  3. tsan (gcc, ThreadSanitizer, with oneTBB built instrumented by scripts/tsan-tbb.sh): the tests
-#     of the parallel builders, of tracing in parallel and of the renderer (tsan_tests below).
+#     of the parallel builders, of tracing in parallel and of the renderer (tests/CMakeLists.txt
+#     picks them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup-deps.sh
 jobs=$(nproc)
 fuzz_seconds=${ARBOR_FUZZ_SECONDS:-60}
-# ThreadSanitizer runs ~10x slower: the tests that run our TBB code with more than one thread and
-# check it (every case named "... 1 and 2 threads" or "... parallel ..."), and every test of the
-# parallel builders (radix sort, lbvh, bvh-median/bvh-sah, kd-tree, primitive references, wide
-# layout), of the auto selector (it builds and times every structure), of ray generation and of the
-# renderer. ctest runs each doctest case in its own process; this regex picks them by name.
-tsan_tests='1 and 2 threads|parallel|^(radix_sort|lbvh|bvh build|kdtree build|prim_refs|wide layout|auto|ray_gen|render|tracer):'
 
 start=$(date +%s)
 times=()
@@ -52,4 +47,4 @@ phase "fuzz: ${fuzz_seconds} s per harness" scripts/fuzz.sh "$fuzz_seconds"
 
 phase "tsan: instrumented oneTBB" scripts/tsan-tbb.sh
 phase "tsan: build" bash -c "cmake --preset tsan >/dev/null && cmake --build --preset tsan -j $jobs --target arbor_tests"
-phase "tsan: tests" ctest --preset tsan -j "$jobs" -R "$tsan_tests" --no-tests=error
+phase "tsan: tests" ctest --preset tsan -j "$jobs" --no-tests=error
