@@ -27,6 +27,7 @@ LightSet::LightSet(const Scene& scene) : points_(scene.lights) {
         if (!(len > 0.0f) || !std::isfinite(len)) continue;
         e.normal = n / len;
         e.area = 0.5f * len;
+        e.scale = accel::triangle_scale(view.corner(t, 0), view.corner(t, 1), view.corner(t, 2));
         e.radiance = mat.emission;
         const double p = double(e.area) * std::max(1e-6f, luminance(mat.emission));
         emitters_.push_back(e);
@@ -55,7 +56,7 @@ AreaSample LightSet::sample_area(float u_pick, float u1, float u2) const {
     AreaSample s;
     s.point = e.v0 + e.e1 * b1 + e.e2 * b2;
     s.normal = e.normal;
-    s.scale = accel::triangle_scale(e.v0, e.v0 + e.e1, e.v0 + e.e2);
+    s.scale = e.scale;
     s.radiance = e.radiance;
     s.pdf_area = pick_[i] / e.area;
     return s;

@@ -36,6 +36,7 @@ private:
         std::uint32_t prim;
         Vec3f v0, e1, e2, normal, radiance;
         float area;
+        float scale;  // accel::triangle_scale of the corners, for AreaSample::scale
     };
     std::vector<PointLight> points_;
     std::vector<Emitter> emitters_;
