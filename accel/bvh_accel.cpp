@@ -115,9 +115,8 @@ TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* r
         if (reason) *reason = "only the scalar layout was built";
         return TracePath::scalar;
     }
-    const float diagonal = diagonal_;
     const std::size_t group = wide_->packet_lanes();
-    const double f = coherent_fraction(rays, group, 0.05f * diagonal);
+    const double f = coherent_fraction(rays, group, 0.05f * diagonal_);
     const TracePath path = f >= 0.5 ? TracePath::packet : TracePath::single;
     if (reason) {
         char buf[160];

@@ -171,12 +171,9 @@ private:
         out_.depth = std::max(out_.depth, depth);
         {
             WideNode<N>& n = out_.nodes[index];
-            std::memset(static_cast<void*>(&n), 0, sizeof n);  // padding too: the same bytes for any thread count
-            for (std::size_t c = 0; c < N; ++c) {
-                n.boxes.set_empty(c);
-                n.child[c] = 0;
-                n.count[c] = 0;
-            }
+            // Zero children, counts and padding (the same bytes for any thread count), empty boxes.
+            std::memset(static_cast<void*>(&n), 0, sizeof n);
+            for (std::size_t c = 0; c < N; ++c) n.boxes.set_empty(c);
             n.children = std::uint8_t(kids.size);
         }
         for (std::size_t c = 0; c < kids.size; ++c) {

@@ -309,9 +309,8 @@ void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::si
                 choice = st.selector->pick(preds, o.budgets[bi]);
             }
             const double overhead = st.construct_ms + (st.selector->calibration_ms() - before);
-            // Totals per structure: on the path best takes (what the pick runs) and on its best
-            // path, from the median repeats and from the fastest ones.
-            // Keyed by structure; on_pick*: the row of the path auto picked for that structure.
+            // on_pick, fastest_pick, cpu_pick: the row of the (structure, path) auto picked (medians,
+            // fastest repeats, CPU time); per structure: the path best takes, and its fastest path.
             const std::string pick_name(accel::to_string(choice.kind)), pick_path(accel::to_string(choice.path));
             double on_pick = nan_value, fastest_pick = nan_value, cpu_pick = nan_value;
             std::map<std::string, double> on_best_path, any_path;
@@ -342,7 +341,7 @@ void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::si
             a.kind = std::string(engine::to_string(in.kind));
             a.threads = t;
             a.budget = o.budgets[bi];
-            a.picked = std::string(accel::to_string(choice.kind));
+            a.picked = pick_name;
             a.picked_path = pick_path;
             a.best = best_name;
             a.best_path = best_row_path;
