@@ -1,5 +1,7 @@
 #include "accel/bvh2_layout.h"
 
+#include "accel/prefault.h"
+
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -34,10 +36,10 @@ public:
 
     void run() {
         if (bvh_.nodes.empty()) return;
-        out_.nodes.resize(sub_nodes_[0]);
+        resize_prefaulted(out_.nodes, sub_nodes_[0]);
         const std::size_t tris = sub_tris_[0];
-        out_.blocks.resize((tris + tri_block_width - 1) / tri_block_width);
-        out_.prim_ids.resize(out_.blocks.size() * tri_block_width);
+        resize_prefaulted(out_.blocks, (tris + tri_block_width - 1) / tri_block_width);
+        resize_prefaulted(out_.prim_ids, out_.blocks.size() * tri_block_width);
         out_.max_depth = height_[0];
         const BvhBuildNode& root = bvh_.nodes[0];
         out_.root_box = root.box;

@@ -8,7 +8,11 @@
 #include "accel/binary_bvh.h"
 #include "accel/build_config.h"
 #include "accel/prim_refs.h"
+#include "accel/prefault.h"
+#include "accel/uninit_vector.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <memory>
@@ -44,8 +48,8 @@ struct SplitResult {
     Bounds left_box, left_cbox, right_box, right_cbox;
 };
 
-/// Copies the refs into BuildPrims (parallel).
-std::vector<BuildPrim> make_build_prims(const PrimRefs& refs);
+/// Copies the refs into BuildPrims (parallel, into an array that is not zeroed first).
+UninitVector<BuildPrim> make_build_prims(const PrimRefs& refs);
 /// Boxes and centroid boxes of [begin, mid) and [mid, end).
 SplitResult bounds_of_halves(std::span<const BuildPrim> prims, std::uint32_t begin, std::uint32_t mid, std::uint32_t end);
 /// Splits at the middle index without reordering (all centroids equal: no order helps).
@@ -81,8 +85,10 @@ public:
         const BuildTask root{0, std::uint32_t(prims_.size()), 0, refs_.bounds, refs_.centroid_bounds};
         const std::unique_ptr<Subtree> tree = build(root);
         const std::size_t chunk_bytes = assemble(*tree, bvh.nodes);
-        bvh.prim_ids.resize(prims_.size());
-        for (std::size_t i = 0; i < prims_.size(); ++i) bvh.prim_ids[i] = prims_[i].id;
+        resize_prefaulted(bvh.prim_ids, prims_.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prims_.size(), 65536), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) bvh.prim_ids[i] = prims_[i].id;
+        });
         bvh.build_peak_bytes = refs_.memory_bytes() + prims_.capacity() * sizeof(BuildPrim) + chunk_bytes +
                                bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
         return bvh;
@@ -132,7 +138,7 @@ private:
     const PrimRefs& refs_;
     const BuildConfig& cfg_;
     const Splitter& split_;
-    std::vector<BuildPrim> prims_;
+    UninitVector<BuildPrim> prims_;
 };
 
 /// Runs the frame with `split` over `refs`.

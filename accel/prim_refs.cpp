@@ -1,5 +1,7 @@
 #include "accel/prim_refs.h"
 
+#include "accel/prefault.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -61,8 +63,8 @@ PrimRefs make_prim_refs(const TriangleView& tris) {
     }
     refs.dropped_nonfinite = n - total;
     for (auto* v : {&refs.lo_x, &refs.lo_y, &refs.lo_z, &refs.hi_x, &refs.hi_y, &refs.hi_z, &refs.cx, &refs.cy, &refs.cz})
-        v->resize(total);
-    refs.prim_ids.resize(total);
+        resize_prefaulted(*v, total);
+    resize_prefaulted(refs.prim_ids, total);
 
     // Pass 2: write boxes, centroids and ids at the block's offset; bounds per block.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {

@@ -1,5 +1,7 @@
 #include "accel/radix_tree.h"
 
+#include "accel/prefault.h"
+
 #include "accel/scratch_array.h"
 
 #include <tbb/blocked_range.h>
@@ -270,7 +272,7 @@ RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod metho
     RadixTreeResult result;
     const std::uint32_t n = std::uint32_t(in.keys.size());
     if (n == 0) return result;
-    result.prim_ids.resize(n);
+    resize_prefaulted(result.prim_ids, n);
     if (n == 1) {
         const std::uint32_t r = in.sorted_refs.empty() ? std::uint32_t(in.keys[0]) : in.sorted_refs[0];
         result.prim_ids[0] = in.prims->prim_ids[r];

@@ -3,6 +3,8 @@
 /// caller writes every element before reading it). On Linux, arrays of 2 MiB and more are aligned
 /// to 2 MiB and advised to use transparent huge pages, which cuts the page faults of a
 /// multi-million-triangle build by ~500x (see perf/lbvh_bench.cpp).
+#include "accel/prefault.h"
+
 #include <cstddef>
 #include <cstdlib>
 #include <memory>
@@ -38,6 +40,7 @@ public:
         }
         if (!p) throw std::bad_alloc();
         data_.reset(static_cast<T*>(p));
+        prefault(p, bytes);
     }
 
     T& operator[](std::size_t i) { return data_.get()[i]; }

@@ -1,15 +1,18 @@
 #include "accel/wide_layout.h"
 
+#include "accel/prefault.h"
 #include "accel/scratch_array.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_scan.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
 
 namespace arbor::accel {
 
@@ -50,21 +53,21 @@ public:
         const std::size_t n = bvh.nodes.size();
         sub_tris_.resize(n);
         slots_.resize(n);
-        for (std::size_t i = n; i-- > 0;) {  // children come after their parents
-            const BvhBuildNode& node = bvh.nodes[i];
-            if (node.is_leaf()) {
-                sub_tris_[i] = node.count, slots_[i] = 1;
-            } else {
-                sub_tris_[i] = sub_tris_[node.first] + sub_tris_[node.first + 1];
-                slots_[i] = std::uint8_t(std::min<std::uint32_t>(std::uint32_t(N), slots_[node.first] + slots_[node.first + 1]));
-            }
-        }
+        if (n != 0) count(0);
         // Row i of the cost and choice tables holds slots 1..slots_[i] (a subtree cannot fill more
         // slots than it has binary leaves): rows back to back, most of them far shorter than N.
         row_.resize(n + 1);
-        std::size_t at = 0;
-        for (std::size_t i = 0; i < n; ++i) row_[i] = at, at += slots_[i];
-        row_[n] = at;
+        const std::size_t total = tbb::parallel_scan(
+            tbb::blocked_range<std::size_t>(0, n, 65536), std::size_t(0),
+            [&](const tbb::blocked_range<std::size_t>& r, std::size_t at, bool final) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                    if (final) row_[i] = at;
+                    at += slots_[i];
+                }
+                return at;
+            },
+            std::plus<>());
+        row_[n] = total;
     }
 
     void run() {
@@ -77,7 +80,7 @@ public:
         if (leaf_[0]) kids.push_back({0, 0, sub_tris_[0], true});
         else collect(0, std::uint32_t(N), kids);
         build_node(kids, 1);
-        out_.blocks.resize(next_block_);
+        resize_prefaulted(out_.blocks, next_block_);
         out_.leaves = jobs_.size();
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
             std::vector<std::uint32_t> prims;
@@ -89,6 +92,23 @@ private:
     /// Cost of binary node n's subtree over at most k slots (1 <= k <= slots_[n]), and the split.
     float& cost(std::uint32_t n, std::uint32_t k) { return cost_[row_[n] + k - 1]; }
     std::uint8_t choice(std::uint32_t n, std::uint32_t k) const { return choice_[row_[n] + k - 1]; }
+
+    /// Triangles and slots (min(N, binary leaves)) of binary node i's subtree, children first;
+    /// the top levels of a big tree as parallel tasks (each writes only its own entries).
+    void count(std::uint32_t i, std::uint32_t depth = 0) {
+        const BvhBuildNode& node = bvh_.nodes[i];
+        if (node.is_leaf()) {
+            sub_tris_[i] = node.count, slots_[i] = 1;
+            return;
+        }
+        const std::uint32_t lc = node.first, rc = node.first + 1;
+        if (depth < 12 && bvh_.nodes.size() > 2 * std::size_t(parallel_plan_tris))
+            tbb::parallel_invoke([&] { count(lc, depth + 1); }, [&] { count(rc, depth + 1); });
+        else
+            count(lc, depth + 1), count(rc, depth + 1);
+        sub_tris_[i] = sub_tris_[lc] + sub_tris_[rc];
+        slots_[i] = std::uint8_t(std::min<std::uint32_t>(std::uint32_t(N), slots_[lc] + slots_[rc]));
+    }
 
     /// The SAH-optimal collapse of binary node i's subtree by dynamic programming, bottom-up (Ylitie
     /// et al., "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017):
@@ -241,9 +261,9 @@ private:
     WideLayout<N>& out_;
     std::uint32_t merge_ = N, max_leaf_ = 65535;
     double node_cost_ = 1.0, block_cost_ = 1.0;
-    std::vector<std::uint32_t> sub_tris_;
-    std::vector<std::uint8_t> slots_;   ///< min(N, binary leaves in the subtree)
-    std::vector<std::size_t> row_;      ///< first entry of each node's row in cost_ / choice_
+    UninitVector<std::uint32_t> sub_tris_;  ///< every entry written by count() before it is read
+    UninitVector<std::uint8_t> slots_;      ///< min(N, binary leaves in the subtree)
+    UninitVector<std::size_t> row_;         ///< first entry of each node's row in cost_ / choice_
     ScratchArray<float> cost_;
     ScratchArray<std::uint8_t> choice_, leaf_;
     std::vector<LeafJob> jobs_;

@@ -2,6 +2,7 @@
 // that model replicated on a grid (millions of triangles). A benchmark, not a test: it validates
 // every structure against brute on a subset of the rays first, then times. Usage:
 //   bench_bvh [--model OBJ] [--copies N] [--repeat K] [--threads T] [--rays N] [--sweep-max N] [--build-only 1]
+//             [--only bvh-sah,lbvh]
 // Times are medians of K runs; the builders (and Embree's default build, rtcCommitScene at
 // RTC_BUILD_QUALITY_MEDIUM, when the peer is built) are run interleaved (A B C A B C ...) so that
 // machine noise hits them alike; ratios to Embree are medians of the per-round ratios.
@@ -35,6 +36,7 @@ namespace {
 
 struct Options {
     std::string model = ARBOR_SHARED_SCENES "/models/stanford-bunny.obj";
+    std::string only;  ///< comma-separated structure names to run (empty: all four)
     int copies = 36, repeat = 5, threads = 2;
     std::size_t rays = 1u << 18, sweep_max = 200000;
     bool build_only = false;  ///< only the bvh-sah phases (for profiling)
@@ -121,6 +123,7 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
 #endif
         for (const auto& [kname, kind] : kinds) {
             if (o.build_only) break;
+            if (!o.only.empty() && ("," + o.only + ",").find("," + kname + ",") == std::string::npos) continue;
             try {
                 const accel::Timer t;
                 auto a = accel::make_accel(kind, view, scalar_cfg);
@@ -221,6 +224,7 @@ int main(int argc, char** argv) {
         else if (k == "--threads") o.threads = std::max(1, std::atoi(v.c_str()));
         else if (k == "--rays") o.rays = std::size_t(std::atoll(v.c_str()));
         else if (k == "--build-only") o.build_only = v != "0";
+        else if (k == "--only") o.only = v;
         else if (k == "--sweep-max") o.sweep_max = std::size_t(std::atoll(v.c_str()));
         else {
             std::fprintf(stderr, "bench_bvh: unknown option %s\n", k.c_str());
