@@ -155,9 +155,12 @@ std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris,
                                        BvhBuilder builder) {
     const Timer timer;
     BinaryBvh bvh;
+    BuildConfig build_cfg = cfg;
+    if (cfg.layouts == Layouts::simd && !cfg.fine_simd_leaves)  // the N-wide leaves' blocks: no finer split
+        build_cfg.leaf_floor = wide_width_supported(cfg.bvh_width) ? cfg.bvh_width : default_wide_width();
     {
         const PrimRefs refs = make_prim_refs(tris);  // freed before the conversion
-        bvh = builder(refs, cfg);
+        bvh = builder(refs, build_cfg);
     }
     return make_bvh_accel(kind, std::move(bvh), tris, cfg, timer.ms());
 }

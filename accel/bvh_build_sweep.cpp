@@ -27,7 +27,7 @@ struct SweepSplitter {
 
     std::optional<SplitResult> operator()(std::span<BuildPrim> prims, const BuildTask& t) const {
         const std::uint32_t n = t.size();
-        if (n == 1) return std::nullopt;
+        if (n <= std::max<std::uint32_t>(cfg.leaf_floor, 1)) return std::nullopt;
         const int longest = detail::longest_axis(t.cbox);
         if (longest < 0 || t.depth >= sweep_depth_limit) {
             if (n <= max_leaf) return std::nullopt;

@@ -94,6 +94,7 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOpt
     if (n >= std::size_t(1) << 31) throw std::invalid_argument("lbvh: more than 2^31 - 1 triangles");
     LbvhTimings local;
     LbvhTimings& t = timings ? *timings : local;
+    const std::uint32_t max_leaf = std::max(cfg.max_leaf_size, cfg.leaf_floor);
 
     // 1. Codes. Packed modes put the (top 30) code bits and the reference index in one key
     //    (code << 32 | index), so the sort moves 8 bytes per element; bits63 carries the index
@@ -132,7 +133,7 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOpt
     sort_cfg.begin_bit = packed ? 32 : 0;
     sort_cfg.end_bit = packed ? 62 : 63;
     std::size_t sort_bytes = radix_sort(keys.span(), values.span(), sort_cfg);
-    if (refined) sort_bytes = std::max(sort_bytes, refine_runs(keys.span(), fine.span(), cfg.max_leaf_size + 1, opt.digit_bits));
+    if (refined) sort_bytes = std::max(sort_bytes, refine_runs(keys.span(), fine.span(), max_leaf + 1, opt.digit_bits));
     t.sort_ms = step.ms();
 
     // 3. Hierarchy. The leaves read the boxes and triangle ids through the sorted references (no
@@ -144,7 +145,7 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOpt
     in.sorted_refs = values.span();
     in.fine_codes = fine.span();
     in.prims = &refs;
-    in.max_leaf_size = cfg.max_leaf_size;
+    in.max_leaf_size = max_leaf;
     in.parallel_threshold = cfg.parallel_threshold;
     in.sah_collapse = opt.sah_collapse;
     in.traversal_cost = cfg.traversal_cost;

@@ -36,7 +36,9 @@ TEST_CASE("layouts: only the asked-for traversal layouts are built, every path s
             CHECK(a->has_path(TracePath::scalar) == (!simd || kind == accel::AccelKind::kdtree));
             if (simd && kind == accel::AccelKind::kdtree) CHECK(a->stats().memory_bytes == all->stats().memory_bytes);
             else CHECK(a->stats().memory_bytes < all->stats().memory_bytes);
-            CHECK(a->stats().sah_cost == all->stats().sah_cost);
+            // A SIMD-only BVH build stops at leaves of the layout's width (test_leaf_floor.cpp).
+            if (!simd || kind == accel::AccelKind::kdtree) CHECK(a->stats().sah_cost == all->stats().sah_cost);
+            else CHECK(a->stats().nodes < all->stats().nodes);
             CHECK(a->resolve_path(rays, false) != TracePath::best);
             if (!simd) CHECK(a->resolve_path(rays, false) == TracePath::scalar);
             for (const TracePath p : {TracePath::best, TracePath::scalar, TracePath::packet, TracePath::single}) {

@@ -35,6 +35,9 @@ void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
                 return {};
             },
             "BYTES"));
+    cmd.add_flag("--fine-simd-leaves", cfg.fine_simd_leaves,
+                 "BVHs traced on a SIMD path: split the binary tree down to --leaf-size as for the scalar path "
+                 "(default: stop at the SIMD layout's width, one leaf block)");
     cmd.add_option("--bvh-width", cfg.bvh_width, "children per node of the BVHs' SIMD layout: 4, 8 or 16 (default: the measured best)")
         ->check(CLI::IsMember({4u, 8u, 16u}));
 }
