@@ -17,15 +17,14 @@ struct BuildConfig {
     std::uint32_t max_leaf_size = 4;
     /// BVHs: ranges of at most this many triangles become one leaf, unsplit (0 or 1: no floor; a
     /// leaf may then hold more than max_leaf_size). build_bvh_accel sets it for builds of the SIMD
-    /// layouts only (see fine_simd_leaves); the builders read it, nobody else needs to.
+    /// layouts only (see simd_leaf_floor); the builders read it, nobody else needs to.
     std::uint32_t leaf_floor = 0;
-    /// BVHs, builds of the SIMD layouts only (layouts == simd): false = the binary tree stops at
-    /// ranges of the SIMD layout's width N (leaf_floor = N). A leaf of the N-wide layout is a run of
-    /// N-triangle blocks that the collapse fills from whole binary subtrees anyway, so splitting
-    /// below N triangles only costs build time: on the bunny, beast and rocker-arm the bvh-sah build
-    /// is 30-40% faster and its layout 25% smaller at the same trace speed (perf/results/
-    /// leaf-floor-2026-12-01.md). true = split as finely as the scalar build.
-    bool fine_simd_leaves = false;
+    /// BVHs, builds of the SIMD layouts only (layouts == simd): the leaf_floor they get. 0 = the
+    /// SIMD layout's width N (a leaf of the N-wide layout is a run of N-triangle blocks that the
+    /// collapse fills from whole binary subtrees anyway, so splitting below N triangles mostly costs
+    /// build time), 1 = none (the binary tree of the scalar build), else that many triangles.
+    /// Measured in perf/results/leaf-floor-2026-12-01.md.
+    std::uint32_t simd_leaf_floor = 0;
     /// Binned SAH: bins per axis (16..32 is the useful range) for big ranges; a range of n < 20 x
     /// (bins - 4) primitives gets 4 + n/20 (Embree's rule: fewer bins where clearing and sweeping them
     /// would cost more than binning).

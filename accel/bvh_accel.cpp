@@ -156,8 +156,10 @@ std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris,
     const Timer timer;
     BinaryBvh bvh;
     BuildConfig build_cfg = cfg;
-    if (cfg.layouts == Layouts::simd && !cfg.fine_simd_leaves)  // the N-wide leaves' blocks: no finer split
-        build_cfg.leaf_floor = wide_width_supported(cfg.bvh_width) ? cfg.bvh_width : default_wide_width();
+    if (cfg.layouts == Layouts::simd)  // the N-wide leaves' blocks: no finer split
+        build_cfg.leaf_floor = cfg.simd_leaf_floor != 0 ? cfg.simd_leaf_floor
+                               : wide_width_supported(cfg.bvh_width) ? cfg.bvh_width
+                                                                     : default_wide_width();
     {
         const PrimRefs refs = make_prim_refs(tris);  // freed before the conversion
         bvh = builder(refs, build_cfg);

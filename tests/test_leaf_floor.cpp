@@ -1,7 +1,7 @@
 // BuildConfig::leaf_floor: a BVH built for the SIMD layouts only stops at ranges of the layout's
 // width (one leaf block). Every builder keeps the floor exactly (no range of at most leaf_floor
 // triangles is split, no leaf above the larger of floor and max_leaf_size), stays deterministic,
-// and the SIMD-only structure still agrees with brute; --fine-simd-leaves restores the fine tree.
+// and the SIMD-only structure still agrees with brute; --simd-leaf-floor 1 restores the fine tree.
 #include "accel/brute_accel.h"
 #include "accel/bvh_accel.h"
 #include "accel/bvh_build.h"
@@ -69,7 +69,7 @@ TEST_CASE("leaf floor: no range of at most leaf_floor triangles is split, by any
     }
 }
 
-TEST_CASE("leaf floor: SIMD-only BVH builds use the layout's width, agree with brute, and --fine-simd-leaves turns it off") {
+TEST_CASE("leaf floor: SIMD-only BVH builds use the layout's width, agree with brute, and floor 1 turns it off") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.03f, 9);
     const auto v = mesh.view();
     const accel::BruteAccel brute(v);
@@ -85,7 +85,7 @@ TEST_CASE("leaf floor: SIMD-only BVH builds use the layout's width, agree with b
             cfg.layouts = accel::Layouts::simd;
             cfg.bvh_width = width;
             const auto coarse = accel::make_accel(kind, v, cfg);
-            cfg.fine_simd_leaves = true;
+            cfg.simd_leaf_floor = 1;
             const auto fine = accel::make_accel(kind, v, cfg);
             BuildConfig all;
             const auto reference = accel::make_accel(kind, v, all);

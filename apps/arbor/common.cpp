@@ -35,9 +35,11 @@ void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
                 return {};
             },
             "BYTES"));
-    cmd.add_flag("--fine-simd-leaves", cfg.fine_simd_leaves,
-                 "BVHs traced on a SIMD path: split the binary tree down to --leaf-size as for the scalar path "
-                 "(default: stop at the SIMD layout's width, one leaf block)");
+    cmd.add_option("--simd-leaf-floor", cfg.simd_leaf_floor,
+                   "BVHs traced on a SIMD path: ranges of at most this many triangles are not split (0: the SIMD "
+                   "layout's width; 1: none, the binary tree of the scalar path)")
+        ->check(CLI::Range(0u, 1u << 16))
+        ->capture_default_str();
     cmd.add_option("--bvh-width", cfg.bvh_width, "children per node of the BVHs' SIMD layout: 4, 8 or 16 (default: the measured best)")
         ->check(CLI::IsMember({4u, 8u, 16u}));
 }
