@@ -6,7 +6,10 @@
 //
 //   bench_paths --rays DIR [--models DIR] [--scenes a,b] [--kinds primary,shadow,diffuse,random]
 //               [--structures bvh-sah,...] [--widths 4,8,16] [--paths scalar,single,packet,best]
-//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--cpu-time] [-o OUT.md]
+//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--cpu-time] [-o OUT.md]
+//
+// Each structure is built once with the scalar layout only (its scalar path, the reference) and
+// once per variant with the SIMD layouts only (the other paths), as `arbor trace` builds them.
 //
 // DIR/<scene>-<kind>.rays are written by `arbor rays --scene MODEL.obj --kind KIND` (see
 // scripts/bench_vs_embree.sh). Shadow rays are any-hit queries, the others closest hit; Embree
@@ -52,6 +55,10 @@ struct Options {
     std::vector<int> widths{0};
     int threads = 2, repeats = 5;
     std::vector<std::uint32_t> merges{0};
+    /// Values of BuildConfig::simd_leaf_floor. The SIMD paths run on a build of the SIMD layouts
+    /// only, as `arbor trace` makes it (0: the leaf floor of that build; 1: the fine tree), the
+    /// scalar path on a build of the scalar layout only.
+    std::vector<std::uint32_t> floors{0};
     std::vector<int> switches{-1};
     std::uint32_t packet_lanes = 0;
     bool embree = true;
@@ -110,13 +117,22 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
 
     std::vector<std::unique_ptr<accel::Accel>> built;
     std::vector<std::string> names;
+    std::vector<bool> reference;  ///< the scalar-only build of its structure
     for (const std::string& s : o.structures) {
         const auto kind = accel::parse_accel_kind(s);
         if (!kind || *kind == accel::AccelKind::automatic) throw engine::InputError("--structures: unknown structure '" + s + "'");
+        accel::BuildConfig scalar_cfg;  // the reference: first of its structure, read for the scalar path only
+        scalar_cfg.layouts = accel::Layouts::scalar;
+        built.push_back(accel::make_accel(*kind, view, scalar_cfg));
+        names.push_back(s);
+        reference.push_back(true);
         for (const int width : o.widths)
             for (const std::uint32_t merge : o.merges)
-                for (const int sw : o.switches) {
+                for (const int sw : o.switches)
+                for (const std::uint32_t floor : o.floors) {
                     accel::BuildConfig cfg;
+                    cfg.layouts = accel::Layouts::simd;
+                    cfg.simd_leaf_floor = floor;
                     cfg.bvh_width = std::uint32_t(width);
                     cfg.wide_merge = merge;
                     cfg.packet_switch = sw;
@@ -132,7 +148,9 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                     if (width || merge || sw >= 0) name += "/w" + std::to_string(width);
                     if (merge) name += "m" + std::to_string(merge);
                     if (sw >= 0) name += "s" + std::to_string(sw);
+                    if (o.floors.size() > 1 || floor != 0) name += (name == s ? "/f" : "f") + std::to_string(floor);
                     names.push_back(name);
+                    reference.push_back(false);
                 }
     }
 #ifdef ARBOR_HAVE_EMBREE
@@ -150,6 +168,8 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
         for (std::size_t b = 0; b < built.size(); ++b)
             for (const std::string& p : o.paths) {
                 const auto path = *accel::parse_trace_path(p);
+                // The scalar path on the scalar-only build, every other path on the SIMD-only ones.
+                if ((path == accel::TracePath::scalar) != reference[b]) continue;
                 if (path != accel::TracePath::scalar && path != accel::TracePath::best && !built[b]->has_path(path)) continue;
                 // The scalar path does not depend on the width: once per structure.
                 if (path == accel::TracePath::scalar && !with_scalar.insert(names[b].substr(0, names[b].find('/'))).second)
@@ -303,6 +323,7 @@ int main(int argc, char** argv) {
     app.add_option("--switches", o.switches, "values of BuildConfig::packet_switch (-1 = default)")->delimiter(',');
     app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packet_lanes (8 or 16; 0 = default)");
     app.add_option("--merges", o.merges, "values of BuildConfig::wide_merge (0 = the width)")->delimiter(',');
+    app.add_option("--floors", o.floors, "values of BuildConfig::simd_leaf_floor (0 = the width, 1 = the fine tree)")->delimiter(',');
     app.add_flag("!--no-embree", o.embree, "leave Embree out");
     app.add_option("--brute-sample", o.brute_sample, "rays per file checked against brute")->capture_default_str();
     app.add_flag("--cpu-time", o.cpu_time, "time by process CPU time / threads, not the wall clock (for a loaded machine)");
