@@ -101,6 +101,25 @@ void BM_box_scalar_oracle(benchmark::State& state) {
 }
 BENCHMARK(BM_box_scalar_oracle);
 
+/// The per-ray setup of the single-ray SIMD path: wide_ray (reciprocals, Woop shear, broadcasts).
+template <class T> void BM_wide_ray(benchmark::State& state) {
+    const auto rays = random_rays(3);
+    for (auto _ : state) {
+        float sum = 0.0f;
+        for (const Ray& r : rays) {
+            const WideRay<T> w = wide_ray<T>(r.org, r.dir, r.tnear, r.tfar);
+            benchmark::DoNotOptimize(&w);
+            sum += lane(w.sz, 0);
+        }
+        benchmark::DoNotOptimize(sum);
+    }
+    set_counters(state, ray_count, ray_count);
+}
+BENCHMARK_TEMPLATE(BM_wide_ray, Float4);
+#if XSIMD_WITH_AVX512F
+BENCHMARK_TEMPLATE(BM_wide_ray, Float16);
+#endif
+
 /// One ray against a wide node of lanes<T> boxes (T = float: the scalar instantiation, 1 box).
 template <class T> void BM_ray_boxes(benchmark::State& state) {
     constexpr std::size_t n = lanes<T>;
