@@ -151,15 +151,18 @@ std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const Tri
     return std::make_unique<BvhAccel>(kind, std::move(bvh), tris, cfg, build_ms);
 }
 
+std::uint32_t bvh_leaf_floor(const BuildConfig& cfg) {
+    if (cfg.layouts != Layouts::simd) return 0;
+    if (cfg.simd_leaf_floor != 0) return cfg.simd_leaf_floor;
+    return wide_width_supported(cfg.bvh_width) ? cfg.bvh_width : default_wide_width();
+}
+
 std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
                                        BvhBuilder builder) {
     const Timer timer;
     BinaryBvh bvh;
     BuildConfig build_cfg = cfg;
-    if (cfg.layouts == Layouts::simd)  // the N-wide leaves' blocks: no finer split
-        build_cfg.leaf_floor = cfg.simd_leaf_floor != 0 ? cfg.simd_leaf_floor
-                               : wide_width_supported(cfg.bvh_width) ? cfg.bvh_width
-                                                                     : default_wide_width();
+    build_cfg.leaf_floor = bvh_leaf_floor(cfg);  // the N-wide leaves' blocks: no finer split
     {
         const PrimRefs refs = make_prim_refs(tris);  // freed before the conversion
         bvh = builder(refs, build_cfg);

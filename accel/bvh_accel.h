@@ -61,7 +61,12 @@ std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const Tri
 /// A BVH builder: a pure function of the prim refs and the config.
 using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BuildConfig&);
 
-/// PrimRefs -> `builder` -> BvhAccel, timed as a whole (build_ms covers all three steps).
+/// The BuildConfig::leaf_floor a BVH build with `cfg` gets: for builds of the SIMD layouts only,
+/// cfg.simd_leaf_floor with 0 read as the SIMD layout's width; else 0 (no floor).
+std::uint32_t bvh_leaf_floor(const BuildConfig& cfg);
+
+/// PrimRefs -> `builder` -> BvhAccel, timed as a whole (build_ms covers all three steps); the
+/// builder sees cfg with leaf_floor = bvh_leaf_floor(cfg).
 std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
                                        BvhBuilder builder);
 

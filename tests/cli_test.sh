@@ -112,8 +112,14 @@ expect_error "--leaf-size" "$ARBOR" render --leaf-size x -o "$WORK/x.exr"
 # --path: every path answers as the scalar path does; `best` says which path it took and why
 # (packets for the coherent primary rays, single rays for the random ones).
 for kind in primary random; do
-  "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/$kind.rays" --path scalar --hits "$WORK/ref.hits" >/dev/null 2>&1 \
+  "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/$kind.rays" --path scalar --hits "$WORK/ref.hits" --json >"$WORK/out" 2>"$WORK/err" \
     || fail "trace --path scalar ($kind) exited $?"
+  python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["layouts"] == "scalar" and len(j["skipped"]) == 1, j' "$WORK/out" \
+    || fail "trace --path scalar JSON: $(cat "$WORK/out")"
+  "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/$kind.rays" --path single --simd-leaf-floor 1 --json >"$WORK/out" 2>"$WORK/err" \
+    || fail "trace --simd-leaf-floor 1 exited $?"
+  python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert len(j["skipped"]) == 1, j' "$WORK/out" \
+    || fail "trace --simd-leaf-floor 1 should skip only the scalar layout: $(cat "$WORK/out")"
   for p in single packet best; do
     if "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/$kind.rays" --path $p --hits "$WORK/p.hits" --json >"$WORK/out" 2>"$WORK/err"; then
       python3 - "$WORK/out" "$WORK/ref.hits" "$WORK/p.hits" $p $kind <<'PY' || fail "trace --path $p ($kind): $(cat "$WORK/out")"
@@ -121,6 +127,8 @@ import json, struct, sys
 j = json.loads(open(sys.argv[1]).read())
 want = {"best": {"primary": "packet", "random": "single"}[sys.argv[5]]}.get(sys.argv[4], sys.argv[4])
 assert j["path"] == want and j["path_reason"] and "\n" not in j["path_reason"], j
+# The SIMD paths skip the scalar layout and the binary splits below the leaf floor (bvh-sah default).
+assert j["layouts"] == "simd" and len(j["skipped"]) == 2 and "leaf-floor" in j["skipped"][1], j
 a, b = open(sys.argv[2], "rb").read(), open(sys.argv[3], "rb").read()
 assert len(a) == len(b)
 for i in range(16, len(a), 16):

@@ -1,5 +1,6 @@
 /// `arbor trace --scene MODEL.obj --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
 ///  [--leaf-size N] [--sah-bins N] [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
+#include "accel/bvh_accel.h"
 #include "accel/timer.h"
 #include "accel/trace.h"
 #include "apps/arbor/commands.h"
@@ -99,7 +100,16 @@ int run_trace(const TraceOptions& o) {
     j["leaf_size"] = o.build.max_leaf_size;
     const bool has_layouts = kind != accel::AccelKind::brute;
     j["layouts"] = has_layouts ? (build.layouts == accel::Layouts::scalar ? "scalar" : "simd") : "none";
-    j["skipped"] = has_layouts ? nlohmann::json::array({skipped}) : nlohmann::json::array();
+    nlohmann::json skipped_list = has_layouts ? nlohmann::json::array({skipped}) : nlohmann::json::array();
+    // A BVH built for the SIMD paths only stops splitting at the layout's width (BuildConfig::leaf_floor).
+    const bool bvh = kind == accel::AccelKind::bvh_median || kind == accel::AccelKind::bvh_sah || kind == accel::AccelKind::lbvh;
+    std::string floor_note;
+    if (const std::uint32_t floor = accel::bvh_leaf_floor(build); bvh && floor > 1) {
+        floor_note = "binary splits of ranges of at most " + std::to_string(floor) +
+                     " triangles (the SIMD leaves' blocks hold them; --simd-leaf-floor 1 makes them)";
+        skipped_list.push_back(floor_note);
+    }
+    j["skipped"] = skipped_list;
     put_stats(j, structure->stats());
     if (o.json) {
         std::cout << j.dump() << '\n';
@@ -111,6 +121,7 @@ int run_trace(const TraceOptions& o) {
                 std::string(j["accel"]).c_str(), mesh.triangle_count(), rays.size(), nhit, build_ms, median_ms,
                 o.repeat, double(j["mrays_per_s"]), int(j["threads"]), std::string(accel::to_string(path)).c_str(),
                 path_reason.c_str(), has_layouts ? "; skipped: " : "", has_layouts ? skipped : "");
+    if (!floor_note.empty()) std::printf("also skipped: %s\n", floor_note.c_str());
     return 0;
 }
 
