@@ -1,7 +1,6 @@
 /// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W]
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
-#include "accel/bvh_accel.h"
 #include "accel/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
@@ -51,10 +50,7 @@ int run_render(const RenderCommand& o) {
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
     if (kind != accel::AccelKind::brute)
         plan.skipped.push_back("the structure's scalar layout (the renderer traces its SIMD paths)");
-    const bool bvh = kind == accel::AccelKind::bvh_median || kind == accel::AccelKind::bvh_sah || kind == accel::AccelKind::lbvh;
-    if (const std::uint32_t floor = accel::bvh_leaf_floor(build); bvh && floor > 1)
-        plan.skipped.push_back("binary splits of ranges of at most " + std::to_string(floor) +
-                               " triangles (the SIMD leaves' blocks hold them; --simd-leaf-floor 1 makes them)");
+    if (const std::string floor = leaf_floor_skipped(kind, build); !floor.empty()) plan.skipped.push_back(floor);
     const std::string accel_name(accel::to_string(kind));
     std::printf("%s\n", plan.line(accel_name).c_str());
     if (o.verbose) std::printf("%s", plan.skipped_lines().c_str());

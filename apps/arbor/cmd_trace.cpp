@@ -1,6 +1,5 @@
 /// `arbor trace --scene MODEL.obj --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
 ///  [--leaf-size N] [--sah-bins N] [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
-#include "accel/bvh_accel.h"
 #include "accel/timer.h"
 #include "accel/trace.h"
 #include "apps/arbor/commands.h"
@@ -102,13 +101,8 @@ int run_trace(const TraceOptions& o) {
     j["layouts"] = has_layouts ? (build.layouts == accel::Layouts::scalar ? "scalar" : "simd") : "none";
     nlohmann::json skipped_list = has_layouts ? nlohmann::json::array({skipped}) : nlohmann::json::array();
     // A BVH built for the SIMD paths only stops splitting at the layout's width (BuildConfig::leaf_floor).
-    const bool bvh = kind == accel::AccelKind::bvh_median || kind == accel::AccelKind::bvh_sah || kind == accel::AccelKind::lbvh;
-    std::string floor_note;
-    if (const std::uint32_t floor = accel::bvh_leaf_floor(build); bvh && floor > 1) {
-        floor_note = "binary splits of ranges of at most " + std::to_string(floor) +
-                     " triangles (the SIMD leaves' blocks hold them; --simd-leaf-floor 1 makes them)";
-        skipped_list.push_back(floor_note);
-    }
+    const std::string floor_note = leaf_floor_skipped(kind, build);
+    if (!floor_note.empty()) skipped_list.push_back(floor_note);
     j["skipped"] = skipped_list;
     put_stats(j, structure->stats());
     if (o.json) {

@@ -1,6 +1,7 @@
 #include "apps/arbor/common.h"
 
 #include "accel/auto_select.h"
+#include "accel/bvh_accel.h"
 #include "engine/error.h"
 #include "engine/memory_budget.h"
 
@@ -84,6 +85,14 @@ void put_stats(nlohmann::json& j, const accel::BuildStats& s) {
     j["memory_bytes"] = s.memory_bytes;
     j["build_peak_bytes"] = s.build_peak_bytes;
     j["dropped_nonfinite"] = s.dropped_nonfinite;
+}
+
+std::string leaf_floor_skipped(accel::AccelKind kind, const accel::BuildConfig& build) {
+    const bool bvh = kind == accel::AccelKind::bvh_median || kind == accel::AccelKind::bvh_sah || kind == accel::AccelKind::lbvh;
+    const std::uint32_t floor = accel::bvh_leaf_floor(build);
+    if (!bvh || floor <= 1) return {};
+    return "binary splits of ranges of at most " + std::to_string(floor) +
+           " triangles (the SIMD leaves' blocks hold them; --simd-leaf-floor 1 makes them)";
 }
 
 }  // namespace arbor::app

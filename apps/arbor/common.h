@@ -44,6 +44,10 @@ struct AutoHints {
 accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason,
                                const AutoHints& hints = {});
 
+/// What a build of `kind` with `build` leaves out below its leaf floor (a BVH built for the SIMD
+/// paths only, accel::bvh_leaf_floor), as an item of a "skipped" list; empty when nothing is.
+std::string leaf_floor_skipped(accel::AccelKind kind, const accel::BuildConfig& build);
+
 /// Build statistics as JSON fields (nodes, leaves, max_depth, sah_cost, bytes_per_triangle, ...).
 void put_stats(nlohmann::json& j, const accel::BuildStats& s);
 
