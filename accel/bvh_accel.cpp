@@ -154,7 +154,7 @@ std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const Tri
 std::uint32_t bvh_leaf_floor(const BuildConfig& cfg) {
     if (cfg.layouts != Layouts::simd) return 0;
     if (cfg.simd_leaf_floor != 0) return cfg.simd_leaf_floor;
-    return wide_width_supported(cfg.bvh_width) ? cfg.bvh_width : default_wide_width();
+    return wide_width_or_default(cfg.bvh_width);
 }
 
 std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,

@@ -21,10 +21,13 @@ bool wide_width_supported(std::uint32_t width) {
     }
 }
 
+std::uint32_t wide_width_or_default(std::uint32_t width) {
+    return wide_width_supported(width) ? width : default_wide_width();
+}
+
 std::unique_ptr<WidePaths> make_wide_paths(std::uint32_t width, const BinaryBvh& bvh, const TriangleView& tris,
                                            const WideConfig& cfg) {
-    if (!wide_width_supported(width)) width = default_wide_width();
-    switch (width) {
+    switch (wide_width_or_default(width)) {
     case 4: return make_wide_paths_n<4>(bvh, tris, cfg);
 #if XSIMD_WITH_AVX2
     case 8: return make_wide_paths_n<8>(bvh, tris, cfg);

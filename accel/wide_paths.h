@@ -34,6 +34,8 @@ std::uint32_t default_wide_width();
 std::uint32_t default_packet_lanes();
 /// Widths this build can trace: 4 and 8 always (x86-64-v3 or better), 16 with AVX-512.
 bool wide_width_supported(std::uint32_t width);
+/// The width a layout asked for `width` gets: `width` when supported, else default_wide_width().
+std::uint32_t wide_width_or_default(std::uint32_t width);
 
 /// Collapses `bvh` into `width`-wide nodes (0 = default_wide_width(); an unsupported width falls
 /// back to the default) and returns its paths.

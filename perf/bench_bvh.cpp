@@ -212,7 +212,8 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
         // The tree of the SIMD-only build stops at the layout's width (BuildConfig::leaf_floor):
         // compared with a full sweep under the same floor.
         accel::BuildConfig floor_cfg = cfg;
-        floor_cfg.leaf_floor = accel::default_wide_width();
+        floor_cfg.layouts = accel::Layouts::simd;
+        floor_cfg.leaf_floor = accel::bvh_leaf_floor(floor_cfg);
         const accel::PrimRefs refs = accel::make_prim_refs(view);
         const double binned_floor = accel::bvh_tree_stats(accel::build_bvh_sah(refs, floor_cfg)).sah_cost;
         const double sweep_floor = accel::bvh_tree_stats(accel::build_bvh_sah_sweep(refs, floor_cfg)).sah_cost;

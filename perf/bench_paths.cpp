@@ -37,7 +37,6 @@
 #include <functional>
 #include <map>
 #include <memory>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -164,16 +163,13 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
         const bool any = kind == "shadow", coherent = kind == "primary" || kind == "shadow";
         const accel::Query q = any ? accel::Query::any : accel::Query::closest;
         std::vector<Config> configs;
-        std::set<std::string> with_scalar;
         for (std::size_t b = 0; b < built.size(); ++b)
             for (const std::string& p : o.paths) {
                 const auto path = *accel::parse_trace_path(p);
-                // The scalar path on the scalar-only build, every other path on the SIMD-only ones.
+                // The scalar path (once per structure: it does not depend on the width) on the
+                // scalar-only build, every other path on the SIMD-only ones.
                 if ((path == accel::TracePath::scalar) != reference[b]) continue;
                 if (path != accel::TracePath::scalar && path != accel::TracePath::best && !built[b]->has_path(path)) continue;
-                // The scalar path does not depend on the width: once per structure.
-                if (path == accel::TracePath::scalar && !with_scalar.insert(names[b].substr(0, names[b].find('/'))).second)
-                    continue;
                 const accel::Accel* a = built[b].get();
                 configs.push_back({names[b], p, [a, q, path](auto r, auto h) { accel::trace_parallel(*a, r, h, q, path); }, false, {}, -1});
             }
