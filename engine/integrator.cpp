@@ -1,5 +1,7 @@
 #include "engine/integrator.h"
 
+#include "engine/hit_geometry.h"
+
 #include "accel/offset_ray.h"
 
 #include <algorithm>
@@ -54,17 +56,11 @@ void camera_batch(const RenderContext& ctx, const Tile& tile, int s0, int s1, st
 
 Surface surface_at(const RenderContext& ctx, const Ray& ray, const Hit& hit) {
     Surface s;
-    const auto view = ctx.scene.mesh.view();
-    const Vec3f v0 = view.corner(hit.prim, 0), v1 = view.corner(hit.prim, 1), v2 = view.corner(hit.prim, 2);
-    Vec3f n = simd::cross(v1 - v0, v2 - v0);
-    const float len = simd::length(n);
-    if (!(len > 0.0f) || !std::isfinite(len)) return s;  // zero-area or overflowing: ignore the hit
-    n = n / len;
-    s.normal = dot(n, ray.dir) > 0.0f ? -n : n;
-    if (ctx.plan.position) {
-        s.position = v0 * (1.0f - hit.u - hit.v) + v1 * hit.u + v2 * hit.v;
-        s.scale = accel::triangle_scale(v0, v1, v2);
-    }
+    const HitGeometry g = hit_geometry(ctx.scene.mesh.view(), ray, hit, ctx.plan.position);
+    if (!g.valid) return s;  // zero-area or overflowing: ignore the hit
+    s.normal = g.normal;
+    s.position = g.position;
+    s.scale = g.scale;
     s.material = &ctx.material(hit.prim);
     s.valid = true;
     return s;

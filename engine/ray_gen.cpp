@@ -3,6 +3,7 @@
 #include "accel/offset_ray.h"
 #include "accel/trace.h"
 #include "engine/error.h"
+#include "engine/hit_geometry.h"
 
 #include <algorithm>
 #include <array>
@@ -72,20 +73,6 @@ std::vector<Ray> primary_pass(const Camera& cam, int width, const std::vector<st
         rays[k] = cam.ray(float(i % std::uint32_t(width)) + jx, float(i / std::uint32_t(width)) + jy);
     }
     return rays;
-}
-
-/// The hit point and the unit geometric normal facing the incoming ray; false for a degenerate
-/// triangle (no normal).
-bool surface_at(const accel::TriangleView& tris, const Ray& ray, const Hit& hit, Vec3f& p, Vec3f& n, float& scale) {
-    const Vec3f v0 = tris.corner(hit.prim, 0), v1 = tris.corner(hit.prim, 1), v2 = tris.corner(hit.prim, 2);
-    p = v0 * (1.0f - hit.u - hit.v) + v1 * hit.u + v2 * hit.v;
-    scale = accel::triangle_scale(v0, v1, v2);
-    n = simd::cross(v1 - v0, v2 - v0);
-    const float len = simd::length(n);
-    if (!(len > 0.0f) || !std::isfinite(len)) return false;
-    n = n / len;
-    if (simd::dot(n, ray.dir) > 0.0f) n = -n;
-    return true;
 }
 
 /// Cosine-weighted direction around unit n. Orthonormal basis from "Building an Orthonormal
@@ -210,11 +197,12 @@ std::vector<Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg
         tracer(prim, hits);
         const std::size_t before = out.size();
         for (std::size_t i = 0; i < prim.size() && out.size() < cfg.count; ++i) {
-            Vec3f p, n;
-            float scale = 0.0f;
-            if (!hits[i].is_hit() || !surface_at(scene.tris, prim[i], hits[i], p, n, scale)) continue;
+            if (!hits[i].is_hit()) continue;
+            const HitGeometry g = hit_geometry(scene.tris, prim[i], hits[i]);
+            if (!g.valid) continue;
+            const Vec3f n = g.normal;
             Ray r;
-            r.org = accel::offset_ray_origin(p, n, scale);
+            r.org = accel::offset_ray_origin(g.position, n, g.scale);
             if (cfg.kind == RayKind::shadow) {
                 r.dir = scene.light - r.org;
                 if (!(simd::dot(r.dir, n) > 0.0f)) continue;  // the light is behind the surface
