@@ -8,6 +8,7 @@
 #include "accel/ray.h"
 #include "simd/box_kernels.h"
 #include "simd/lane_order.h"
+#include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
 
 #include <benchmark/benchmark.h>
@@ -261,6 +262,26 @@ BENCHMARK_TEMPLATE(BM_packet_box, Float8);
 #endif
 #if XSIMD_WITH_AVX512F
 BENCHMARK_TEMPLATE(BM_packet_box, Float16);
+#endif
+
+/// The interval bounds of a packet (once per packet, before its walk): Batched = packet_bounds
+/// (16 lanes: the reductions batched), else packet_bounds_plain; ns/call is per packet.
+template <class T, bool Batched> void BM_packet_bounds(benchmark::State& state) {
+    const auto packets = packets_of<T>(coherent_rays());
+    for (auto _ : state) {
+        for (const RayPacket<T>& p : packets) {
+            PacketBounds b = Batched ? packet_bounds(p, p.active) : packet_bounds_plain(p, p.active);
+            benchmark::DoNotOptimize(b);  // every field, or the unread reductions would be dropped
+        }
+    }
+    set_counters(state, ray_count, packets.size());
+}
+#if XSIMD_WITH_AVX2
+BENCHMARK_TEMPLATE(BM_packet_bounds, Float8, false);
+#endif
+#if XSIMD_WITH_AVX512F
+BENCHMARK_TEMPLATE(BM_packet_bounds, Float16, false);
+BENCHMARK_TEMPLATE(BM_packet_bounds, Float16, true);
 #endif
 
 /// A packet against one triangle. Coherent: all lanes share a permutation. Mode 0: packet_triangle

@@ -174,3 +174,55 @@ TEST_CASE_TEMPLATE("packet bounds: never drop a triangle that a lane of the pack
     ARBOR_CHECK_NONE(miss);
     CHECK(culled > 0);
 }
+
+#if XSIMD_WITH_AVX512F
+TEST_CASE("packet bounds: hmin16 is sixteen reductions") {
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> u(-1e3f, 1e3f);
+    Mismatches miss;
+    for (int round = 0; round < 200; ++round) {
+        alignas(64) float x[16][16];
+        Float16 v[16];
+        for (int i = 0; i < 16; ++i) {
+            for (int l = 0; l < 16; ++l) x[i][l] = round % 7 == 0 && l != i ? INFINITY : u(rng);
+            v[i] = Float16::load_aligned(x[i]);
+        }
+        float got[16];
+        hmin16(v, got);
+        for (int i = 0; i < 16; ++i)
+            if (got[i] != hmin(v[i])) miss.add("round", round, "vector", i);
+    }
+    ARBOR_CHECK_NONE(miss);
+}
+
+TEST_CASE("packet bounds: the batched 16-lane bounds equal the plain ones") {
+    std::vector<Ray> rays = arbor::testing::stiff_rays(23, 300, {{1, 1, 1}, {0, 0, 0}, {-1, 0.5f, 0}, {0.25f, 0.5f, 1}});
+    for (const float tiny : {1e-39f, -1e-39f, 1e-30f, 3e-38f, -0.0f})
+        for (const Vec3f& o : {Vec3f{-3, 0.5f, 0.25f}, Vec3f{-3, 1, 1}, Vec3f{-3, -1, 0}})
+            rays.push_back({o, 0.0f, {1.0f, tiny, -tiny * 0.5f}, INFINITY});
+    std::mt19937 rng(25);
+    std::shuffle(rays.begin() + 100, rays.end(), rng);  // mixed and shared signs, partial packets
+    Mismatches miss;
+    std::size_t axes = 0, batched = 0;
+    for (std::size_t i = 0; i < rays.size(); i += 5) {
+        const std::size_t n = std::min<std::size_t>(16, rays.size() - i);
+        const RayPacket<Float16> p = load_packet<Float16>(std::span<const Ray>(rays.data() + i, n));
+        for (const std::uint32_t subset : {0xFFFFu, 0x0F0Fu, 0x1u, 0x8001u, std::uint32_t(rng())}) {
+            const Mask<Float16> lanes = p.active & from_bits<Float16>(subset);
+            const PacketBounds a = packet_bounds(p, lanes), b = packet_bounds_plain(p, lanes);
+            bool same = a.axes == b.axes && a.tnear_lo == b.tnear_lo;
+            for (int k = 0; k < 3; ++k)
+                if ((b.axes >> k) & 1u)
+                    same = same && a.neg[k] == b.neg[k] && a.o_lo[k] == b.o_lo[k] && a.o_hi[k] == b.o_hi[k] &&
+                           a.rn_lo[k] == b.rn_lo[k] && a.rn_hi[k] == b.rn_hi[k] && a.rf_lo[k] == b.rf_lo[k] &&
+                           a.rf_hi[k] == b.rf_hi[k];
+            if (!same) miss.add("first ray", i, "subset", subset);
+            axes += std::popcount(b.axes);
+            batched += std::popcount(b.axes) >= 2;  // two axes or more: the batched form ran
+        }
+    }
+    ARBOR_CHECK_NONE(miss);
+    CHECK(axes > 100);  // the comparison saw axes that take part, not only left-out ones
+    CHECK(batched > 20);
+}
+#endif
