@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # arbor against Embree on identical .rays files, in one run (perf/README.md, "arbor vs Embree"):
-#   scripts/bench_vs_embree.sh [OUT.md] [bench_paths options...]
+#   [REPEATS=5] scripts/bench_vs_embree.sh [OUT.md] [bench_paths options...]
 # Builds the release preset, writes the ray files of the bunny, the beast and the rocker arm with
 # `arbor rays` (primary, shadow, diffuse, random; RAYS rays each, seed 1, tile order) into
 # $ARBOR_RAYS_DIR (default build/rays), then runs bench_paths: every BVH structure and the kd-tree,
@@ -31,6 +31,6 @@ done
   echo "- machine: $(lscpu | sed -n 's/^Model name:\s*//p'), $(nproc) hardware threads; $(c++ --version | head -1); git $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
   echo "- rays: $rays per file, written by \`arbor rays --scene MODEL.obj --kind KIND --count $rays\` (seed 1, 8x8 tile order)"
   build/release/perf/bench_paths --rays "$dir" --models "$models" --structures bvh-median,bvh-sah,lbvh,kdtree \
-    --paths scalar,single,packet,best --threads 2 --repeats 5 "$@"
+    --paths scalar,single,packet,best --threads 2 --repeats "${REPEATS:-5}" "$@"
 } >"$out"
 echo "report: $out"
