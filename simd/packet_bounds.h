@@ -33,6 +33,23 @@ inline bool is_nan(float x) { return std::isnan(x); }
 template <class A> inline xsimd::batch_bool<float, A> is_nan(const xsimd::batch<float, A>& x) { return xsimd::isnan(x); }
 template <class P> inline float masked_min(const P& x, const Mask<P>& m) { return hmin(select(m, x, P(INFINITY))); }
 template <class P> inline float masked_max(const P& x, const Mask<P>& m) { return -hmin(select(m, -x, P(INFINITY))); }
+
+/// The axes the bounds of the lanes `bits` of `p` may use: bit k when all those lanes share the
+/// sign bit of d[k] (`neg` gets it) and none has a NaN reciprocal on k (slab_rcp: that axis never
+/// culls for such a lane, so neither may the bounds). Mixed signs leave the axis out too.
+template <class P> inline std::uint32_t bounded_axes(const RayPacket<P>& p, std::uint32_t bits, std::uint32_t& neg) {
+    std::uint32_t axes = 0;
+    neg = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t s = to_bits(p.near_is_hi[k]) & bits;
+        if (s != 0) neg |= 1u << k;
+        if (s != 0 && s != bits) continue;
+        // (!(x == x), not x != x: xsimd 8's != on floats is the ordered compare, false for NaN.)
+        if (to_bits(!(p.rcp_near[k] == p.rcp_near[k])) & bits) continue;
+        axes |= 1u << k;
+    }
+    return axes;
+}
 }  // namespace detail
 
 /// Bounds of the lanes `lanes` of `p` (which must be active, hence finite). No lanes: no box passes.
@@ -42,14 +59,12 @@ template <class P> inline PacketBounds packet_bounds_plain(const RayPacket<P>& p
     const std::uint32_t bits = to_bits(lanes);
     if (bits == 0) return b;
     b.tnear_lo = detail::masked_min(p.tnear, lanes);
+    std::uint32_t neg = 0;
+    const std::uint32_t axes = detail::bounded_axes(p, bits, neg);
     for (int k = 0; k < 3; ++k) {
-        const std::uint32_t s = to_bits(p.near_is_hi[k]) & bits;
-        if (s != 0 && s != bits) continue;  // mixed signs: this axis is left out
-        // A lane whose reciprocal is NaN (slab_rcp: that axis never culls for it) leaves it out too.
-        // (!(x == x), not x != x: xsimd 8's != on floats is the ordered compare, false for NaN.)
-        if (to_bits(!(p.rcp_near[k] == p.rcp_near[k])) & bits) continue;
+        if (!((axes >> k) & 1u)) continue;
         b.axes |= 1u << k;
-        b.neg[k] = s != 0;
+        b.neg[k] = (neg >> k) & 1u;
         const P sign(b.neg[k] ? -1.0f : 1.0f);  // multiplying by -1 is an exact negation
         const P o = p.org[k] * sign, rn = p.rcp_near[k] * sign, rf = p.rcp_far[k] * sign;
         // A lane whose reciprocal is NaN (slab_rcp: a direction component too small to be sure of)
@@ -74,12 +89,9 @@ template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, cons
         if (bits == 0) return b;
         // Incoherent packets leave axes out (mixed signs); with one axis or none left, the plain
         // form's few reductions are cheaper.
-        int shared = 0;
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t s = to_bits(p.near_is_hi[k]) & bits;
-            shared += s == 0 || s == bits;
-        }
-        if (shared < 2) return packet_bounds_plain(p, lanes);
+        std::uint32_t neg = 0;
+        const std::uint32_t axes = detail::bounded_axes(p, bits, neg);
+        if (std::popcount(axes) < 2) return packet_bounds_plain(p, lanes);
         // The same bounds with the 13 reductions done at once (hmin16), and the padded reciprocals'
         // bounds taken from the unpadded ones: on an axis that takes part every lane's reciprocal
         // has the axis' sign, so after the negation all are > 0, and pad_2ulp is monotone there
@@ -88,8 +100,7 @@ template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, cons
         const P inf(INFINITY);
         P v[16];
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t s = to_bits(p.near_is_hi[k]) & bits;
-            const P sign(s != 0 ? -1.0f : 1.0f);
+            const P sign((neg >> k) & 1u ? -1.0f : 1.0f);
             const P o = p.org[k] * sign, rn = p.rcp_near[k] * sign;
             v[4 * k] = select(lanes, o, inf);
             v[4 * k + 1] = select(lanes, -o, inf);
@@ -101,12 +112,10 @@ template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, cons
         alignas(64) float m[16];
         hmin16(v, m);
         b.tnear_lo = m[12];
+        b.axes = axes;
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t s = to_bits(p.near_is_hi[k]) & bits;
-            if (s != 0 && s != bits) continue;
-            if (to_bits(!(p.rcp_near[k] == p.rcp_near[k])) & bits) continue;  // a NaN reciprocal
-            b.axes |= 1u << k;
-            b.neg[k] = s != 0;
+            if (!((axes >> k) & 1u)) continue;
+            b.neg[k] = (neg >> k) & 1u;
             b.o_lo[k] = m[4 * k], b.o_hi[k] = -m[4 * k + 1];
             b.rn_lo[k] = m[4 * k + 2], b.rn_hi[k] = -m[4 * k + 3];
         }
@@ -115,7 +124,7 @@ template <class P> inline PacketBounds packet_bounds(const RayPacket<P>& p, cons
         for (int k = 0; k < 3; ++k) rn[k] = b.rn_lo[k], rn[4 + k] = b.rn_hi[k];
         pad_2ulp(Float16::load_aligned(rn)).store_aligned(rf);
         for (int k = 0; k < 3; ++k)
-            if ((b.axes >> k) & 1u) b.rf_lo[k] = rf[k], b.rf_hi[k] = rf[4 + k];
+            if ((axes >> k) & 1u) b.rf_lo[k] = rf[k], b.rf_hi[k] = rf[4 + k];
         return b;
     }
 #endif
