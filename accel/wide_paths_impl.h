@@ -94,7 +94,8 @@ public:
             }
             return found;
         };
-        traverse_wide<AnyHit>(layout_, r, tfar, stack, child, count, leaf);
+        if (r.plain) traverse_wide<AnyHit, true>(layout_, r, tfar, stack, child, count, leaf);
+        else traverse_wide<AnyHit, false>(layout_, r, tfar, stack, child, count, leaf);
         return best;
     }
 

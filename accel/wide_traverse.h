@@ -42,7 +42,7 @@ struct WideStackEntry {
 /// a hit it lowers both `tfar` and r.tfar and returns true; with AnyHit that ends the walk. A popped
 /// entry farther than tfar is skipped. `stack` holds layout.stack_size() entries. The caller checks
 /// that the ray is traceable (r.traceable) and the layout not empty.
-template <bool AnyHit, std::size_t N, class LeafFn>
+template <bool AnyHit, bool Plain = false, std::size_t N, class LeafFn>
 inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
                           WideStackEntry* stack, std::uint32_t child, std::uint32_t count, LeafFn&& leaf) {
     using T = WideLane<N>;
@@ -53,7 +53,9 @@ inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>
         if (count == 0) {
             const WideNode<N>& n = nodes[child];
             T t;
-            std::uint32_t bits = simd::to_bits(simd::ray_boxes<T>(r, &n.boxes.b[0][0][0], t));
+            std::uint32_t bits;
+            if constexpr (Plain) bits = simd::to_bits(simd::ray_boxes_plain<T>(r, &n.boxes.b[0][0][0], t));
+            else bits = simd::to_bits(simd::ray_boxes<T>(r, &n.boxes.b[0][0][0], t));
             if (bits != 0) {
                 if ((bits & (bits - 1)) == 0) {  // one child hit: no ordering, no push
                     const int i = std::countr_zero(bits);

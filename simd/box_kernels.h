@@ -55,6 +55,31 @@ template <class T> ARBOR_INLINE Mask<T> ray_boxes(const WideRay<T>& r, const flo
     }
     return ray_boxes_sorted(r, near_plane, far_plane, t_entry);
 }
+/// The same test for a ray with WideRay::plain set (tnear >= 0, all six reciprocals finite and
+/// normal), in fewer dependent steps: the same hits, and entry distances equal as numbers (a zero
+/// may differ in sign). Why it is the same test:
+///   - no slab distance can be NaN: a plane minus the origin is finite or +-inf (the empty slots),
+///     and times a finite non-zero reciprocal stays non-NaN; so the NaN-ignoring folds of slab_test
+///     are plain max/min and can be taken as a tree (two steps instead of three);
+///   - slab_accept is the plain comparison t_entry <= t_exit: t_entry >= tnear >= 0, so when
+///     t_exit >= 0 the slack is zero, and when t_exit < 0, t_exit plus its slack (2^-20 of it)
+///     stays negative and both forms reject.
+/// Per node that takes the slack's three steps and two fold steps off the chain from a node's loads
+/// to the next node's address.
+template <class T> ARBOR_INLINE Mask<T> ray_boxes_plain(const WideRay<T>& r, const float* soa, T& t_entry) {
+    constexpr std::size_t n = lanes<T>;
+    T d[2][3];
+    for (int k = 0; k < 3; ++k) {
+        const T near_plane = load_lanes<T>(soa + (std::size_t(r.near_is_hi[k]) * 3 + k) * n);
+        const T far_plane = load_lanes<T>(soa + (std::size_t(1 - r.near_is_hi[k]) * 3 + k) * n);
+        d[0][k] = (near_plane - r.org[k]) * r.rcp_near[k];
+        d[1][k] = (far_plane - r.org[k]) * r.rcp_far[k];
+    }
+    t_entry = rmax(rmax(d[0][0], d[0][1]), rmax(d[0][2], r.tnear));
+    const T t_exit = rmin(rmin(d[1][0], d[1][1]), rmin(d[1][2], r.tfar));
+    return t_entry <= t_exit;
+}
+
 template <class T, std::size_t N> inline Mask<T> ray_boxes(const WideRay<T>& r, const BoxesSoA<N>& boxes, T& t_entry) {
     static_assert(N == lanes<T>, "one lane per box");
     return ray_boxes(r, &boxes.b[0][0][0], t_entry);

@@ -1,0 +1,86 @@
+// The single-ray path's two box forms (simd::ray_boxes and, for rays with WideRay::plain set,
+// simd::ray_boxes_plain) walk the same tree to bit-identical answers: every ray traced with the
+// form it gets and again with the general form forced, at every width of the build, over a
+// procedural scene and the bunny. (The kernels themselves are compared lane by lane in
+// test_simd_kernels.cpp; both forms against brute in test_wide_paths.cpp, whose rays are plain.)
+#include "accel/bvh_accel.h"
+#include "accel/wide_paths_impl.h"
+#include "engine/obj_loader.h"
+#include "engine/procedural.h"
+#include "testing.h"
+
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <filesystem>
+
+using namespace arbor;
+using accel::Hit;
+using accel::Ray;
+
+namespace {
+
+template <std::size_t N> void check_forms(const accel::TriangleView& view, const std::vector<Ray>& rays) {
+    if constexpr (accel::wide_width_available<N>()) {
+        accel::BuildConfig cfg;
+        cfg.layouts = accel::Layouts::simd;
+        cfg.bvh_width = N;
+        const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, view, cfg);
+        const auto* bvh = dynamic_cast<const accel::BvhAccel*>(acc.get());
+        REQUIRE(bvh != nullptr);
+        const auto* w = dynamic_cast<const accel::WidePathsN<N>*>(&bvh->wide());
+        REQUIRE(w != nullptr);
+        std::vector<accel::WideStackEntry> stack(w->layout().stack_size());
+        std::size_t plain = 0, hits = 0, differ = 0;
+        for (const Ray& ray : rays) {
+            for (const bool any : {false, true}) {
+                auto r = simd::wide_ray<accel::WideLane<N>>(ray.org, ray.dir, ray.tnear, ray.tfar);
+                if (!r.traceable) continue;
+                plain += r.plain && !any;
+                const auto trace = [&](auto r2) {
+                    return any ? w->template trace_from<true>(r2, ray.tfar, 0, 0, stack.data())
+                               : w->template trace_from<false>(r2, ray.tfar, 0, 0, stack.data());
+                };
+                const Hit h = trace(r);
+                r.plain = false;
+                const Hit g = trace(r);
+                hits += h.is_hit();
+                differ += std::memcmp(&h, &g, sizeof(Hit)) != 0;
+            }
+        }
+        CAPTURE(N);
+        CHECK(differ == 0);
+        CHECK(plain > rays.size() / 2);
+        CHECK(hits > rays.size() / 4);
+    }
+}
+
+void check_all_widths(const accel::TriangleView& view, const std::vector<Ray>& rays) {
+    check_forms<4>(view, rays);
+    check_forms<8>(view, rays);
+    check_forms<16>(view, rays);
+}
+
+}  // namespace
+
+TEST_CASE("plain box form: bit-identical answers to the general form on procedural scenes and the bunny") {
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 9);
+    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 32, 12));
+    mesh.append(engine::make_box({-3, -1.2f, -3}, {3, -1.1f, 3}));
+    auto rays = testing::random_rays_into(mesh.bounds, 2000, 3);
+    const auto inside = testing::random_rays_inside(mesh.bounds, 2000, 4);
+    const auto cam = testing::camera_rays(mesh.bounds, 40, 40);
+    rays.insert(rays.end(), inside.begin(), inside.end());
+    rays.insert(rays.end(), cam.begin(), cam.end());
+    check_all_widths(mesh.view(), rays);
+
+    for (const auto& path : testing::model_paths()) {
+        if (std::filesystem::path(path).stem() != "stanford-bunny") continue;
+        engine::Warnings warn;
+        const engine::Mesh bunny = engine::load_obj(path, warn);
+        auto brays = testing::random_rays_into(bunny.bounds, 3000, 5);
+        const auto bcam = testing::camera_rays(bunny.bounds, 48, 48);
+        brays.insert(brays.end(), bcam.begin(), bcam.end());
+        check_all_widths(bunny.view(), brays);
+    }
+}
