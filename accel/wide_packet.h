@@ -79,7 +79,7 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
                 const Vec3f lo{n.boxes.b[0][0][c], n.boxes.b[0][1][c], n.boxes.b[0][2][c]};
                 const Vec3f hi{n.boxes.b[1][0][c], n.boxes.b[1][1][c], n.boxes.b[1][2][c]};
                 P t;
-                const auto m = simd::packet_box(p, lo, hi, t) & live;
+                const auto m = (p.plain ? simd::packet_box_plain(p, lo, hi, t) : simd::packet_box(p, lo, hi, t)) & live;
                 lanes_of[c] = simd::to_bits(m);
                 if (lanes_of[c] == 0) continue;
                 tc[c] = simd::select(m, t, nan);

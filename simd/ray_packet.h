@@ -88,6 +88,9 @@ template <class T> struct RayPacket {
     T tnear, tfar;
     Mask<T> active;
     WoopLanes<T> woop;
+    /// Every active lane is a plain ray (WideRay::plain: tnear >= 0, all reciprocals finite and
+    /// normal), so packet_box_plain may stand in for packet_box.
+    bool plain = false;
 };
 
 /// Packet from SoA rays; lanes outside `active` or not traceable become inactive.
@@ -107,6 +110,11 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
         p.near_is_hi[k] = signbit_mask(dir[k]);
     }
     p.woop = woop_lanes(dir, p.active);
+    Mask<T> plain = p.tnear >= T(0.0f);
+    for (int k = 0; k < 3; ++k)
+        plain = plain & (vabs(p.rcp_near[k]) >= T(std::numeric_limits<float>::min())) &
+                (vabs(p.rcp_far[k]) <= T(std::numeric_limits<float>::max()));
+    p.plain = to_bits(p.active & !plain) == 0;
     return p;
 }
 

@@ -140,6 +140,64 @@ TEST_CASE_TEMPLATE("packet_box: every lane agrees with the scalar slab test", T,
     CHECK(hits > rays.size());  // not a vacuous comparison
 }
 
+namespace {
+/// WideRay::plain's rule on one ray, written out.
+bool plain_ray(const Ray& r) {
+    const SlabRay s = slab_ray(r.org, r.dir);
+    bool plain = ray_is_traceable(r) && r.tnear >= 0.0f;
+    for (int k = 0; k < 3; ++k) plain = plain && std::isfinite(s.rcp_far[k]) && std::fabs(s.rcp_near[k]) >= FLT_MIN;
+    return plain;
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("packet_box_plain: on packets marked plain, every lane agrees with the scalar slab test", T, float,
+                   ARBOR_TEST_BATCHES) {
+    const std::vector<Ray> all = kernel_rays();
+    const std::vector<Box> boxes = stiff_boxes(3);
+    Mismatches bad;
+    // The flag: set exactly when every ray of the packet is plain (mixed packets of kernel_rays).
+    std::size_t mixed = 0;
+    for (std::size_t s = 0; s < all.size(); s += lanes<T>) {
+        const auto chunk = chunk_of(all, s, lanes<T>);
+        bool expect = true;
+        for (const Ray& r : chunk) expect = expect && (plain_ray(r) || !ray_is_traceable(r));
+        mixed += !expect;
+        if (load_packet<T, Ray>(chunk).plain != expect) bad.add("plain flag", s, "expected", expect);
+    }
+    std::vector<Ray> rays;
+    for (const Ray& r : all)
+        if (plain_ray(r)) rays.push_back(r);
+    std::size_t hits = 0, misses = 0;
+    for (std::size_t s = 0; s < rays.size(); s += lanes<T>) {
+        const auto chunk = chunk_of(rays, s, lanes<T>);
+        const RayPacket<T> p = load_packet<T, Ray>(chunk);
+        if (!p.plain) bad.add("packet of plain rays not plain", s);
+        for (const Box& b : boxes) {
+            T t;
+            const Mask<T> m = packet_box_plain(p, b.lo, b.hi, t);
+            for (std::size_t i = 0; i < lanes<T>; ++i) {
+                if (i >= chunk.size()) {
+                    if (lane(m, i)) bad.add("padding lane hit", i);
+                    continue;
+                }
+                float t_ref = 0;
+                const bool m_ref = oracle_box(chunk[i], b, t_ref);
+                const Where at{s + i, std::size_t(&b - boxes.data())};
+                // Equal as numbers: the tree of folds may give -0 where the chain gives +0.
+                if (lane(m, i) != m_ref) bad.add("plain packet", at, "mask", lane(m, i), "expected", m_ref);
+                else if (m_ref && !(lane(t, i) == t_ref)) bad.add("plain packet", at, "t", lane(t, i), "expected", t_ref);
+                (m_ref ? hits : misses) += 1;
+            }
+        }
+    }
+    ARBOR_CHECK_NONE(bad);
+    CHECK(rays.size() > 100);
+    CHECK(rays.size() < all.size());
+    if (lanes<T> > 1) CHECK(mixed > 0);
+    CHECK(hits > rays.size());
+    CHECK(misses > rays.size());
+}
+
 TEST_CASE_TEMPLATE("ray_boxes: one ray against a wide node agrees with the scalar slab test per child", T, float,
                    ARBOR_TEST_BATCHES) {
     constexpr std::size_t n = lanes<T>;
@@ -194,11 +252,7 @@ TEST_CASE_TEMPLATE("ray_boxes_plain: on rays marked plain, the same hits and ent
     std::size_t plain = 0, not_plain = 0, hits = 0, misses = 0;
     for (const Ray& r : rays) {
         const WideRay<T> w = wide_ray<T>(r.org, r.dir, r.tnear, r.tfar);
-        // The rule of WideRay::plain, written out: traceable, tnear >= 0, no reciprocal NaN, infinite or denormal.
-        const SlabRay s = slab_ray(r.org, r.dir);
-        bool expect = ray_is_traceable(r) && r.tnear >= 0.0f;
-        for (int k = 0; k < 3; ++k)
-            expect = expect && std::isfinite(s.rcp_far[k]) && std::fabs(s.rcp_near[k]) >= FLT_MIN;
+        const bool expect = plain_ray(r);
         if (w.plain != expect) bad.add("plain flag", std::size_t(&r - rays.data()), "is", w.plain, "expected", expect);
         if (!w.plain) {
             ++not_plain;
