@@ -7,7 +7,9 @@
 #include "accel/wide_traverse.h"
 #include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
+#include "simd/wide_ray_setup.h"
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -100,9 +102,23 @@ public:
     }
 
 private:
+    /// The rays' set-up in groups (simd/wide_ray_setup.h), then each ray's walk.
     template <bool AnyHit> void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
+        if (layout_.empty()) {
+            std::fill(hits.begin(), hits.end(), Hit{});
+            return;
+        }
         StackBuffer<WideStackEntry, 512> stack(layout_.stack_size());
-        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_one<AnyHit>(rays[i], stack.data());
+        simd::WideRaySetup<simd::SetupLane> setup;
+        simd::WideRay<T> r;
+        for (std::size_t base = 0; base < rays.size(); base += setup.size) {
+            const auto in = rays.subspan(base, std::min(setup.size, rays.size() - base));
+            simd::wide_ray_setup(in, setup);
+            for (std::size_t i = 0; i < in.size(); ++i) {
+                setup.get(i, r);
+                hits[base + i] = r.traceable ? trace_from<AnyHit>(r, in[i].tfar, 0, 0, stack.data()) : Hit{};
+            }
+        }
     }
 
     /// Packets of lanes<P> consecutive rays (the last one partial), see wide_packet.h.

@@ -88,8 +88,10 @@ template <class T> struct RayPacket {
     T tnear, tfar;
     Mask<T> active;
     WoopLanes<T> woop;
-    /// Every active lane is a plain ray (WideRay::plain: tnear >= 0, all reciprocals finite and
-    /// normal), so packet_box_plain may stand in for packet_box.
+    /// The lanes that would be plain rays (WideRay::plain: tnear >= 0, all reciprocals finite and
+    /// normal; inactive lanes may be set too), and whether every active lane is one, so that
+    /// packet_box_plain may stand in for packet_box.
+    Mask<T> plain_lanes;
     bool plain = false;
 };
 
@@ -114,6 +116,7 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
     for (int k = 0; k < 3; ++k)
         plain = plain & (vabs(p.rcp_near[k]) >= T(std::numeric_limits<float>::min())) &
                 (vabs(p.rcp_far[k]) <= T(std::numeric_limits<float>::max()));
+    p.plain_lanes = plain;
     p.plain = to_bits(p.active & !plain) == 0;
     return p;
 }
