@@ -128,6 +128,7 @@ private:
         StackBuffer<PacketStackEntry<P>, 256> pstack(layout_.stack_size());
         StackBuffer<WideStackEntry, 512> sstack(layout_.stack_size());
         const WideBlock<N>* blocks = layout_.blocks.data();
+        simd::WideRaySetup<P> setup;
         for (std::size_t base = 0; base < rays.size(); base += K) {
             const auto in = rays.subspan(base, std::min(K, rays.size() - base));
             simd::RayPacket<P> p = simd::load_packet<P>(in);
@@ -171,10 +172,18 @@ private:
                 }
                 return found;
             };
+            bool have_setup = false;
             auto single = [&](int i, std::uint32_t child, std::uint32_t count) {
-                const Ray& ray = in[std::size_t(i)];
+                // The lanes' WideRays from the packet itself, worked out once per packet (a lane's
+                // far distance only drops, to a hit's t >= tnear, so the rest stays as it was).
+                if (!have_setup) {
+                    simd::wide_ray_setup(p, setup);
+                    have_setup = true;
+                }
                 const float tfar = simd::lane(p.tfar, std::size_t(i));
-                simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, tfar);
+                simd::WideRay<T> r;
+                setup.get(std::size_t(i), r);
+                r.tfar = T(tfar);
                 const Hit h = trace_from<AnyHit>(r, tfar, child, count, sstack.data());
                 const float old = simd::lane(best.t, std::size_t(i));
                 if (!h.is_hit() || (simd::lane(best.prim, std::size_t(i)) != -1 && !(h.t < old))) return false;

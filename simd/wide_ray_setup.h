@@ -51,10 +51,10 @@ template <class P> struct WideRaySetup {
     }
 };
 
-/// The set-up of rays[0, min(size, lanes<P>)) (the lanes beyond are not traceable).
-template <class P, class R> inline void wide_ray_setup(std::span<const R> rays, WideRaySetup<P>& s) {
+/// The set-up of the active lanes of packet p, as wide_ray() gives it for each lane's ray with the
+/// lane's current tfar (inactive lanes: not traceable).
+template <class P> inline void wide_ray_setup(const RayPacket<P>& p, WideRaySetup<P>& s) {
     using S = WideRaySetup<P>;
-    const RayPacket<P> p = load_packet<P, R>(rays);
     for (int k = 0; k < 3; ++k) {
         store_lanes(p.org[k], s.f[S::org_x + k]);
         store_lanes(p.rcp_near[k], s.f[S::rn_x + k]);
@@ -77,6 +77,11 @@ template <class P, class R> inline void wide_ray_setup(std::span<const R> rays, 
             s.axis[k][i] = (masks[k][0] >> i) & 1u ? 0 : ((masks[k][1] >> i) & 1u ? 1 : 2);
     s.traceable = to_bits(p.active);
     s.plain = to_bits(p.active & p.plain_lanes);
+}
+
+/// The set-up of rays[0, min(size, lanes<P>)) (the lanes beyond are not traceable).
+template <class P, class R> inline void wide_ray_setup(std::span<const R> rays, WideRaySetup<P>& s) {
+    wide_ray_setup(load_packet<P, R>(rays), s);
 }
 
 }  // namespace arbor::simd
