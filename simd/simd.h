@@ -186,35 +186,43 @@ template <class A> inline xsimd::batch<float, A> vabs(const xsimd::batch<float, 
 inline std::int32_t lane(std::int32_t v, std::size_t) { return v; }
 template <class A> inline std::int32_t lane(const xsimd::batch<std::int32_t, A>& v, std::size_t i) { return v.get(i); }
 
-/// Smallest lane of a NaN-free batch (+0 and -0 compare equal: either may come back).
+/// Smallest lane of a NaN-free batch (+0 and -0 compare equal: either may come back), as a tree of
+/// mins halving the width (one GCC 12 regression avoided: xsimd 8.1's avx/avx2 arch types are not
+/// derived from sse2, so a test on the ISA hierarchy sent 8-lane batches to a scalar loop of seven
+/// dependent mins; the tree is three).
 inline float hmin(float v) { return v; }
+namespace detail {
+inline float hmin128(__m128 m) {
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_min_ss(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
+}
+}  // namespace detail
 template <class A> inline float hmin(const xsimd::batch<float, A>& v) {
+    constexpr std::size_t n = xsimd::batch<float, A>::size;
 #if XSIMD_WITH_AVX512DQ
-    // (Not _mm512_reduce_min_ps: GCC 12 warns about an uninitialized value inside its own header.)
-    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    // (Not _mm512_reduce_min_ps, nor the AVX512F extracts: GCC 12 warns about an uninitialized value
+    // inside its own header.)
+    if constexpr (n == 16) {
         const __m512 w = static_cast<__m512>(v);
-        const __m256 m = _mm256_min_ps(_mm512_extractf32x8_ps(w, 0), _mm512_extractf32x8_ps(w, 1));
-        return hmin(xsimd::batch<float, xsimd::avx2>(m));
+        const __m256 h = _mm256_min_ps(_mm512_extractf32x8_ps(w, 0), _mm512_extractf32x8_ps(w, 1));
+        return detail::hmin128(_mm_min_ps(_mm256_castps256_ps128(h), _mm256_extractf128_ps(h, 1)));
     } else
 #endif
-    if constexpr (xsimd::batch<float, A>::size > 8 || !std::is_base_of_v<xsimd::sse2, A>) {
-        alignas(64) float x[xsimd::batch<float, A>::size];
+#if XSIMD_WITH_AVX
+    if constexpr (n == 8) {
+        const __m256 w = static_cast<__m256>(v);
+        return detail::hmin128(_mm_min_ps(_mm256_castps256_ps128(w), _mm256_extractf128_ps(w, 1)));
+    } else
+#endif
+    if constexpr (n == 4) {
+        return detail::hmin128(static_cast<__m128>(v));
+    } else {
+        alignas(64) float x[n];
         v.store_aligned(x);
         float m = x[0];
         for (float y : x) m = rmin(y, m);
         return m;
-    } else {
-        __m128 m;
-#if XSIMD_WITH_AVX
-        if constexpr (std::is_base_of_v<xsimd::avx, A>) {
-            const __m256 w = static_cast<__m256>(v);
-            m = _mm_min_ps(_mm256_castps256_ps128(w), _mm256_extractf128_ps(w, 1));
-        } else
-#endif
-            m = static_cast<__m128>(v);
-        m = _mm_min_ps(m, _mm_movehl_ps(m, m));
-        m = _mm_min_ss(m, _mm_shuffle_ps(m, m, 1));
-        return _mm_cvtss_f32(m);
     }
 }
 
