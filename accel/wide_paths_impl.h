@@ -63,14 +63,6 @@ public:
         else trace_single<false>(rays, hits);
     }
 
-    /// One ray, single-ray path, with a caller's stack (layout().stack_size() entries).
-    template <bool AnyHit> Hit trace_one(const Ray& ray, WideStackEntry* stack) const {
-        if (layout_.empty()) return {};
-        simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
-        if (!r.traceable) return {};
-        return trace_from<AnyHit>(r, ray.tfar, 0, 0, stack);
-    }
-
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
     template <bool AnyHit>
     Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStackEntry* stack) const {

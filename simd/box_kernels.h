@@ -27,31 +27,32 @@ template <std::size_t N> struct BoxesSoA {
 
 /// A packet against one box [lo, hi]: the near plane of each axis is chosen per lane by the sign
 /// bit of that lane's direction. Inactive lanes never hit.
+namespace detail {
+/// Each lane's near and far planes of box [lo, hi], by the sign bits of its direction.
 template <class T>
-inline Mask<T> packet_box(const RayPacket<T>& p, const Vec3f& lo, const Vec3f& hi, T& t_entry) {
-    Vec3<T> n, f;
+ARBOR_INLINE void packet_planes(const RayPacket<T>& p, const Vec3f& lo, const Vec3f& hi, Vec3<T>& n, Vec3<T>& f) {
     for (int k = 0; k < 3; ++k) {
         const T l(lo[k]), h(hi[k]);
         n[k] = select(p.near_is_hi[k], h, l);
         f[k] = select(p.near_is_hi[k], l, h);
     }
+}
+}  // namespace detail
+
+template <class T>
+inline Mask<T> packet_box(const RayPacket<T>& p, const Vec3f& lo, const Vec3f& hi, T& t_entry) {
+    Vec3<T> n, f;
+    detail::packet_planes(p, lo, hi, n, f);
     return slab_test<T>(n, f, p.org, p.rcp_near, p.rcp_far, p.tnear, p.tfar, t_entry) & p.active;
 }
 
-/// The same for a packet with RayPacket::plain set, in fewer dependent steps: the same hits, and
-/// entry distances equal as numbers (see ray_boxes_plain for why). Lanes outside p.active may
-/// compute anything here; they are masked out.
+/// The same for a packet with RayPacket::plain set, by slab_test_plain (box_test.h: the same hits,
+/// entry distances equal as numbers). Lanes outside p.active may compute anything; they are masked out.
 template <class T>
 inline Mask<T> packet_box_plain(const RayPacket<T>& p, const Vec3f& lo, const Vec3f& hi, T& t_entry) {
-    T d[2][3];
-    for (int k = 0; k < 3; ++k) {
-        const T l(lo[k]), h(hi[k]);
-        d[0][k] = (select(p.near_is_hi[k], h, l) - p.org[k]) * p.rcp_near[k];
-        d[1][k] = (select(p.near_is_hi[k], l, h) - p.org[k]) * p.rcp_far[k];
-    }
-    t_entry = rmax(rmax(d[0][0], d[0][1]), rmax(d[0][2], p.tnear));
-    const T t_exit = rmin(rmin(d[1][0], d[1][1]), rmin(d[1][2], p.tfar));
-    return (t_entry <= t_exit) & p.active;
+    Vec3<T> n, f;
+    detail::packet_planes(p, lo, hi, n, f);
+    return slab_test_plain<T>(n, f, p.org, p.rcp_near, p.rcp_far, p.tnear, p.tfar, t_entry) & p.active;
 }
 
 /// One ray against lanes<T> boxes already sorted into near and far planes.
@@ -71,29 +72,16 @@ template <class T> ARBOR_INLINE Mask<T> ray_boxes(const WideRay<T>& r, const flo
     }
     return ray_boxes_sorted(r, near_plane, far_plane, t_entry);
 }
-/// The same test for a ray with WideRay::plain set (tnear >= 0, all six reciprocals finite and
-/// normal), in fewer dependent steps: the same hits, and entry distances equal as numbers (a zero
-/// may differ in sign). Why it is the same test:
-///   - no slab distance can be NaN: a plane minus the origin is finite or +-inf (the empty slots),
-///     and times a finite non-zero reciprocal stays non-NaN; so the NaN-ignoring folds of slab_test
-///     are plain max/min and can be taken as a tree (two steps instead of three);
-///   - slab_accept is the plain comparison t_entry <= t_exit: t_entry >= tnear >= 0, so when
-///     t_exit >= 0 the slack is zero, and when t_exit < 0, t_exit plus its slack (2^-20 of it)
-///     stays negative and both forms reject.
-/// Per node that takes the slack's three steps and two fold steps off the chain from a node's loads
-/// to the next node's address.
+/// The same test for a ray with WideRay::plain set, by slab_test_plain (box_test.h: the same hits,
+/// entry distances equal as numbers, in fewer dependent steps per node).
 template <class T> ARBOR_INLINE Mask<T> ray_boxes_plain(const WideRay<T>& r, const float* soa, T& t_entry) {
     constexpr std::size_t n = lanes<T>;
-    T d[2][3];
+    Vec3<T> near_plane, far_plane;
     for (int k = 0; k < 3; ++k) {
-        const T near_plane = load_lanes<T>(soa + (std::size_t(r.near_is_hi[k]) * 3 + k) * n);
-        const T far_plane = load_lanes<T>(soa + (std::size_t(1 - r.near_is_hi[k]) * 3 + k) * n);
-        d[0][k] = (near_plane - r.org[k]) * r.rcp_near[k];
-        d[1][k] = (far_plane - r.org[k]) * r.rcp_far[k];
+        near_plane[k] = load_lanes<T>(soa + (std::size_t(r.near_is_hi[k]) * 3 + k) * n);
+        far_plane[k] = load_lanes<T>(soa + (std::size_t(1 - r.near_is_hi[k]) * 3 + k) * n);
     }
-    t_entry = rmax(rmax(d[0][0], d[0][1]), rmax(d[0][2], r.tnear));
-    const T t_exit = rmin(rmin(d[1][0], d[1][1]), rmin(d[1][2], r.tfar));
-    return t_entry <= t_exit;
+    return slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t_entry);
 }
 
 template <class T, std::size_t N> inline Mask<T> ray_boxes(const WideRay<T>& r, const BoxesSoA<N>& boxes, T& t_entry) {

@@ -107,6 +107,42 @@ inline Mask<T> slab_test(const Vec3<T>& near_plane, const Vec3<T>& far_plane, co
     return slab_accept(t_entry, t_exit);
 }
 
+/// Whether a ray (per lane) is "plain": tnear >= 0 and all six reciprocals finite and normal (no
+/// zero or near-axis component). For such rays slab_test_plain gives slab_test's answer in fewer
+/// dependent steps. (Traceability is the caller's to add.)
+template <class T> inline Mask<T> is_plain(const T& tnear, const Vec3<T>& rcp_near, const Vec3<T>& rcp_far) {
+    Mask<T> plain = tnear >= T(0.0f);
+    for (int k = 0; k < 3; ++k)
+        plain = plain & (vabs(rcp_near[k]) >= T(std::numeric_limits<float>::min())) &
+                (vabs(rcp_far[k]) <= T(std::numeric_limits<float>::max()));
+    return plain;
+}
+
+/// slab_test for plain rays (is_plain): the same hits, and entry distances equal as numbers (a zero
+/// may differ in sign). Why it is the same test:
+///   - no slab distance can be NaN: a plane minus the origin is finite or +-inf (the empty slots),
+///     and times a finite non-zero reciprocal stays non-NaN; so the NaN-ignoring folds of slab_test
+///     are plain max/min and can be taken as a tree (two steps instead of three);
+///   - slab_accept is the plain comparison t_entry <= t_exit: t_entry >= tnear >= 0, so when
+///     t_exit >= 0 the slack is zero, and when t_exit < 0, t_exit plus its slack (2^-20 of it)
+///     stays negative and both forms reject.
+/// Per node that takes the slack's three steps and two fold steps off the chain from a node's loads
+/// to the next node's address.
+template <class T>
+ARBOR_INLINE Mask<T> slab_test_plain(const Vec3<T>& near_plane, const Vec3<T>& far_plane, const Vec3<T>& org,
+                                     const Vec3<T>& rcp_near, const Vec3<T>& rcp_far, const T& tnear, const T& tfar,
+                                     T& t_entry) {
+    const T n0 = (near_plane.x - org.x) * rcp_near.x;
+    const T n1 = (near_plane.y - org.y) * rcp_near.y;
+    const T n2 = (near_plane.z - org.z) * rcp_near.z;
+    const T f0 = (far_plane.x - org.x) * rcp_far.x;
+    const T f1 = (far_plane.y - org.y) * rcp_far.y;
+    const T f2 = (far_plane.z - org.z) * rcp_far.z;
+    t_entry = rmax(rmax(n0, n1), rmax(n2, tnear));
+    const T t_exit = rmin(rmin(f0, f1), rmin(f2, tfar));
+    return t_entry <= t_exit;
+}
+
 /// Scalar form on an axis-aligned box [lo, hi].
 inline bool slab_test(const SlabRay& r, const Vec3f& lo, const Vec3f& hi, float tnear, float tfar, float& t_entry) {
     Vec3f n, f;

@@ -112,12 +112,8 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
         p.near_is_hi[k] = signbit_mask(dir[k]);
     }
     p.woop = woop_lanes(dir, p.active);
-    Mask<T> plain = p.tnear >= T(0.0f);
-    for (int k = 0; k < 3; ++k)
-        plain = plain & (vabs(p.rcp_near[k]) >= T(std::numeric_limits<float>::min())) &
-                (vabs(p.rcp_far[k]) <= T(std::numeric_limits<float>::max()));
-    p.plain_lanes = plain;
-    p.plain = to_bits(p.active & !plain) == 0;
+    p.plain_lanes = is_plain(p.tnear, p.rcp_near, p.rcp_far);
+    p.plain = to_bits(p.active & !p.plain_lanes) == 0;
     return p;
 }
 

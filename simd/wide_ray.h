@@ -18,8 +18,8 @@ template <class T> struct WideRay {
     int near_is_hi[3] = {}; ///< 1 when d[k] has its sign bit set: the near plane is the box's max
     int kx = 0, ky = 1, kz = 2;
     bool traceable = false; ///< false: tnear = +inf and tfar = -inf, no test accepts the ray
-    /// Traceable, tnear >= 0 and every reciprocal finite and normal (no zero or near-axis
-    /// component): the box test may take the shorter form ray_boxes_plain (box_kernels.h).
+    /// Traceable and is_plain (box_test.h: tnear >= 0, every reciprocal finite and normal): the box
+    /// test may take the shorter form ray_boxes_plain (box_kernels.h).
     bool plain = false;
 };
 
@@ -58,10 +58,7 @@ template <class T> inline WideRay<T> wide_ray(const Vec3f& o, const Vec3f& d, fl
     r.sy = T(w.sy);
     r.sz = T(w.sz);
     for (int k = 0; k < 3; ++k) r.near_is_hi[k] = s.near_is_hi[k];
-    bool finite = true;
-    for (int k = 0; k < 3; ++k)
-        finite = finite && std::fabs(s.rcp_near[k]) >= min_normal && std::fabs(s.rcp_far[k]) <= std::numeric_limits<float>::max();
-    r.plain = ok && tnear >= 0.0f && finite;
+    r.plain = ok && is_plain(tnear, s.rcp_near, s.rcp_far);
     r.kx = w.kx;
     r.ky = w.ky;
     r.kz = w.kz;

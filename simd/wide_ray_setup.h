@@ -4,7 +4,7 @@
 /// Woop permutation and shear: divisions and data-dependent choices) vectorizes across rays: the
 /// packet code of ray_packet.h works it out for a whole group, and each ray then only broadcasts
 /// its lane. Bit for bit the WideRay that wide_ray() makes (tested field by field, stiff rays
-/// included); in one-process A/B on the benchmark ray files it made the single path 1.04-1.21x
+/// included); in one-process A/B on the benchmark ray files it made the single path 1.03-1.17x
 /// faster (the per-ray wide_ray() was ~10% of its time, ~190 instructions per ray).
 #include "simd/ray_packet.h"
 #include "simd/wide_ray.h"
