@@ -11,20 +11,6 @@ using accel::BuildConfig;
 using accel::Ray;
 using accel::Vec3f;
 
-namespace {
-
-std::vector<Ray> three_kinds(const accel::Bounds& b, std::size_t n, std::uint32_t seed) {
-    std::vector<Ray> rays = testing::random_rays_into(b, n, seed);
-    const auto inside = testing::random_rays_inside(b, n, seed + 1);
-    const int side = std::max(8, int(std::sqrt(double(n))));
-    const auto camera = testing::camera_rays(b, side, side);
-    rays.insert(rays.end(), inside.begin(), inside.end());
-    rays.insert(rays.end(), camera.begin(), camera.end());
-    return rays;
-}
-
-}  // namespace
-
 TEST_CASE("bvh oracle: every shared model, coherent + incoherent + random rays, closest and any hit") {
     const auto paths = testing::model_paths();
     if (paths.empty()) MESSAGE("shared/scenes/models not found: model oracle test skipped");
@@ -32,7 +18,7 @@ TEST_CASE("bvh oracle: every shared model, coherent + incoherent + random rays, 
         engine::Warnings w;
         const engine::Mesh mesh = engine::load_obj(path, w);
         const accel::BruteAccel brute(mesh.view());
-        const auto rays = three_kinds(mesh.bounds, testing::oracle_ray_count(mesh.triangle_count()), 17);
+        const auto rays = testing::three_kinds(mesh.bounds, testing::oracle_ray_count(mesh.triangle_count()), 17);
         const auto ref = testing::brute_answers(brute, rays);
         for (const auto& k : testing::bvh_kinds()) {
             CAPTURE(path);
@@ -44,11 +30,9 @@ TEST_CASE("bvh oracle: every shared model, coherent + incoherent + random rays, 
 }
 
 TEST_CASE("bvh oracle: procedural meshes at several leaf sizes and bin counts") {
-    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 9);
-    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 32, 12));
-    mesh.append(engine::make_box({-3, -1.2f, -3}, {3, -1.1f, 3}));
+    const engine::Mesh mesh = testing::procedural_shapes();
     const accel::BruteAccel brute(mesh.view());
-    const auto rays = three_kinds(mesh.bounds, 700, 23);
+    const auto rays = testing::three_kinds(mesh.bounds, 700, 23);
     const auto ref = testing::brute_answers(brute, rays);
     for (std::uint32_t leaf : {1u, 3u, 8u})
         for (std::uint32_t bins : {2u, 16u, 32u}) {
@@ -137,7 +121,7 @@ TEST_CASE("bvh oracle: axis-parallel rays with +0/-0 components, rays in box fac
                             rays.push_back({P(o.x, o.y, o.z), 0.0f, d, INFINITY});
                             rays.push_back({P(o.x, o.y, o.z), 0.0f, d, 0.5f});
                         }
-        const auto random = three_kinds(mesh.bounds, 400, 31);
+        const auto random = testing::three_kinds(mesh.bounds, 400, 31);
         rays.insert(rays.end(), random.begin(), random.end());
         const auto ref = testing::brute_answers(brute, rays);
         for (const auto& k : testing::bvh_kinds())

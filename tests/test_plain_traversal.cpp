@@ -6,7 +6,6 @@
 #include "accel/bvh_accel.h"
 #include "accel/wide_paths_impl.h"
 #include "engine/obj_loader.h"
-#include "engine/procedural.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>
@@ -64,23 +63,13 @@ void check_all_widths(const accel::TriangleView& view, const std::vector<Ray>& r
 }  // namespace
 
 TEST_CASE("plain box form: bit-identical answers to the general form on procedural scenes and the bunny") {
-    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 9);
-    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 32, 12));
-    mesh.append(engine::make_box({-3, -1.2f, -3}, {3, -1.1f, 3}));
-    auto rays = testing::random_rays_into(mesh.bounds, 2000, 3);
-    const auto inside = testing::random_rays_inside(mesh.bounds, 2000, 4);
-    const auto cam = testing::camera_rays(mesh.bounds, 40, 40);
-    rays.insert(rays.end(), inside.begin(), inside.end());
-    rays.insert(rays.end(), cam.begin(), cam.end());
-    check_all_widths(mesh.view(), rays);
+    const engine::Mesh mesh = testing::procedural_shapes();
+    check_all_widths(mesh.view(), testing::three_kinds(mesh.bounds, 2000, 3));
 
     for (const auto& path : testing::model_paths()) {
         if (std::filesystem::path(path).stem() != "stanford-bunny") continue;
         engine::Warnings warn;
         const engine::Mesh bunny = engine::load_obj(path, warn);
-        auto brays = testing::random_rays_into(bunny.bounds, 3000, 5);
-        const auto bcam = testing::camera_rays(bunny.bounds, 48, 48);
-        brays.insert(brays.end(), bcam.begin(), bcam.end());
-        check_all_widths(bunny.view(), brays);
+        check_all_widths(bunny.view(), testing::three_kinds(bunny.bounds, 3000, 5));
     }
 }

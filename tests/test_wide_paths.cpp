@@ -80,9 +80,7 @@ TEST_CASE("wide paths: every shared model, primary/shadow/diffuse/random rays, a
 }
 
 TEST_CASE("wide paths: procedural meshes at leaf sizes 1, 4 and 40") {
-    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 9);
-    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 32, 12));
-    mesh.append(engine::make_box({-3, -1.2f, -3}, {3, -1.1f, 3}));
+    const engine::Mesh mesh = testing::procedural_shapes();
     auto rays = testing::random_rays_into(mesh.bounds, 300, 3);
     const auto inside = testing::random_rays_inside(mesh.bounds, 300, 4);
     const auto cam = testing::camera_rays(mesh.bounds, 24, 24);

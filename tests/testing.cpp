@@ -1,6 +1,9 @@
 #include "testing.h"
 
+#include "engine/procedural.h"
+
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace arbor::testing {
@@ -73,6 +76,23 @@ std::vector<Ray> camera_rays(const accel::Bounds& b, int width, int height) {
             rays.push_back({eye, 0.0f, fwd + right * (0.8f * px) - up * (0.8f * py), INFINITY});
         }
     return rays;
+}
+
+std::vector<Ray> three_kinds(const accel::Bounds& b, std::size_t n, std::uint32_t seed) {
+    std::vector<Ray> rays = random_rays_into(b, n, seed);
+    const auto inside = random_rays_inside(b, n, seed + 1);
+    const int side = std::max(8, int(std::sqrt(double(n))));
+    const auto camera = camera_rays(b, side, side);
+    rays.insert(rays.end(), inside.begin(), inside.end());
+    rays.insert(rays.end(), camera.begin(), camera.end());
+    return rays;
+}
+
+engine::Mesh procedural_shapes() {
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 9);
+    mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 32, 12));
+    mesh.append(engine::make_box({-3, -1.2f, -3}, {3, -1.1f, 3}));
+    return mesh;
 }
 
 std::size_t count_disagreements(const std::vector<Hit>& a, const std::vector<Hit>& b) {

@@ -24,6 +24,13 @@ std::vector<Ray> random_rays_into(const accel::Bounds& b, std::size_t n, std::ui
 std::vector<Ray> random_rays_inside(const accel::Bounds& b, std::size_t n, std::uint32_t seed);
 /// A pinhole grid of rays looking at the bounds (coherent, like primary rays).
 std::vector<Ray> camera_rays(const accel::Bounds& b, int width, int height);
+/// The three kinds above together: n rays into the bounds (seed), n inside (seed + 1) and a square
+/// camera grid of about n rays (at least 8 x 8).
+std::vector<Ray> three_kinds(const accel::Bounds& b, std::size_t n, std::uint32_t seed);
+
+/// The procedural scene of the oracle tests: a jittered icosphere, a torus through it and a thin
+/// slab under both (curved, thin and large flat parts).
+engine::Mesh procedural_shapes();
 
 /// Counts rays whose answers disagree by the rayfile.md rule.
 std::size_t count_disagreements(const std::vector<Hit>& a, const std::vector<Hit>& b);
