@@ -1,4 +1,5 @@
 #include "accel/wide_layout.h"
+#include "accel/wide_order.h"
 
 #include "accel/prefault.h"
 #include "accel/scratch_array.h"
@@ -275,6 +276,7 @@ private:
 template <std::size_t N> WideLayout<N> make_wide_layout(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg) {
     WideLayout<N> out;
     Collapser<N>(bvh, tris, cfg, out).run();
+    make_octant_orders(out);
     return out;
 }
 

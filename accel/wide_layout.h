@@ -76,14 +76,19 @@ template <std::size_t N> struct WideLayout {
     static constexpr std::size_t width = N;
     UninitVector<WideNode<N>> nodes;     ///< nodes[0] is the root (always a node); none when empty
     UninitVector<WideBlock<N>> blocks;   ///< triangle blocks in leaf order
+    /// Per node and ray octant, the order of its children for the single-ray walk (wide_order.h):
+    /// orders[(node * 8 + octant) * N + j], j = 0 the farthest.
+    UninitVector<std::uint8_t> orders;
     std::uint32_t depth = 0;               ///< node levels on the deepest path (root = 1)
     std::size_t leaves = 0;
 
     bool empty() const { return nodes.empty(); }
-    /// Entries a traversal stack may need: every node on a path pushes at most N - 1.
-    std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1; }
+    /// Entries a traversal stack may need: every node on a path pushes at most N - 1 (the single-ray
+    /// walk pushes N, the nearest popped at once; its vector push writes N entries at the top).
+    std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1 + N; }
     std::size_t memory_bytes() const {
-        return nodes.capacity() * sizeof(WideNode<N>) + blocks.capacity() * sizeof(WideBlock<N>) + sizeof(WideLayout);
+        return nodes.capacity() * sizeof(WideNode<N>) + blocks.capacity() * sizeof(WideBlock<N>) + orders.capacity() +
+               sizeof(WideLayout);
     }
     /// Vertex k of triangle slot s (block s / N, lane s % N), and its original number.
     Vec3f vertex(std::size_t slot, int k) const {

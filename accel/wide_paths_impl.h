@@ -65,7 +65,7 @@ public:
 
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
     template <bool AnyHit>
-    Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStackEntry* stack) const {
+    Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStack& stack) const {
         Hit best;
         const WideBlock<N>* blocks = layout_.blocks.data();
         auto leaf = [&](std::uint32_t first, std::uint32_t n) {
@@ -100,7 +100,7 @@ private:
             std::fill(hits.begin(), hits.end(), Hit{});
             return;
         }
-        StackBuffer<WideStackEntry, 512> stack(layout_.stack_size());
+        WideStack stack(layout_.stack_size());
         simd::WideRaySetup<simd::SetupLane> setup;
         simd::WideRay<T> r;
         for (std::size_t base = 0; base < rays.size(); base += setup.size) {
@@ -108,7 +108,7 @@ private:
             simd::wide_ray_setup(in, setup);
             for (std::size_t i = 0; i < in.size(); ++i) {
                 setup.get(i, r);
-                hits[base + i] = r.traceable ? trace_from<AnyHit>(r, in[i].tfar, 0, 0, stack.data()) : Hit{};
+                hits[base + i] = r.traceable ? trace_from<AnyHit>(r, in[i].tfar, 0, 0, stack) : Hit{};
             }
         }
     }
@@ -118,7 +118,7 @@ private:
         constexpr std::size_t K = simd::lanes<P>;
         using IntP = simd::IntOf<P>;
         StackBuffer<PacketStackEntry<P>, 256> pstack(layout_.stack_size());
-        StackBuffer<WideStackEntry, 512> sstack(layout_.stack_size());
+        WideStack sstack(layout_.stack_size());
         const WideBlock<N>* blocks = layout_.blocks.data();
         simd::WideRaySetup<P> setup;
         for (std::size_t base = 0; base < rays.size(); base += K) {
@@ -176,7 +176,7 @@ private:
                 simd::WideRay<T> r;
                 setup.get(std::size_t(i), r);
                 r.tfar = T(tfar);
-                const Hit h = trace_from<AnyHit>(r, tfar, child, count, sstack.data());
+                const Hit h = trace_from<AnyHit>(r, tfar, child, count, sstack);
                 const float old = simd::lane(best.t, std::size_t(i));
                 if (!h.is_hit() || (simd::lane(best.prim, std::size_t(i)) != -1 && !(h.t < old))) return false;
                 take_lanes(simd::from_bits<P>(1u << i), P(h.t), P(h.u), P(h.v), IntP(std::int32_t(h.prim)));

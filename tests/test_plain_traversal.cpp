@@ -29,7 +29,7 @@ template <std::size_t N> void check_forms(const accel::TriangleView& view, const
         REQUIRE(bvh != nullptr);
         const auto* w = dynamic_cast<const accel::WidePathsN<N>*>(&bvh->wide());
         REQUIRE(w != nullptr);
-        std::vector<accel::WideStackEntry> stack(w->layout().stack_size());
+        accel::WideStack stack(w->layout().stack_size());
         std::size_t plain = 0, hits = 0, differ = 0;
         for (const Ray& ray : rays) {
             for (const bool any : {false, true}) {
@@ -37,8 +37,8 @@ template <std::size_t N> void check_forms(const accel::TriangleView& view, const
                 if (!r.traceable) continue;
                 plain += r.plain && !any;
                 const auto trace = [&](auto r2) {
-                    return any ? w->template trace_from<true>(r2, ray.tfar, 0, 0, stack.data())
-                               : w->template trace_from<false>(r2, ray.tfar, 0, 0, stack.data());
+                    return any ? w->template trace_from<true>(r2, ray.tfar, 0, 0, stack)
+                               : w->template trace_from<false>(r2, ray.tfar, 0, 0, stack);
                 };
                 const Hit h = trace(r);
                 r.plain = false;

@@ -1,0 +1,174 @@
+// The single-ray walk's child order (wide_order.h) and push (wide_push.h): every node's order per
+// octant is a permutation with the unused slots first and the children far to near along the
+// octant's diagonal; the AVX-512 push writes what the plain loop writes, entry for entry; and the
+// walk that uses both finds the same closest hits as the scalar path (test_wide_paths.cpp checks
+// every path against brute on every model).
+#include "accel/bvh_build.h"
+#include "accel/wide_order.h"
+#include "accel/wide_push.h"
+#include "engine/procedural.h"
+#include "testing.h"
+
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+using namespace arbor;
+using accel::Vec3f;
+
+namespace {
+
+template <std::size_t N> float order_key(const accel::WideNode<N>& n, std::size_t c, int octant) {
+    float key = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        const float centre2 = n.boxes.b[0][k][c] + n.boxes.b[1][k][c];
+        key += (octant >> k) & 1 ? -centre2 : centre2;
+    }
+    return key;
+}
+
+template <std::size_t N> void check_orders(const accel::WideLayout<N>& L) {
+    REQUIRE(L.orders.size() == L.nodes.size() * 8 * N);
+    std::size_t bad_perm = 0, bad_unused = 0, bad_key = 0, bad_tie = 0;
+    for (std::size_t i = 0; i < L.nodes.size(); ++i) {
+        const auto& n = L.nodes[i];
+        for (int o = 0; o < 8; ++o) {
+            const std::uint8_t* row = &L.orders[(i * 8 + std::size_t(o)) * N];
+            std::vector<int> seen(N, 0);
+            for (std::size_t j = 0; j < N; ++j) bad_perm += row[j] >= N || seen[row[j]]++ != 0;
+            const std::size_t unused = N - n.children;
+            for (std::size_t j = 0; j < N; ++j) bad_unused += (j < unused) != (row[j] >= n.children);
+            for (std::size_t j = unused + 1; j < N; ++j) {
+                const float far = order_key(n, row[j - 1], o), near = order_key(n, row[j], o);
+                bad_key += far < near;
+                bad_tie += far == near && row[j - 1] < row[j];  // equal keys: the lower lane nearer
+            }
+        }
+    }
+    CHECK(bad_perm == 0);
+    CHECK(bad_unused == 0);
+    CHECK(bad_key == 0);
+    CHECK(bad_tie == 0);
+}
+
+template <std::size_t N> accel::WideLayout<N> layout_of(const engine::Mesh& mesh) {
+    const accel::PrimRefs refs = accel::make_prim_refs(mesh.view());
+    return accel::make_wide_layout<N>(accel::build_bvh_sah(refs, {}), mesh.view());
+}
+
+/// A node of `children` random children (random references, counts and distances).
+template <std::size_t N> accel::WideNode<N> random_node(std::mt19937& rng, std::size_t children) {
+    accel::WideNode<N> n{};
+    for (std::size_t c = 0; c < N; ++c) {
+        n.child[c] = rng();
+        n.count[c] = std::uint16_t(rng() % 3 == 0 ? 0 : rng() % 65536);
+    }
+    n.children = std::uint8_t(children);
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("wide order: a permutation per node and octant, unused slots first, children far to near") {
+    const engine::Mesh mesh = testing::procedural_shapes();
+    check_orders<4>(layout_of<4>(mesh));
+    check_orders<8>(layout_of<8>(mesh));
+    check_orders<16>(layout_of<16>(mesh));
+}
+
+TEST_CASE("wide order: children along the x axis come far to near for rays going +x and -x") {
+    // Sixteen unit cubes in a row along x, one triangle each: the root holds them all.
+    engine::Mesh row;
+    for (std::uint32_t i = 0; i < 16; ++i) {
+        const float x = float(i) * 3.0f;
+        row.add_vertex({x, 0, 0}), row.add_vertex({x + 1, 1, 0}), row.add_vertex({x, 1, 1});
+        row.add_triangle(3 * i, 3 * i + 1, 3 * i + 2);
+    }
+    row.compute_bounds();
+    accel::BuildConfig bc;
+    bc.max_leaf_size = 1;
+    accel::WideConfig wc;
+    wc.merge_triangles = 1;
+    const accel::PrimRefs refs = accel::make_prim_refs(row.view());
+    const auto L = accel::make_wide_layout<16>(accel::build_bvh_sah(refs, bc), row.view(), wc);
+    REQUIRE(L.nodes.size() == 1);
+    REQUIRE(L.nodes[0].children == 16);
+    check_orders<16>(L);
+    for (const int octant : {0, 1}) {  // +x (and +y +z), then -x
+        const std::uint8_t* o = &L.orders[std::size_t(octant) * 16];
+        for (int j = 1; j < 16; ++j) {
+            const float far = L.nodes[0].boxes.b[0][0][o[j - 1]], near = L.nodes[0].boxes.b[0][0][o[j]];
+            CAPTURE(octant);
+            CHECK((octant == 0 ? far > near : far < near));
+        }
+    }
+}
+
+TEST_CASE("wide order: the same orders with 1 and 2 threads") {
+    const engine::Mesh mesh = testing::procedural_shapes();
+    const auto a = layout_of<16>(mesh);
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const auto b = layout_of<16>(mesh);
+    CHECK(std::equal(a.orders.begin(), a.orders.end(), b.orders.begin(), b.orders.end()));
+}
+
+TEST_CASE_TEMPLATE("wide push: every hit child once, in the given order, the top moved by the hits", W,
+                   std::integral_constant<std::size_t, 4>, std::integral_constant<std::size_t, 8>,
+                   std::integral_constant<std::size_t, 16>) {
+    constexpr std::size_t N = W::value;
+    std::mt19937 rng(7);
+    accel::WideStack s(64);
+    std::size_t bad = 0;
+    for (int round = 0; round < 2000; ++round) {
+        const auto n = random_node<N>(rng, 1 + rng() % N);
+        std::uint8_t order[N];
+        std::iota(order, order + N, 0);
+        std::shuffle(order, order + N, rng);
+        float d[N];
+        for (auto& x : d) x = float(rng() % 1000) * 0.5f;
+        const std::uint32_t bits = std::uint32_t(rng()) & ((1u << N) - 1u);
+        const std::size_t sp0 = rng() % 32;
+        const std::size_t sp = accel::push_ordered<N>(bits, order, n, d, s, sp0);
+        std::size_t k = sp0;
+        bad += sp != sp0 + std::size_t(std::popcount(bits));
+        for (std::size_t j = 0; j < N && k < sp; ++j) {
+            const unsigned l = order[j];
+            if (!((bits >> l) & 1u)) continue;
+            bad += s.child()[k] != n.child[l] || s.count()[k] != n.count[l] || s.t()[k] != d[l];
+            ++k;
+        }
+    }
+    CHECK(bad == 0);
+}
+
+#if XSIMD_WITH_AVX512F
+TEST_CASE("wide push: the AVX-512 push writes what the plain loop writes") {
+    std::mt19937 rng(11);
+    accel::WideStack a(64), b(64);
+    std::size_t bad = 0, pushed = 0;
+    for (int round = 0; round < 5000; ++round) {
+        const auto n = random_node<16>(rng, 1 + rng() % 16);
+        std::uint8_t order[16];
+        std::iota(order, order + 16, 0);
+        std::shuffle(order, order + 16, rng);
+        alignas(64) float d[16];
+        for (auto& x : d) x = std::ldexp(float(rng() % 100000), int(rng() % 40) - 20);
+        // Random masks, and the edge cases none, one, all.
+        const std::uint32_t bits = round == 0 ? 0u : round == 1 ? 1u << 15 : round == 2 ? 0xffffu : rng() & 0xffffu;
+        const std::size_t sp0 = rng() % 40;
+        const std::size_t sa = accel::push_ordered<16>(bits, order, n, d, a, sp0);
+        const std::size_t sb = accel::push_ordered16(bits, order, n, _mm512_load_ps(d), b, sp0);
+        bad += sa != sb;
+        for (std::size_t k = sp0; k < std::min(sa, sb); ++k)
+            bad += a.child()[k] != b.child()[k] || a.count()[k] != b.count()[k] || a.t()[k] != b.t()[k];
+        pushed += sa - sp0;
+    }
+    CHECK(bad == 0);
+    CHECK(pushed > 5000 * 6);
+}
+#endif
