@@ -65,6 +65,9 @@ struct BuildConfig {
     /// BVHs, packet path: at a node reached by at most this many lanes they go on as single rays
     /// (kd-tree: a leaf reached by at most this many lanes is tested lane by lane) (-1 = lanes / 8).
     int packet_switch = -1;
+    /// BVHs, packet path: the same for packets whose lanes do not all share a direction octant
+    /// (diffuse bounces) (-1 = lanes / 2).
+    int packet_switch_mixed = -1;
     /// Upper bound on build memory in bytes (0 = no limit); a build that would exceed it throws
     /// MemoryLimitError (memory_estimate.h): checked from the triangle count before building, by the
     /// kd-tree builder as it grows, and against the measured peak afterwards.

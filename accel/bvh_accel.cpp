@@ -24,6 +24,7 @@ BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, co
     wide_cfg.merge_triangles = cfg.wide_merge;
     wide_cfg.packet_lanes = cfg.packet_lanes;
     wide_cfg.switch_lanes = cfg.packet_switch;
+    wide_cfg.switch_lanes_mixed = cfg.packet_switch_mixed;
     BvhTreeStats tree;
     // The layouts and the statistics only read the binary tree: made side by side.
     tbb::parallel_invoke([&] { if (has_scalar_) layout_ = make_bvh2_layout(bvh, tris); },
@@ -116,12 +117,22 @@ TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* r
         return TracePath::scalar;
     }
     const std::size_t group = wide_->packet_lanes();
+    // Packets for groups that share an octant and a place (primary, shadow rays) and for groups
+    // that share a place only (diffuse bounces: their packets switch to single rays early, see
+    // WideConfig::switch_lanes_mixed); single rays for scattered origins.
     const double f = coherent_fraction(rays, group, 0.05f * diagonal_);
-    const TracePath path = f >= 0.5 ? TracePath::packet : TracePath::single;
+    const double g = f >= 0.5 ? f : coherent_fraction(rays, group, 0.05f * diagonal_, 8, false);
+    const TracePath path = f >= 0.5 || g >= 0.5 ? TracePath::packet : TracePath::single;
     if (reason) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene)",
-                      100.0 * f, group);
+        char buf[200];
+        if (f >= 0.5)
+            std::snprintf(buf, sizeof buf, "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene)",
+                          100.0 * f, group);
+        else
+            std::snprintf(buf, sizeof buf,
+                          "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene), %.0f%% start "
+                          "together (origins within 5%%)",
+                          100.0 * f, group, 100.0 * g);
         *reason = buf;
     }
     return path;

@@ -39,8 +39,12 @@ struct WideConfig {
     /// Packet path: rays per packet, 8 or 16 (anything else: the default of the build).
     std::uint32_t packet_lanes = 0;
     /// Packet path: at a node reached by at most this many lanes, they go on as single rays
-    /// (-1: lanes / 8).
+    /// (-1: lanes / 8), for packets whose active lanes share one direction octant.
     int switch_lanes = -1;
+    /// The same for packets whose active lanes do not all share a direction octant (-1: lanes / 2):
+    /// such packets part ways within a level or two, and their lanes do better alone from there
+    /// (diffuse bounces: 1.05-1.15x over lanes / 8; perf/results/octant-order-2026-12-02.md).
+    int switch_lanes_mixed = -1;
 };
 
 /// One N-wide node: child boxes in SoA, and per child either an interior node (count == 0: node

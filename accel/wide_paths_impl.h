@@ -37,6 +37,7 @@ public:
         packet_lanes_ = cfg.packet_lanes == 8 || cfg.packet_lanes == 16 ? cfg.packet_lanes : default_packet_lanes();
         if (!wide_width_supported(packet_lanes_)) packet_lanes_ = 8;
         switch_lanes_ = cfg.switch_lanes >= 0 ? cfg.switch_lanes : int(packet_lanes_ / 8);
+        switch_mixed_ = cfg.switch_lanes_mixed >= 0 ? cfg.switch_lanes_mixed : int(packet_lanes_ / 2);
     }
 
     std::size_t width() const override { return N; }
@@ -94,6 +95,17 @@ public:
     }
 
 private:
+    /// Whether the active lanes of `p` share one direction octant.
+    template <class P> static bool one_octant(const simd::RayPacket<P>& p) {
+        const std::uint32_t active = simd::to_bits(p.active);
+        bool one = true;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t neg = simd::to_bits(p.near_is_hi[k]) & active;
+            one = one && (neg == 0 || neg == active);
+        }
+        return one;
+    }
+
     /// The rays' set-up in groups (simd/wide_ray_setup.h), then each ray's walk.
     template <bool AnyHit> void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
         if (layout_.empty()) {
@@ -182,14 +194,15 @@ private:
                 take_lanes(simd::from_bits<P>(1u << i), P(h.t), P(h.u), P(h.v), IntP(std::int32_t(h.prim)));
                 return true;
             };
-            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), switch_lanes_, leaf, single);
+            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), one_octant(p) ? switch_lanes_ : switch_mixed_, leaf,
+                                    single);
             simd::store_hits(best, hits.subspan(base, in.size()));
         }
     }
 
     WideLayout<N> layout_;
     std::uint32_t packet_lanes_ = 8;
-    int switch_lanes_ = 1;
+    int switch_lanes_ = 1, switch_mixed_ = 4;
 };
 
 /// The paths of width N (defined in wide_paths{N}.cpp).

@@ -58,7 +58,7 @@ struct Options {
     /// only, as `arbor trace` makes it (0: the leaf floor of that build; 1: the fine tree), the
     /// scalar path on a build of the scalar layout only.
     std::vector<std::uint32_t> floors{0};
-    std::vector<int> switches{-1};
+    std::vector<int> switches{-1}, switches_mixed{-1};
     std::uint32_t packet_lanes = 0;
     bool embree = true;
     /// Time by the process's CPU time divided by the thread count instead of the wall clock: on a
@@ -132,6 +132,7 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
         for (const int width : o.widths)
             for (const std::uint32_t merge : o.merges)
                 for (const int sw : o.switches)
+                for (const int swx : o.switches_mixed)
                 for (const std::uint32_t floor : o.floors) {
                     accel::BuildConfig cfg;
                     cfg.layouts = accel::Layouts::simd;
@@ -139,6 +140,7 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                     cfg.bvh_width = std::uint32_t(width);
                     cfg.wide_merge = merge;
                     cfg.packet_switch = sw;
+                    cfg.packet_switch_mixed = swx;
                     cfg.packet_lanes = o.packet_lanes;
                     built.push_back(accel::make_accel(*kind, view, cfg));
                     if (const auto* bvh = dynamic_cast<const accel::BvhAccel*>(built.back().get())) {
@@ -148,9 +150,10 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                                            bvh->stats().bytes_per_triangle(), bvh->stats().build_ms});
                     }
                     std::string name = s;
-                    if (width || merge || sw >= 0) name += "/w" + std::to_string(width);
+                    if (width || merge || sw >= 0 || swx >= 0) name += "/w" + std::to_string(width);
                     if (merge) name += "m" + std::to_string(merge);
                     if (sw >= 0) name += "s" + std::to_string(sw);
+                    if (swx >= 0) name += "x" + std::to_string(swx);
                     if (o.floors.size() > 1 || floor != 0) name += (name == s ? "/f" : "f") + std::to_string(floor);
                     names.push_back(name);
                     reference.push_back(false);
@@ -325,6 +328,8 @@ int main(int argc, char** argv) {
     app.add_option("--threads", o.threads, "threads")->check(CLI::Range(1, 4096));
     app.add_option("--repeats", o.repeats, "timed repeats")->check(CLI::Range(1, 1000));
     app.add_option("--switches", o.switches, "values of BuildConfig::packet_switch (-1 = default)")->delimiter(',');
+    app.add_option("--switches-mixed", o.switches_mixed, "values of BuildConfig::packet_switch_mixed (-1 = default)")
+        ->delimiter(',');
     app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packet_lanes (8 or 16; 0 = default)");
     app.add_option("--merges", o.merges, "values of BuildConfig::wide_merge (0 = the width)")->delimiter(',');
     app.add_option("--floors", o.floors, "values of BuildConfig::simd_leaf_floor (0 = the width, 1 = the fine tree)")->delimiter(',');

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 
 using namespace arbor;
 using accel::Hit;
@@ -203,7 +204,7 @@ TEST_CASE("wide paths: identical answers with 1 and 2 threads") {
             }
 }
 
-TEST_CASE("coherence measure: tiles of camera rays are coherent, random rays and mixed octants are not") {
+TEST_CASE("coherence measure: tiles of camera rays are coherent, random rays and mixed octants are not (unless asked)") {
     const accel::Bounds b{{-1, -1, -1}, {1, 1, 1}};
     const auto cam = testing::camera_rays(b, 64, 16);  // one origin; the image does not straddle an axis
     const auto inside = testing::random_rays_inside(b, 1024, 5);
@@ -218,9 +219,36 @@ TEST_CASE("coherence measure: tiles of camera rays are coherent, random rays and
     std::vector<Ray> mixed(16, Ray{{0, 0, 0}, 0.0f, {1, 1, 1}, INFINITY});
     mixed[3].dir.y = -0.0f;  // -0 counts as negative, as in the slab test
     CHECK(accel::coherent_fraction(mixed, 16, 1.0f) == 0.0);
+    // Not asking for one octant: origins close together are enough (diffuse bounces from a tile).
+    CHECK(accel::coherent_fraction(mixed, 16, 1.0f, 8, false) == 1.0);
+    CHECK(accel::coherent_fraction(far, 16, 0.1f, 8, false) == 0.0);
+    CHECK(accel::coherent_fraction(inside, 16, 0.1f, 1000, false) == 0.0);
     // Untraceable rays do not count; no traceable ray at all gives 0.
     mixed[3].dir = {0, 0, 0};
     CHECK(accel::coherent_fraction(mixed, 16, 1.0f) == 1.0);
     CHECK(accel::coherent_fraction(std::vector<Ray>(20, Ray{{0, 0, 0}, 0.0f, {0, 0, 0}, 1.0f}), 16, 1.0f) == 0.0);
     CHECK(accel::coherent_fraction({}, 16, 1.0f) == 0.0);
+}
+
+TEST_CASE("best path: packets for rays that start together (one octant or not), single rays for scattered ones") {
+    const engine::Mesh mesh = testing::procedural_shapes();
+    accel::BuildConfig cfg;
+    cfg.layouts = accel::Layouts::simd;
+    const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view(), cfg);
+    const accel::Bounds& b = mesh.bounds;
+    // Bounces: each packet's origins within 1% of the scene, directions all over the sphere.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f);
+    std::vector<Ray> bounces;
+    const Vec3f ext = b.hi - b.lo;
+    for (int g = 0; g < 64; ++g) {
+        const Vec3f at{b.lo.x + u(rng) * ext.x, b.lo.y + u(rng) * ext.y, b.lo.z + u(rng) * ext.z};
+        for (int i = 0; i < 16; ++i)
+            bounces.push_back({at + 0.005f * ext * Vec3f{u(rng), u(rng), u(rng)}, 0.0f, Vec3f{s(rng), s(rng), s(rng)}, INFINITY});
+    }
+    std::string reason;
+    CHECK(acc->resolve_path(bounces, false, &reason) == accel::TracePath::packet);
+    CHECK(reason.find("start together") != std::string::npos);
+    CHECK(acc->resolve_path(testing::camera_rays(b, 64, 16), false) == accel::TracePath::packet);
+    CHECK(acc->resolve_path(testing::random_rays_inside(b, 1024, 5), false) == accel::TracePath::single);
 }

@@ -33,7 +33,8 @@ inline std::vector<std::uint32_t> wide_widths() {
 /// bvh-median, bvh-sah and lbvh over `v`, each at every width (one binary build per structure,
 /// collapsed once per width). `widths` empty = all of wide_widths(). The packet settings rotate so
 /// that every width meets 8- and 16-lane packets (when the build has them) and switch thresholds of
-/// 0 (never single rays), 1 and 3 lanes.
+/// 0 (never single rays), 1 and 3 lanes, and for packets of mixed octants 0, the default (lanes / 2)
+/// and 16 (single rays from the root).
 inline std::vector<BuiltBvh> all_wide_bvhs(const accel::TriangleView& v, accel::BuildConfig cfg = {},
                                            std::vector<std::uint32_t> widths = {}) {
     if (widths.empty()) widths = wide_widths();
@@ -55,10 +56,11 @@ inline std::vector<BuiltBvh> all_wide_bvhs(const accel::TriangleView& v, accel::
             cfg.bvh_width = w;
             cfg.packet_lanes = has16 && turn % 2 == 0 ? 16 : 8;
             cfg.packet_switch = (turn / 2) % 3 == 2 ? 3 : (turn / 2) % 3;
+            cfg.packet_switch_mixed = turn % 3 == 0 ? 0 : turn % 3 == 1 ? -1 : 16;
             ++turn;
             accel::BinaryBvh copy = bvh;
             out.push_back({std::string(k.name) + "/w" + std::to_string(w) + "/p" + std::to_string(cfg.packet_lanes) + "s" +
-                               std::to_string(cfg.packet_switch),
+                               std::to_string(cfg.packet_switch) + "x" + std::to_string(cfg.packet_switch_mixed),
                            accel::make_bvh_accel(k.kind, std::move(copy), v, cfg, 0.0)});
         }
     }
