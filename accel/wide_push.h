@@ -3,7 +3,8 @@
 /// the ray's octant (wide_order.h), far to near, without a data-dependent branch. push_ordered is
 /// the plain loop (every width; each entry is written and the top moves by the lane's hit bit);
 /// on AVX-512, 16-wide nodes take push_ordered16: one permute into the octant's order and one
-/// compress of the hit lanes per field, each stored as one vector. Both write the same entries
+/// compress of the hit lanes per field, each stored as one vector; on AVX2, 8-wide nodes take
+/// push_ordered8, the same by a table of compress permutations. All write the same entries
 /// (tested on random masks and orders), and may write up to N entries past the new top.
 #include "accel/wide_layout.h"
 #include "simd/simd.h"
@@ -12,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#if XSIMD_WITH_AVX512F
+#if XSIMD_WITH_AVX2
 #include <immintrin.h>
 #endif
 
@@ -72,13 +73,56 @@ inline std::size_t push_ordered16(std::uint32_t bits, const std::uint8_t* order,
 }
 #endif
 
-/// The push for lane type T of width N: push_ordered16 where the build has it, else push_ordered.
+#if XSIMD_WITH_AVX2
+namespace detail {
+/// For each 8-bit mask, the positions of its set bits in increasing order (then zeros): AVX2 has
+/// no compress instruction, so push_ordered8 permutes by this table instead.
+struct Compress8 {
+    std::uint8_t lanes[256][8];
+    constexpr Compress8() : lanes{} {
+        for (unsigned m = 0; m < 256; ++m) {
+            unsigned k = 0;
+            for (unsigned l = 0; l < 8; ++l)
+                if ((m >> l) & 1u) lanes[m][k++] = std::uint8_t(l);
+        }
+    }
+};
+inline constexpr Compress8 compress8{};
+}  // namespace detail
+
+/// push_ordered for 8-wide nodes with the distances in an 8-lane register (AVX2): the hit bits in
+/// the octant's order, then one permute per field by the composed order-and-compress index.
+inline std::size_t push_ordered8(std::uint32_t bits, const std::uint8_t* order, const WideNode<8>& n, __m256 d,
+                                 WideStack& s, std::size_t sp) {
+    const __m256i perm = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(order)));
+    const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane_bit), lane_bit);
+    const unsigned ordered = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_permutevar8x32_epi32(hit, perm))));
+    const __m256i packed = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(detail::compress8.lanes[ordered])));
+    const __m256i from = _mm256_permutevar8x32_epi32(perm, packed);  // the node lane of each pushed entry
+    const __m256i child = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(n.child)), from);
+    const __m256i count = _mm256_permutevar8x32_epi32(
+        _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(n.count))), from);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.child() + sp), child);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.count() + sp), count);
+    _mm256_storeu_ps(s.t() + sp, _mm256_permutevar8x32_ps(d, from));
+    return sp + std::size_t(std::popcount(bits));
+}
+#endif
+
+/// The push for lane type T of width N: push_ordered16 / push_ordered8 where the build has them,
+/// else push_ordered.
 template <std::size_t N, class T>
 inline std::size_t push_hits(std::uint32_t bits, const std::uint8_t* order, const WideNode<N>& n, const T& t, WideStack& s,
                              std::size_t sp) {
 #if XSIMD_WITH_AVX512F
     if constexpr (N == 16) {
         return push_ordered16(bits, order, n, __m512(t), s, sp);
+    } else
+#endif
+#if XSIMD_WITH_AVX2
+    if constexpr (N == 8) {
+        return push_ordered8(bits, order, n, __m256(t), s, sp);
     } else
 #endif
     {

@@ -146,6 +146,32 @@ TEST_CASE_TEMPLATE("wide push: every hit child once, in the given order, the top
     CHECK(bad == 0);
 }
 
+#if XSIMD_WITH_AVX2
+TEST_CASE("wide push: the AVX2 push writes what the plain loop writes") {
+    std::mt19937 rng(13);
+    accel::WideStack a(64), b(64);
+    std::size_t bad = 0, pushed = 0;
+    for (int round = 0; round < 5000; ++round) {
+        const auto n = random_node<8>(rng, 1 + rng() % 8);
+        std::uint8_t order[8];
+        std::iota(order, order + 8, 0);
+        std::shuffle(order, order + 8, rng);
+        alignas(32) float d[8];
+        for (auto& x : d) x = std::ldexp(float(rng() % 100000), int(rng() % 40) - 20);
+        const std::uint32_t bits = round == 0 ? 0u : round == 1 ? 1u << 7 : round == 2 ? 0xffu : rng() & 0xffu;
+        const std::size_t sp0 = rng() % 40;
+        const std::size_t sa = accel::push_ordered<8>(bits, order, n, d, a, sp0);
+        const std::size_t sb = accel::push_ordered8(bits, order, n, _mm256_load_ps(d), b, sp0);
+        bad += sa != sb;
+        for (std::size_t k = sp0; k < std::min(sa, sb); ++k)
+            bad += a.child()[k] != b.child()[k] || a.count()[k] != b.count()[k] || a.t()[k] != b.t()[k];
+        pushed += sa - sp0;
+    }
+    CHECK(bad == 0);
+    CHECK(pushed > 5000 * 3);
+}
+#endif
+
 #if XSIMD_WITH_AVX512F
 TEST_CASE("wide push: the AVX-512 push writes what the plain loop writes") {
     std::mt19937 rng(11);
