@@ -96,14 +96,9 @@ template <class T>
 inline Mask<T> slab_test(const Vec3<T>& near_plane, const Vec3<T>& far_plane, const Vec3<T>& org,
                          const Vec3<T>& rcp_near, const Vec3<T>& rcp_far, const T& tnear, const T& tfar,
                          T& t_entry) {
-    const T n0 = (near_plane.x - org.x) * rcp_near.x;
-    const T n1 = (near_plane.y - org.y) * rcp_near.y;
-    const T n2 = (near_plane.z - org.z) * rcp_near.z;
-    const T f0 = (far_plane.x - org.x) * rcp_far.x;
-    const T f1 = (far_plane.y - org.y) * rcp_far.y;
-    const T f2 = (far_plane.z - org.z) * rcp_far.z;
-    t_entry = rmax(n0, rmax(n1, rmax(n2, tnear)));
-    const T t_exit = rmin(f0, rmin(f1, rmin(f2, tfar)));
+    const Vec3<T> n = (near_plane - org) * rcp_near, f = (far_plane - org) * rcp_far;
+    t_entry = rmax(n.x, rmax(n.y, rmax(n.z, tnear)));
+    const T t_exit = rmin(f.x, rmin(f.y, rmin(f.z, tfar)));
     return slab_accept(t_entry, t_exit);
 }
 
@@ -132,14 +127,9 @@ template <class T>
 ARBOR_INLINE Mask<T> slab_test_plain(const Vec3<T>& near_plane, const Vec3<T>& far_plane, const Vec3<T>& org,
                                      const Vec3<T>& rcp_near, const Vec3<T>& rcp_far, const T& tnear, const T& tfar,
                                      T& t_entry) {
-    const T n0 = (near_plane.x - org.x) * rcp_near.x;
-    const T n1 = (near_plane.y - org.y) * rcp_near.y;
-    const T n2 = (near_plane.z - org.z) * rcp_near.z;
-    const T f0 = (far_plane.x - org.x) * rcp_far.x;
-    const T f1 = (far_plane.y - org.y) * rcp_far.y;
-    const T f2 = (far_plane.z - org.z) * rcp_far.z;
-    t_entry = rmax(rmax(n0, n1), rmax(n2, tnear));
-    const T t_exit = rmin(rmin(f0, f1), rmin(f2, tfar));
+    const Vec3<T> n = (near_plane - org) * rcp_near, f = (far_plane - org) * rcp_far;
+    t_entry = rmax(rmax(n.x, n.y), rmax(n.z, tnear));
+    const T t_exit = rmin(rmin(f.x, f.y), rmin(f.z, tfar));
     return t_entry <= t_exit;
 }
 
