@@ -121,11 +121,12 @@ TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* r
     // that share a place only (diffuse bounces: their packets switch to single rays early, see
     // WideConfig::switch_lanes_mixed); single rays for scattered origins.
     const double f = coherent_fraction(rays, group, 0.05f * diagonal_);
-    const double g = f >= 0.5 ? f : coherent_fraction(rays, group, 0.05f * diagonal_, 8, false);
-    const TracePath path = f >= 0.5 || g >= 0.5 ? TracePath::packet : TracePath::single;
+    const bool one_octant = f >= 0.5;
+    const double g = one_octant ? f : coherent_fraction(rays, group, 0.05f * diagonal_, 8, false);
+    const TracePath path = g >= 0.5 ? TracePath::packet : TracePath::single;
     if (reason) {
         char buf[200];
-        if (f >= 0.5)
+        if (one_octant)
             std::snprintf(buf, sizeof buf, "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene)",
                           100.0 * f, group);
         else

@@ -3,9 +3,10 @@
 /// rays that would share a packet go the same way from nearly the same place (primary rays of an
 /// image tile, shadow rays from a tile towards one light), and, as long as their lanes soon go on
 /// alone, when they only start from nearly the same place (diffuse bounces from a tile: the
-/// packet shares the top of the tree); they lose when the origins are scattered (random rays). It looks at groups of `group` consecutive rays, as the packet path would
-/// pack them: at most `max_groups` of them, spread evenly over the batch (looking at every group
-/// cost ~10% of the packet path's time on primary rays; 8 groups of a 1024-ray chunk, ~1%).
+/// packet shares the top of the tree); they lose when the origins are scattered (random rays). It
+/// looks at groups of `group` consecutive rays, as the packet path would pack them: at most
+/// `max_groups` of them, spread evenly over the batch (looking at every group cost ~10% of the
+/// packet path's time on primary rays; 8 groups of a 1024-ray chunk, ~1%).
 #include "accel/ray.h"
 
 #include <algorithm>
