@@ -3,6 +3,7 @@
 /// wide_paths{4,8,16}.cpp files, which instantiate one width each (compile time, and each width
 /// in its own translation unit).
 #include "accel/wide_paths.h"
+#include "accel/stack_buffer.h"
 #include "accel/wide_packet.h"
 #include "accel/wide_traverse.h"
 #include "simd/packet_bounds.h"
@@ -14,19 +15,6 @@
 #include <vector>
 
 namespace arbor::accel {
-
-/// A traversal stack: on the call stack when the tree is shallow enough, else on the heap.
-template <class E, std::size_t Small> class StackBuffer {
-public:
-    explicit StackBuffer(std::size_t size) {
-        if (size > Small) large_.resize(size);
-    }
-    E* data() { return large_.empty() ? small_.data() : large_.data(); }
-
-private:
-    std::array<E, Small> small_;
-    std::vector<E> large_;
-};
 
 template <std::size_t N> class WidePathsN final : public WidePaths {
 public:

@@ -6,12 +6,12 @@
 /// compress of the hit lanes per field, each stored as one vector; on AVX2, 8-wide nodes take
 /// push_ordered8, the same by a table of compress permutations. All write the same entries
 /// (tested on random masks and orders), and may write up to N entries past the new top.
+#include "accel/stack_buffer.h"
 #include "accel/wide_layout.h"
 #include "simd/simd.h"
 
 #include <bit>
 #include <cstdint>
-#include <vector>
 
 #if XSIMD_WITH_AVX2
 #include <immintrin.h>
@@ -29,8 +29,8 @@ public:
     float* t() { return t_.data(); }
 
 private:
-    std::vector<std::uint32_t> refs_;
-    std::vector<float> t_;
+    StackBuffer<std::uint32_t, 1024> refs_;  ///< child, then count
+    StackBuffer<float, 512> t_;
     std::size_t entries_;
 };
 
