@@ -63,24 +63,27 @@ inline Mask<T> ray_boxes_sorted(const WideRay<T>& r, const Vec3<T>& near_plane, 
 
 /// One ray against lanes<T> boxes stored as BoxesSoA<lanes<T>> (`soa` points at its b[0][0]): the
 /// near and far planes are picked by the ray's sign bits, without a branch.
-template <class T> ARBOR_INLINE Mask<T> ray_boxes(const WideRay<T>& r, const float* soa, T& t_entry) {
+namespace detail {
+/// The ray's near and far planes of the lanes<T> boxes at `soa`, picked by its sign bits.
+template <class T> ARBOR_INLINE void node_planes(const WideRay<T>& r, const float* soa, Vec3<T>& near_plane, Vec3<T>& far_plane) {
     constexpr std::size_t n = lanes<T>;
-    Vec3<T> near_plane, far_plane;
     for (int k = 0; k < 3; ++k) {
         near_plane[k] = load_lanes<T>(soa + (std::size_t(r.near_is_hi[k]) * 3 + k) * n);
         far_plane[k] = load_lanes<T>(soa + (std::size_t(1 - r.near_is_hi[k]) * 3 + k) * n);
     }
+}
+}  // namespace detail
+
+template <class T> ARBOR_INLINE Mask<T> ray_boxes(const WideRay<T>& r, const float* soa, T& t_entry) {
+    Vec3<T> near_plane, far_plane;
+    detail::node_planes(r, soa, near_plane, far_plane);
     return ray_boxes_sorted(r, near_plane, far_plane, t_entry);
 }
 /// The same test for a ray with WideRay::plain set, by slab_test_plain (box_test.h: the same hits,
 /// entry distances equal as numbers, in fewer dependent steps per node).
 template <class T> ARBOR_INLINE Mask<T> ray_boxes_plain(const WideRay<T>& r, const float* soa, T& t_entry) {
-    constexpr std::size_t n = lanes<T>;
     Vec3<T> near_plane, far_plane;
-    for (int k = 0; k < 3; ++k) {
-        near_plane[k] = load_lanes<T>(soa + (std::size_t(r.near_is_hi[k]) * 3 + k) * n);
-        far_plane[k] = load_lanes<T>(soa + (std::size_t(1 - r.near_is_hi[k]) * 3 + k) * n);
-    }
+    detail::node_planes(r, soa, near_plane, far_plane);
     return slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t_entry);
 }
 
