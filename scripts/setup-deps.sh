@@ -7,6 +7,10 @@ packages=(
   libcli11-dev nlohmann-json3-dev doctest-dev
   libbenchmark-dev libembree-dev python3-matplotlib python3-numpy
   clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis
+  libassimp-dev libstb-dev
+  libopenmpi-dev openmpi-bin
+  libcivetweb-dev libturbojpeg0-dev chromium
 )
 missing=()
 for p in "${packages[@]}"; do
