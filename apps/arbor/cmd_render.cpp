@@ -37,20 +37,18 @@ int run_render(const RenderCommand& o) {
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
     const engine::Scene scene = load_scene(o.scene);
-    std::string reason;
-    AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
-    hints.budget = double(set.width) * double(set.height) * double(set.spp) *
-                   double(1 + scene.lights.size() + set.depth());
+    accel::AutoWork work;  // about (1 primary + 1 shadow per light + bounces) rays per sample
+    work.budget = double(set.width) * double(set.height) * double(set.spp) *
+                  double(1 + scene.lights.size() + set.depth());
     // The renderer traces the SIMD paths (packets and single rays): the scalar layout is not built.
     accel::BuildConfig build = o.build;
-    build.layouts = accel::Layouts::simd;
-    hints.build = build;
-    const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason, hints);
+    build.layouts = accel::layouts_for(accel::TracePath::best);
+    work.build = build;
+    const accel::AccelPick pick = resolve_accel(o.accel, scene.mesh.view(), work);
+    const auto kind = pick.kind;
     const engine::LightSet lights(scene);
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
-    if (kind != accel::AccelKind::brute)
-        plan.skipped.push_back("the structure's scalar layout (the renderer traces its SIMD paths)");
-    if (const std::string floor = leaf_floor_skipped(kind, build); !floor.empty()) plan.skipped.push_back(floor);
+    for (const std::string& s : accel::skipped_by_build(kind, build)) plan.skipped.push_back("the structure's " + s);
     const std::string accel_name(accel::to_string(kind));
     std::printf("%s\n", plan.line(accel_name).c_str());
     if (o.verbose) std::printf("%s", plan.skipped_lines().c_str());
@@ -69,7 +67,7 @@ int run_render(const RenderCommand& o) {
     }
     std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d threads -> %s%s%s\n",
                 scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
-                reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, set.width,
+                pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms, set.width,
                 set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
                 stats.threads, o.out.c_str(), png.empty() ? "" : ", ", png.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
