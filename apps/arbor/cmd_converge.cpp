@@ -34,17 +34,6 @@ struct ConvergeCommand {
     accel::BuildConfig build;
 };
 
-std::vector<std::string> split_list(const std::string& s) {
-    std::vector<std::string> out;
-    std::size_t b = 0;
-    while (true) {
-        const std::size_t e = s.find(',', b);
-        out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
-        if (e == std::string::npos) return out;
-        b = e + 1;
-    }
-}
-
 std::string shell_quote(const std::string& s) {
     std::string q = "'";
     for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -80,6 +69,9 @@ int run_converge(ConvergeCommand& o) {
     }
     std::vector<engine::IntegratorKind> integrators;
     for (const std::string& name : split_list(o.integrators)) integrators.push_back(parse_integrator_option(name));
+    for (engine::IntegratorKind k : integrators)
+        if (k == engine::IntegratorKind::cost)
+            throw CLI::ValidationError("--integrator", "cost makes no image to converge (use arbor render --integrator cost)");
     if (o.max_spp < 1) throw engine::InputError("--max-spp: must be at least 1");
 
     engine::Image given_reference;

@@ -4,6 +4,7 @@
 #include "accel/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
+#include "apps/arbor/render_cost.h"
 #include "apps/arbor/render_options.h"
 #include "apps/arbor/scene_options.h"
 #include "engine/image.h"
@@ -33,7 +34,12 @@ std::string png_path_for(const std::string& exr) {
 
 int run_render(const RenderCommand& o) {
     const auto limit = limit_threads(o.threads);
-    const engine::RenderSettings base = to_settings(o.render, parse_integrator_option(o.render.integrator));
+    const engine::IntegratorKind integrator = parse_integrator_option(o.render.integrator);
+    if (integrator == engine::IntegratorKind::cost)
+        return run_cost_render({o.scene, o.render, o.accel, o.build, o.out, o.no_png, o.verbose, o.quiet});
+    if (o.accel.find(',') != std::string::npos)
+        throw CLI::ValidationError("--accel", "a list of structures needs --integrator cost");
+    const engine::RenderSettings base = to_settings(o.render, integrator);
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
     const engine::Scene scene = load_scene(o.scene);
@@ -82,7 +88,7 @@ Run add_render(CLI::App& cmd) {
     auto o = std::make_shared<RenderCommand>();
     add_scene_options(cmd, o->scene);
     cmd.add_option("-o,--output", o->out, "OpenEXR output; a PNG preview is written beside it")->capture_default_str();
-    add_accel_option(cmd, o->accel)->capture_default_str();
+    add_accel_list_option(cmd, o->accel)->capture_default_str();
     add_build_options(cmd, o->build);
     add_render_options(cmd, o->render, false);
     cmd.add_flag("--no-png", o->no_png, "do not write the PNG preview");

@@ -9,6 +9,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <tbb/global_control.h>
 
@@ -16,6 +17,11 @@ namespace arbor::app {
 
 /// Adds `--accel NAME` (validated against the structure names) bound to `name`.
 CLI::Option* add_accel_option(CLI::App& cmd, std::string& name);
+/// Adds `--accel NAME[,NAME...]` (each validated) bound to `names` (`arbor render`: a list is for
+/// the cost integrator's side-by-side images).
+CLI::Option* add_accel_list_option(CLI::App& cmd, std::string& names);
+/// The items of a comma-separated list ("a,b" -> {"a", "b"}; "" -> {""}).
+std::vector<std::string> split_list(const std::string& s);
 /// Adds the build settings shared by every command that builds a structure: `--leaf-size N`
 /// (BuildConfig::max_leaf_size; the seed report used 1), `--sah-bins N` (BuildConfig::sah_bins) and
 /// `--bvh-width 4|8|16` (BuildConfig::bvh_width).
