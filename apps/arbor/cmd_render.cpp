@@ -1,7 +1,7 @@
 /// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W]
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_cost.h"

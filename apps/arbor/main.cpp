@@ -1,7 +1,7 @@
 /// `arbor`: subcommand dispatch and the single error boundary. Bad input (InputError, option
 /// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else.
 #include "apps/arbor/commands.h"
-#include "accel/memory_estimate.h"
+#include "accel/core/memory_estimate.h"
 #include "engine/error.h"
 
 #include <cstdio>
