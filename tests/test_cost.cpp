@@ -3,7 +3,7 @@
 // change says why a count moved); the image is the same with 1 and 2 threads; the statistics mode
 // refuses a structure built without the layout it counts on.
 #include "accel/accel.h"
-#include "accel/kdtree_accel.h"
+#include "accel/kdtree/kdtree_accel.h"
 #include "engine/renderer.h"
 #include "engine/tracer.h"
 #include "render_scenes.h"

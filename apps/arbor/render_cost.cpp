@@ -1,6 +1,6 @@
 #include "apps/arbor/render_cost.h"
 
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "apps/arbor/common.h"
 #include "engine/cost_sheet.h"
 #include "engine/image.h"
