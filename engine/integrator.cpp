@@ -2,7 +2,7 @@
 
 #include "engine/hit_geometry.h"
 
-#include "accel/offset_ray.h"
+#include "accel/core/offset_ray.h"
 
 #include <algorithm>
 #include <numbers>

@@ -1,6 +1,6 @@
 #include "engine/renderer.h"
 
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "engine/integrator.h"
 #include "engine/progress.h"
 

@@ -4,7 +4,7 @@
 /// the trace path for the kind (packets for coherent kinds, single-ray SIMD for incoherent ones,
 /// when the structure has them), and counts rays and time per kind. One Tracer per thread.
 #include "accel/accel.h"
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "engine/render_settings.h"
 
 #include <span>

@@ -2,7 +2,7 @@
 /// (spec/cli.md), plus --integrator NAME[,NAME…]: error against run time. Renders (or reads) a
 /// reference per integrator, then renders at 1, 2, 4, … spp up to --max-spp with every structure
 /// and integrator, timing each, and writes DIR/converge.csv and the plot DIR/converge.png.
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_options.h"

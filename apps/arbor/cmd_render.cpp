@@ -1,12 +1,12 @@
 /// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W]
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_options.h"
 #include "apps/arbor/scene_options.h"
-#include "accel/memory_estimate.h"
+#include "accel/core/memory_estimate.h"
 #include "engine/image_output.h"
 #include "engine/memory_budget.h"
 #include "engine/renderer.h"

@@ -1,6 +1,6 @@
 /// `arbor trace --scene MODEL.obj --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
 ///  [--leaf-size N] [--sah-bins N] [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "accel/trace.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"

@@ -1,7 +1,7 @@
 #include "apps/arbor/common.h"
 
-#include "accel/auto_select.h"
-#include "accel/bvh_accel.h"
+#include "accel/select/auto_select.h"
+#include "accel/bvh/bvh_accel.h"
 #include "engine/error.h"
 #include "engine/memory_budget.h"
 

@@ -50,7 +50,7 @@ CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 int active_threads();
 
-/// What `--accel auto` knows about the work ahead (accel/auto_select.h).
+/// What `--accel auto` knows about the work ahead (accel/select/auto_select.h).
 struct AutoHints {
     std::span<const accel::Ray> sample;  ///< rays like those to be traced (empty: rays into the bounds)
     bool any_hit = false;

@@ -2,7 +2,7 @@
 /// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else.
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
-#include "accel/memory_estimate.h"
+#include "accel/core/memory_estimate.h"
 #include "engine/error.h"
 #include "simd/simd.h"
 
