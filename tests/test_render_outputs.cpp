@@ -63,7 +63,7 @@ TEST_CASE("render: EXR layers round-trip with their names") {
     }
 }
 
-TEST_CASE("render outputs: the format follows the extension; PFM round-trips R, G, B bit for bit") {
+TEST_CASE("render outputs: the format follows the extension and PFM round-trips R, G, B bit for bit") {
     CHECK(engine::output_format("a/b.exr") == engine::OutputFormat::exr);
     CHECK(engine::output_format("b.PNG") == engine::OutputFormat::png);
     CHECK(engine::output_format("b.pfm") == engine::OutputFormat::pfm);
