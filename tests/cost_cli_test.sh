@@ -63,8 +63,9 @@ fi
 expect_usage "--accel" "$ARBOR" render "$WORK/quad.obj" --accel brute,bvh-sah -o "$WORK/x.exr"
 expect_usage "nope" "$ARBOR" render "$WORK/quad.obj" --integrator cost --accel brute,nope -o "$WORK/x.exr"
 expect_usage "--layers" "$ARBOR" render "$WORK/quad.obj" --integrator cost --layers z -o "$WORK/x.exr"
+expect_usage "-o" "$ARBOR" render "$WORK/quad.obj" --integrator cost -o "$WORK/x.pfm"
 expect_usage "--integrator" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c" --integrator cost
-[ -e "$WORK/x.exr" ] && fail "a refused command wrote x.exr"
+[ -e "$WORK/x.exr" ] || [ -e "$WORK/x.pfm" ] && fail "a refused command wrote x.exr or x.pfm"
 
 [ $fails -eq 0 ] && echo "cost cli tests passed"
 [ $fails -eq 0 ]

@@ -82,7 +82,7 @@ int active_threads() {
 accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason,
                                const AutoHints& hints) {
     const auto kind = accel::parse_accel_kind(name);
-    if (!kind) throw engine::InputError("--accel: unknown structure '" + name + "'");
+    if (!kind) throw OptionError("--accel: unknown structure '" + name + "'");
     if (reason) reason->clear();
     if (*kind != accel::AccelKind::automatic) return *kind;
     accel::AutoConfig cfg;

@@ -4,6 +4,7 @@
 #include "apps/arbor/common.h"
 #include "engine/cost_sheet.h"
 #include "engine/image.h"
+#include "engine/image_output.h"
 #include "engine/renderer.h"
 
 #include <algorithm>
@@ -14,10 +15,6 @@
 namespace arbor::app {
 
 namespace {
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 /// The structures' images laid side by side, without gaps: one EXR with the layers nodes and tris.
 engine::Image side_by_side(const std::vector<engine::Image>& images) {
@@ -74,8 +71,11 @@ std::vector<CameraSpeed> time_camera_rays(const engine::Scene& scene, const engi
 }  // namespace
 
 int run_cost_render(const CostRenderOptions& o) {
-    if (!o.render.layers.empty())
-        throw CLI::ValidationError("--layers", "the cost integrator writes the layers nodes and tris only");
+    if (!o.render.layers.empty()) throw OptionError("--layers: the cost integrator writes the layers nodes and tris only");
+    const auto format = engine::output_format(o.out);
+    if (format == engine::OutputFormat::pfm)
+        throw OptionError("-o: '" + o.out + "': the cost integrator writes .exr (layers nodes and tris, and the picture "
+                          "beside it) or .png (the picture)");
     engine::RenderSettings set = to_settings(o.render, engine::IntegratorKind::cost);
     set.progress = !o.quiet;
     const engine::Scene scene = load_scene(o.scene);
@@ -128,7 +128,7 @@ int run_cost_render(const CostRenderOptions& o) {
     std::vector<engine::CostPanel> panels;
     for (std::size_t i = 0; i < images.size(); ++i) panels.push_back({names[i], &images[i], speed[i].median, speed[i].spread()});
     std::string exr, png;
-    if (ends_with(o.out, ".png")) {
+    if (format == engine::OutputFormat::png) {
         png = o.out;
     } else {
         exr = o.out;
