@@ -37,6 +37,19 @@ public:
         add(k, rays.size(), t.seconds());
     }
 
+    /// The counted mode (accel/core/query.h, TraceRequest::counters): the closest hit of each ray
+    /// on the structure's counting loop, and what that ray alone cost it in `per_ray`. Neither
+    /// counted nor timed as a ray kind (the cost integrator times the same rays on the normal
+    /// path). False when the structure cannot count (a BVH built without its scalar layout).
+    bool counted(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, std::span<accel::TraceCounters> per_ray) {
+        if (!accel_.offer().counts) return false;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            per_ray[i] = {};
+            accel_.trace(rays.subspan(i, 1), hits.subspan(i, 1), {accel::Query::closest, accel::TracePath::scalar, {}, {}, &per_ray[i]});
+        }
+        return true;
+    }
+
     std::array<std::uint64_t, render_ray_kind_count> counts{};  ///< rays traced per kind
     std::array<double, render_ray_kind_count> seconds{};       ///< time inside the structure per kind
 

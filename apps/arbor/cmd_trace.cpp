@@ -93,10 +93,11 @@ int run_trace(const TraceOptions& o) {
     }
     engine::print_warnings(warnings);
     std::printf("%s: %zu triangles, %zu rays, %zu hits; build %.2f ms, trace %.2f ms (median of %d), "
-                "%.3g Mrays/s, %d threads, path %s (%s)%s%s\n",
+                "%.3g Mrays/s, %d thread%s, path %s (%s)%s%s\n",
                 std::string(j["accel"]).c_str(), mesh.triangle_count(), rays.size(), nhit, build_ms, median_ms,
-                o.repeat, double(j["mrays_per_s"]), int(j["threads"]), std::string(accel::to_string(path)).c_str(),
-                path_reason.c_str(), skipped.empty() ? "" : "; skipped: ", skipped.empty() ? "" : skipped[0].c_str());
+                o.repeat, double(j["mrays_per_s"]), int(j["threads"]), int(j["threads"]) == 1 ? "" : "s",
+                std::string(accel::to_string(path)).c_str(), path_reason.c_str(), skipped.empty() ? "" : "; skipped: ",
+                skipped.empty() ? "" : skipped[0].c_str());
     for (std::size_t i = 1; i < skipped.size(); ++i) std::printf("also skipped: %s\n", skipped[i].c_str());
     return 0;
 }

@@ -16,6 +16,27 @@ CLI::Option* add_accel_option(CLI::App& cmd, std::string& name) {
         });
 }
 
+std::vector<std::string> split_list(const std::string& s) {
+    std::vector<std::string> out;
+    std::size_t b = 0;
+    while (true) {
+        const std::size_t e = s.find(',', b);
+        out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+        if (e == std::string::npos) return out;
+        b = e + 1;
+    }
+}
+
+CLI::Option* add_accel_list_option(CLI::App& cmd, std::string& names) {
+    return cmd.add_option("--accel", names, "acceleration structure, or a comma list for --integrator cost: " + accel::accel_kind_names())
+        ->check([](const std::string& v) -> std::string {
+            for (const std::string& n : split_list(v))
+                if (!accel::parse_accel_kind(n))
+                    return "unknown structure '" + n + "' (expected one of " + accel::accel_kind_names() + ")";
+            return {};
+        });
+}
+
 void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
     cmd.add_option("--leaf-size", cfg.max_leaf_size, "most triangles per BVH leaf")
         ->check(CLI::Range(1u, 1u << 16))
@@ -58,7 +79,7 @@ int active_threads() {
 
 accel::AccelPick resolve_accel(const std::string& name, const accel::TriangleView& tris, const accel::AutoWork& work) {
     const auto kind = accel::parse_accel_kind(name);
-    if (!kind) throw engine::InputError("--accel: unknown structure '" + name + "'");
+    if (!kind) throw OptionError("--accel: unknown structure '" + name + "'");
     return accel::pick_accel(*kind, tris, work);
 }
 
