@@ -2,6 +2,7 @@
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
 #include "accel/timer.h"
+#include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_options.h"
@@ -21,7 +22,7 @@ struct RenderCommand {
     std::string out = "arbor.exr", accel = "bvh-sah";
     accel::BuildConfig build;
     int threads = 0;
-    bool no_png = false, verbose = false, quiet = false;
+    bool no_png = false, verbose = false, quiet = false, mpi = false;
 };
 
 std::string png_path_for(const std::string& exr) {
@@ -33,10 +34,13 @@ std::string png_path_for(const std::string& exr) {
 
 int run_render(const RenderCommand& o) {
     const auto limit = limit_threads(o.threads);
+    Cluster* const cluster = Cluster::join(o.mpi);  // mpirun: every rank runs this, rank 0 writes
+    const bool writer = !cluster || cluster->root();
     const engine::RenderSettings base = to_settings(o.render, parse_integrator_option(o.render.integrator));
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
-    const engine::Scene scene = load_scene(o.scene);
+    const engine::Scene scene = load_scene(o.scene, writer);
+    if (cluster) cluster->require_same(scene, settings_text(set));
     std::string reason;
     AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
     hints.budget = double(set.width) * double(set.height) * double(set.spp) *
@@ -45,7 +49,9 @@ int run_render(const RenderCommand& o) {
     accel::BuildConfig build = o.build;
     build.layouts = accel::Layouts::simd;
     hints.build = build;
-    const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason, hints);
+    // Under MPI rank 0 alone resolves --accel (auto calibrates by timing: ranks could differ).
+    auto kind = writer ? resolve_accel(o.accel, scene.mesh.view(), &reason, hints) : accel::AccelKind::brute;
+    if (cluster) kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(kind))));
     const engine::LightSet lights(scene);
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
     if (kind != accel::AccelKind::brute)
@@ -60,18 +66,20 @@ int run_render(const RenderCommand& o) {
     const auto structure = accel::make_accel(kind, scene.mesh.view(), build);
     const double build_ms = build_timer.ms();
     engine::RenderStats stats;
-    const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats);
-    engine::write_exr(o.out, img);
+    const auto tiles = cluster ? cluster->frame_tiles() : nullptr;
+    const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats, tiles.get());
     std::string png;
-    if (!o.no_png) {
-        png = png_path_for(o.out);
-        engine::write_png_preview(png, img);
+    if (!o.no_png) png = png_path_for(o.out);
+    if (writer) {
+        engine::write_exr(o.out, img);
+        if (!png.empty()) engine::write_png_preview(png, img);
     }
-    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d threads -> %s%s%s\n",
+    const std::string ranks = cluster ? cluster->on_ranks() : "";
+    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d threads%s -> %s%s%s\n",
                 scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
                 reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, set.width,
                 set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
-                stats.threads, o.out.c_str(), png.empty() ? "" : ", ", png.c_str());
+                stats.threads, ranks.c_str(), o.out.c_str(), png.empty() ? "" : ", ", png.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
     return 0;
 }
@@ -89,6 +97,7 @@ Run add_render(CLI::App& cmd) {
     cmd.add_flag("-v,--verbose", o->verbose, "also list what the plan skipped and why");
     cmd.add_flag("-q,--quiet", o->quiet, "no progress bar");
     add_threads_option(cmd, o->threads);
+    add_mpi_option(cmd, o->mpi);
     return [o] { return run_render(*o); };
 }
 

@@ -1,11 +1,29 @@
 /// `arbor`: subcommand dispatch and the single error boundary. Bad input (InputError, option
-/// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else.
-#include "apps/arbor/commands.h"
+/// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else. Under
+/// mpirun the line comes from rank 0 only, naming the rank that failed, and the whole job stops
+/// (apps/arbor/cluster.h).
 #include "accel/memory_estimate.h"
+#include "apps/arbor/cluster.h"
+#include "apps/arbor/commands.h"
 #include "engine/error.h"
+#include "mpi/launcher.h"
 
 #include <cstdio>
 #include <new>
+
+namespace {
+
+/// Prints "arbor: <what>" and returns `code`; in an MPI job, stops the whole job instead (rank 0
+/// prints the line with the failing rank). Before a job is joined (option errors), only the
+/// launcher's rank 0 prints, so that N ranks do not print N copies.
+int failure(int code, const std::string& what) {
+    if (arbor::app::Cluster* c = arbor::app::Cluster::current()) c->fail(code, what);
+    const arbor::mpi::Launch launch = arbor::mpi::detect_launch();
+    if (!launch.launched || launch.rank == 0) std::fprintf(stderr, "arbor: %s\n", what.c_str());
+    return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"arbor: CPU ray tracing with comparable acceleration structures"};
@@ -25,26 +43,27 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         for (auto& [sub, run] : commands)
-            if (sub->parsed()) return run();
+            if (sub->parsed()) {
+                const int status = run();
+                arbor::app::Cluster* cluster = arbor::app::Cluster::current();
+                if (status != 0 && cluster) cluster->fail(status, "stopped with exit status " + std::to_string(status));
+                arbor::app::Cluster::leave();
+                return status;
+            }
         return 2;
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "arbor: %s\n", e.what());
-        return 2;
+        return failure(2, e.what());
     } catch (const arbor::accel::MemoryLimitError& e) {
-        std::fprintf(stderr, "arbor: --max-memory: %s\n", e.what());
-        return 1;
+        return failure(1, std::string("--max-memory: ") + e.what());
     } catch (const arbor::engine::InputError& e) {
-        std::fprintf(stderr, "arbor: %s\n", e.what());
-        return 1;
+        return failure(1, e.what());
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "arbor: out of memory\n");
-        return 3;
+        return failure(3, "out of memory");
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "arbor: %s\n", e.what());
-        return 4;
+        return failure(4, e.what());
     }
 }
