@@ -58,10 +58,10 @@ public:
     virtual int node_rank() const = 0;
     virtual int nodes() const = 0;
 
-    /// Every rank passes its `value` of `what` (e.g. a hash of the scene); returns when all equal
-    /// rank 0's. Otherwise rank 0 prints "arbor: rank R (...): <what> is not rank 0's (...):
-    /// <advice>" naming the first such rank, and the job stops with exit status 1. Collective.
-    virtual void require_same(const std::string& what, std::uint64_t value, const std::string& advice) = 0;
+    /// Every rank passes its `value` (e.g. a hash of the scene); returns when all equal rank 0's.
+    /// Otherwise rank 0 prints "arbor: rank R (...): <complaint> (hashes): <advice>" naming the
+    /// first such rank, and the job stops with exit status 1. Collective.
+    virtual void require_same(const std::string& complaint, std::uint64_t value, const std::string& advice) = 0;
     /// Rank 0's `bytes` on every rank. Collective.
     virtual std::string broadcast(const std::string& bytes) = 0;
     /// Element-wise sums over the ranks, on every rank. Collective.

@@ -92,12 +92,12 @@ void Cluster::leave() {
 std::string Cluster::on_ranks() const { return " on " + std::to_string(size()) + (size() == 1 ? " rank" : " ranks"); }
 
 void Cluster::require_same(const engine::Scene& scene, const std::string& settings) {
-    job_->require_same("the scene it loaded", engine::scene_hash(scene),
+    job_->require_same("its scene is not rank 0's", engine::scene_hash(scene),
                        "every rank must load the same scene (the same file contents on every machine); refused "
                        "before rendering");
     engine::Hasher h;
     h.text(settings);
-    job_->require_same("the settings it was given", h.value(),
+    job_->require_same("its settings are not rank 0's", h.value(),
                        "every rank must be given the same options that change the result (rank 0: " + settings + ")");
 }
 
