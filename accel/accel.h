@@ -1,8 +1,8 @@
 #pragma once
 /// The Accel interface: one virtual call per batch of rays, static dispatch inside.
-#include "accel/build_config.h"
-#include "accel/build_stats.h"
-#include "accel/geometry.h"
+#include "accel/core/build_config.h"
+#include "accel/core/build_stats.h"
+#include "accel/core/geometry.h"
 
 #include <cstdint>
 #include <memory>

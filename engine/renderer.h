@@ -16,8 +16,8 @@ namespace arbor::engine {
 
 /// Renders `scene` with `accel` (built over scene.mesh) following `plan` (from make_plan with the
 /// same settings). The image has channels R, G, B, then Z, N.X N.Y N.Z, A.R A.G A.B as the plan's
-/// layers say. `stats` (optional) receives the rays traced per kind and the times. `tiles`
-/// (optional) decides which tiles this process renders (engine/tile_source.h); without it, all.
+/// layers say (cost integrator: nodes, tris). `stats` (optional) receives the rays traced per kind and the times.
+/// `tiles` (optional) decides which tiles this process renders (engine/tile_source.h); without it, all.
 Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
              const RenderSettings& settings, RenderStats* stats = nullptr, TileSource* tiles = nullptr);
 
@@ -27,5 +27,8 @@ Image render(const Scene& scene, const accel::Accel& accel, const RenderSettings
 
 /// The channel names of an image rendered with `layers`.
 std::vector<std::string> channel_names(const Layers& layers);
+/// The channel names of an image rendered with `plan`: those above, or `nodes` and `tris` (per-pixel
+/// means over the samples) for the cost integrator.
+std::vector<std::string> channel_names(const RenderPlan& plan);
 
 }  // namespace arbor::engine

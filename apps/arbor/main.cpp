@@ -2,16 +2,42 @@
 /// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else. Under
 /// mpirun the line comes from rank 0 only, naming the rank that failed, and the whole job stops
 /// (apps/arbor/cluster.h).
-#include "accel/memory_estimate.h"
 #include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
+#include "apps/arbor/common.h"
+#include "accel/core/memory_estimate.h"
 #include "engine/error.h"
 #include "mpi/launcher.h"
+#include "simd/simd.h"
 
 #include <cstdio>
+#include <cstring>
 #include <new>
 
+#ifndef ARBOR_VERSION
+#define ARBOR_VERSION "unknown"
+#endif
+
 namespace {
+
+/// `arbor --version` (spec/cli.md): the version and the SIMD kernel set compiled in, which is the
+/// one in use (the kernels are instantiated for the build's -march; there is no run-time dispatch).
+std::string version_text() {
+    return std::string("arbor ") + ARBOR_VERSION + "\nSIMD kernels: " + arbor::simd::FloatV::arch_type::name() + " (" +
+           std::to_string(arbor::simd::FloatV::size) + " float lanes, compiled for this build's -march)";
+}
+
+/// The first argument that is not an option, when it names no subcommand: CLI11 would only say
+/// that a subcommand is required.
+std::string unknown_subcommand(int argc, char** argv, const CLI::App& app) {
+    if (argc < 2 || argv[1][0] == '-') return {};
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+        if (sub->get_name() == argv[1]) return {};
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    return std::string("unknown subcommand '") + argv[1] + "' (expected one of " + names + ")";
+}
 
 /// Prints "arbor: <what>" and returns `code`; in an MPI job, stops the whole job instead (rank 0
 /// prints the line with the failing rank). Before a job is joined (option errors), only the
@@ -45,6 +71,10 @@ int main(int argc, char** argv) {
         arbor::app::add_bench);
 #endif
     for (int i = 0; i < argc; ++i) arbor::app::command_line() += (i ? " " : "") + std::string(i ? argv[i] : "arbor");
+    app.set_version_flag("--version", version_text(), "print the version and the SIMD kernel set, then exit");
+    if (const std::string unknown = unknown_subcommand(argc, argv, app); !unknown.empty()) {
+        return failure(2, unknown);
+    }
     try {
         app.parse(argc, argv);
         for (auto& [sub, run] : commands)
@@ -60,10 +90,14 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
         return failure(2, e.what());
     } catch (const arbor::accel::MemoryLimitError& e) {
         return failure(1, std::string("--max-memory: ") + e.what());
+    } catch (const arbor::app::OptionError& e) {
+        return failure(2, e.what());
     } catch (const arbor::engine::InputError& e) {
         return failure(1, e.what());
     } catch (const std::bad_alloc&) {
