@@ -58,7 +58,8 @@ Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan,
     Image img(set.width, set.height, channel_names(plan));
 
     const TileGrid grid{set.width, set.height, set.tile};
-    Progress progress("rendering", grid.count(), set.progress && (!tiles || tiles->shows_progress()));
+    Progress progress("rendering", grid.count(), set.progress && (!tiles || tiles->shows_progress()),
+                      tiles && tiles->progress_to_terminal());
     tbb::enumerable_thread_specific<Tracer> tracers([&] { return Tracer(accel); });
     auto render_tile = [&](int index) {
         Tile tile;

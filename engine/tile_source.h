@@ -43,6 +43,8 @@ public:
     virtual void gather(RenderStats& stats) { (void)stats; }
     /// Whether this process shows the frame's progress (the one that writes it).
     virtual bool shows_progress() const { return true; }
+    /// Whether that progress reaches a terminal although stderr is not one (Progress's `terminal`).
+    virtual bool progress_to_terminal() const { return false; }
 };
 
 }  // namespace arbor::engine

@@ -10,8 +10,12 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -98,6 +102,17 @@ public:
     }
 
     bool shows_progress() const override { return cluster_.root(); }
+    /// Rank 0's stderr is a pipe to mpirun, which copies it to its own: a terminal, when mpirun
+    /// runs on one and is this process's parent (rank 0 on mpirun's machine).
+    bool progress_to_terminal() const override {
+        char path[64];
+        std::snprintf(path, sizeof path, "/proc/%d/fd/2", int(::getppid()));
+        const int fd = ::open(path, O_WRONLY | O_NOCTTY);
+        if (fd < 0) return false;
+        const bool tty = ::isatty(fd) == 1;
+        ::close(fd);
+        return tty;
+    }
 
 private:
     /// ARBOR_MPI_ROOT_RENDERS=0: rank 0 only hands out tiles (to measure what its rendering costs).
