@@ -107,12 +107,12 @@ int run_converge(ConvergeCommand& o) {
     std::string csv = "accel,integrator,spp,seconds,rays,rmse,rel_mse,mean,mrays_per_s,build_ms,threads,width,height\n";
     std::printf("%-10s %-8s %6s %10s %12s %12s %12s\n", "accel", "integr.", "spp", "seconds", "rays", "rmse", "rel_mse");
     for (std::size_t a = 0; a < kinds.size(); ++a) {
-        std::string reason;
-        auto kind = writer ? resolve_accel(std::string(accel::to_string(kinds[a])), scene.mesh.view(), &reason) : kinds[a];
+        // Under MPI rank 0 alone resolves --accel auto (its calibration is timed: ranks could differ).
+        auto kind = writer ? resolve_accel(std::string(accel::to_string(kinds[a])), scene.mesh.view()).kind : kinds[a];
         if (cluster) kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(kind))));
         const accel::Timer build_timer;
         accel::BuildConfig build = o.build;
-        build.layouts = accel::Layouts::simd;  // the renderer traces the SIMD paths only
+        build.layouts = accel::layouts_for(accel::TracePath::best);  // the renderer traces the SIMD paths only
         const auto structure = accel::make_accel(kind, scene.mesh.view(), build);
         const double build_ms = build_timer.ms();
         for (std::size_t i = 0; i < integrators.size(); ++i) {

@@ -62,22 +62,21 @@ int run_render(const RenderCommand& o) {
     set.progress = !o.quiet;
     const engine::Scene scene = load_scene(o.scene, writer);
     if (cluster) cluster->require_same(scene, settings_text(set));
-    std::string reason;
-    AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
-    hints.budget = double(set.width) * double(set.height) * double(set.spp) *
-                   double(1 + scene.lights.size() + set.depth());
+    accel::AutoWork work;  // about (1 primary + 1 shadow per light + bounces) rays per sample
+    work.budget = double(set.width) * double(set.height) * double(set.spp) *
+                  double(1 + scene.lights.size() + set.depth());
     // The renderer traces the SIMD paths (packets and single rays): the scalar layout is not built.
     accel::BuildConfig build = o.build;
-    build.layouts = accel::Layouts::simd;
-    hints.build = build;
+    build.layouts = accel::layouts_for(accel::TracePath::best);
+    work.build = build;
     // Under MPI rank 0 alone resolves --accel (auto calibrates by timing: ranks could differ).
-    auto kind = writer ? resolve_accel(o.accel, scene.mesh.view(), &reason, hints) : accel::AccelKind::brute;
-    if (cluster) kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(kind))));
+    accel::AccelPick pick;
+    if (writer) pick = resolve_accel(o.accel, scene.mesh.view(), work);
+    if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
+    const auto kind = pick.kind;
     const engine::LightSet lights(scene);
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
-    if (kind != accel::AccelKind::brute)
-        plan.skipped.push_back("the structure's scalar layout (the renderer traces its SIMD paths)");
-    if (const std::string floor = leaf_floor_skipped(kind, build); !floor.empty()) plan.skipped.push_back(floor);
+    for (const std::string& s : accel::skipped_by_build(kind, build)) plan.skipped.push_back("the structure's " + s);
     check_render_memory(o, scene, kind, build, plan);
     const std::string accel_name(accel::to_string(kind));
     std::printf("%s\n", plan.line(accel_name).c_str());
@@ -97,7 +96,7 @@ int run_render(const RenderCommand& o) {
     const std::string ranks = cluster ? cluster->on_ranks() : "";
     std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s%s -> %s\n",
                 scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
-                reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, set.width,
+                pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms, set.width,
                 set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
                 stats.threads, stats.threads == 1 ? "" : "s", ranks.c_str(), written.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
