@@ -71,9 +71,22 @@ FarmImpl::~FarmImpl() {
     });
 }
 
+namespace {
+/// Work a rank keeps queued (at its own rate so far) beyond its threads' batch.
+constexpr double cover_seconds = 0.02;
+}  // namespace
+
+int FarmImpl::want() const {
+    if (spec_.low_water == 0 || completed_ == 0) return std::max(spec_.batch, 1);
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    const double rate = double(completed_) / std::max(elapsed, 1e-6);
+    return int(std::clamp(rate * cover_seconds, double(std::max(spec_.batch, 1)), 65536.0));
+}
+
 bool FarmImpl::needs_more() const {
-    return spec_.take && !exhausted_ && !asked_ &&
-           (int(queue_.size()) < spec_.low_water || (queue_.empty() && in_hand_ == 0));
+    if (!spec_.take || exhausted_ || asked_) return false;
+    if (queue_.empty() && in_hand_ == 0) return true;
+    return spec_.low_water > 0 && int(queue_.size()) < std::max(spec_.low_water, want() / 2);
 }
 
 std::uint64_t FarmImpl::grant(int want, std::uint64_t& first) {
@@ -103,7 +116,7 @@ bool FarmImpl::next(std::uint64_t& item) {
     if (root()) {
         if (queue_.empty() && !exhausted_) {
             std::uint64_t first = 0;
-            const std::uint64_t n = grant(spec_.batch, first);
+            const std::uint64_t n = grant(want(), first);
             for (std::uint64_t i = 0; i < n; ++i) queue_.push_back(first + i);
             exhausted_ = n == 0;
         }
@@ -112,6 +125,7 @@ bool FarmImpl::next(std::uint64_t& item) {
         cv_.wait(lock, [this] { return !queue_.empty() || exhausted_; });
     }
     if (queue_.empty()) return false;
+    if (completed_ == 0 && in_hand_ == 0) started_ = std::chrono::steady_clock::now();
     item = queue_.front();
     queue_.pop_front();
     ++in_hand_;
@@ -123,6 +137,7 @@ void FarmImpl::done(std::uint64_t item, std::string result) {
     {
         std::lock_guard lock(mu_);
         --in_hand_;
+        ++completed_;
         if (root()) {
             ++delivered_;
         } else {
@@ -151,13 +166,14 @@ bool FarmImpl::service_step() {
     if (root()) return false;
     std::deque<std::pair<std::uint64_t, std::string>> out;
     bool ask = false;
+    int n = 0;
     {
         std::lock_guard lock(mu_);
-        if (needs_more()) asked_ = ask = true;
+        if (needs_more()) asked_ = ask = true, n = want();
         out.swap(outbox_);
         in_flight_ += int(out.size());
     }
-    if (ask) job_.send(0, tag_request, pack(Request{id_, spec_.batch}));
+    if (ask) job_.send(0, tag_request, pack(Request{id_, n}));
     for (auto& [item, bytes] : out) {
         // The callback runs on the service thread, which also detaches the farm: it finds the
         // farm through the job, so a farm destroyed early (an exception) is never touched.

@@ -16,6 +16,7 @@ model in the README (section Across machines). Prints Markdown; perf/results/mpi
 import argparse
 import os
 import re
+import resource
 import statistics
 import subprocess
 import tempfile
@@ -25,10 +26,20 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 MPIRUN = ["timeout", "600", "mpirun", "--oversubscribe"]
 
 
-def run(cmd, env=None):
+def cpu_children():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run(cmd, env=None, cpu=None):
+    """Wall seconds of the job, arbor's render seconds, build ms, stdout; `cpu` (a list) gets the
+    CPU seconds (user + sys) of the job and everything it waited for (mpirun, every rank)."""
+    c0 = cpu_children()
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True, env=env or ENV)
     wall = time.perf_counter() - t0
+    if cpu is not None:
+        cpu.append(cpu_children() - c0)
     if p.returncode != 0:
         raise SystemExit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stderr}")
     m = re.search(r"rendered in ([0-9.]+) s", p.stdout)
@@ -57,24 +68,29 @@ def overhead(arbor, rounds, work):
     names = list(configs)
     walls = {n: [] for n in names}
     renders = {n: [] for n in names}
+    cpus = {n: [] for n in names}
     for r in range(rounds):
         order = names[r % len(names):] + names[:r % len(names)]
         for n in order:
             env = dict(ENV, ARBOR_MPI_ROOT_RENDERS="0") if "idle" in n else ENV
             out = os.path.join(work, "o.exr")
-            w, t, _, _ = run(configs[n] + ["-o", out], env)
+            w, t, _, _ = run(configs[n] + ["-o", out], env, cpus[n])
             walls[n].append(w)
             renders[n].append(t)
     base_w, base_r = walls[names[0]], renders[names[0]]
     print(f"Frame: `arbor render {' '.join(frame[1:])}` (Cornell box with the bunny, 74,583 triangles), "
           f"{rounds} rounds, configurations interleaved, the order rotated each round.\n")
-    print("| configuration | job wall s, median [min-max] | x plain (median of per-round ratios) "
-          "| render s (arbor's), median [min-max] | x plain |")
-    print("|---|---:|---:|---:|---:|")
+    base_c = cpus[names[0]]
+    print("| configuration | job CPU s (user+sys, all processes), median [min-max] | - plain, s (per-round "
+          "differences) | job wall s, median [min-max] | x plain (per-round ratios) | render s (arbor's), "
+          "median [min-max] | x plain |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for n in names:
+        dc = [a - b for a, b in zip(cpus[n], base_c)]
         rw = [a / b for a, b in zip(walls[n], base_w)]
         rr = [a / b for a, b in zip(renders[n], base_r)]
-        print(f"| {n} | {med(walls[n]):.2f} [{rng(walls[n])}] | {med(rw):.2f} [{rng(rw)}] "
+        print(f"| {n} | {med(cpus[n]):.2f} [{rng(cpus[n])}] | {med(dc):+.2f} [{rng(dc)}] "
+              f"| {med(walls[n]):.2f} [{rng(walls[n])}] | {med(rw):.2f} [{rng(rw)}] "
               f"| {med(renders[n]):.3f} [{rng(renders[n])}] | {med(rr):.2f} [{rng(rr)}] |")
     print()
 
@@ -97,42 +113,48 @@ def ranks(arbor, work):
 
 def model_inputs(arbor, work):
     out = os.path.join(work, "m.exr")
-    # Load + build: a frame of one pixel, so that the rest of the job is start-up.
-    w, t, b, _ = run([arbor, "render", "builtin:scaling:6", "--width", "1", "--height", "1", "--spp", "1", "-q",
-                      "--no-png", "--threads", "2", "-o", out])
-    w0, _, _, _ = run([arbor, "render", "--width", "1", "--height", "1", "--spp", "1", "-q", "--no-png",
-                       "-o", out])
-    print(f"- builtin:scaling:6: job {w:.2f} s for a 1-pixel frame, of which build {b / 1e3:.2f} s "
-          f"(bvh-sah, 2 threads); a 1-pixel frame of the default scene takes {w0:.2f} s, so load "
-          f"(generation) ~ {w - w0 - b / 1e3:.2f} s.")
+    one_pixel = ["--width", "1", "--height", "1", "--spp", "1", "-q", "--no-png", "--threads", "2", "-o", out]
+    # Load + build: a frame of one pixel, so that the rest of the job is start-up (CPU: this job's
+    # minus the same 1-pixel job on the 10k-triangle default scene).
+    c_big, c_small = [], []
+    w, _, b, _ = run([arbor, "render", "builtin:scaling:6"] + one_pixel, cpu=c_big)
+    w0, _, b0, _ = run([arbor, "render"] + one_pixel, cpu=c_small)
+    print(f"- builtin:scaling:6, a 1-pixel frame: job {w:.2f} s wall, {c_big[0]:.2f} s CPU; build {b / 1e3:.2f} s "
+          f"wall (bvh-sah, SIMD layout, 2 threads). The default scene's 1-pixel job: {w0:.2f} s wall, "
+          f"{c_small[0]:.2f} s CPU. Load + build of the 2.5M triangles: {w - w0:.2f} s wall, "
+          f"{c_big[0] - c_small[0]:.2f} s CPU.")
     # One 16x16 tile at 64 spp, path: a 192x108 frame (12 x 7 = 84 tiles) on 2 threads.
+    c_tiles = []
     w, t, b, so = run([arbor, "render", "builtin:scaling:6", "--integrator", "path", "--width", "192",
-                       "--height", "108", "--spp", "64", "-q", "--no-png", "--threads", "2", "-o", out])
+                       "--height", "108", "--spp", "64", "-q", "--no-png", "--threads", "2", "-o", out], cpu=c_tiles)
     rays = re.search(r"\(([0-9.e+]+) rays in", so)
     tiles = 12 * 7
-    print(f"- path, 64 spp, 192x108 (84 tiles of 16x16, the last row 12 pixels high): render {t:.2f} s on 2 "
-          f"threads: {2 * t / tiles:.3f} thread-seconds per tile; {rays.group(1) if rays else '?'} rays; "
-          f"`{so.splitlines()[-1]}`")
+    render_cpu = c_tiles[0] - c_big[0]
+    print(f"- path, 64 spp, 192x108 (84 tiles of 16x16, the last row 12 pixels high) on 2 threads: render {t:.2f} s "
+          f"wall, {render_cpu:.2f} s CPU (job CPU minus the 1-pixel job's): {render_cpu / tiles:.3f} CPU seconds "
+          f"per tile ({2 * t / tiles:.3f} thread-seconds of wall); {rays.group(1) if rays else '?'} rays, "
+          f"{float(rays.group(1)) / render_cpu / 1e6 if rays else 0:.2f} Mrays per CPU second. `{so.splitlines()[-1]}`")
     # Rank 0's intake: a 3840x2160 frame, 1 spp, primary, of a one-triangle scene (tiles cost ~nothing).
     obj = os.path.join(work, "tri.obj")
     with open(obj, "w") as f:
         f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     cheap = ["render", obj, "--integrator", "primary", "--layers", "none", "--width", "3840", "--height", "2160",
-             "--spp", "1", "-q", "--no-png", "-o", out]
-    rows = []
+             "--spp", "1", "-q", "--no-png", "-o", out, "--threads", "1"]
+    t1s, t2s, c1s, c2s = [], [], [], []
     for _ in range(3):
-        _, t1, _, _ = run([arbor] + cheap + ["--threads", "1"])
-        _, t2, _, _ = run(MPIRUN + ["-np", "2", "-x", "ARBOR_MPI_ROOT_RENDERS", arbor] + cheap + ["--threads", "1"],
-                          dict(ENV, ARBOR_MPI_ROOT_RENDERS="0"))
-        rows.append((t1, t2))
+        _, t1, _, _ = run([arbor] + cheap, cpu=c1s)
+        _, t2, _, _ = run(MPIRUN + ["-np", "2", "-x", "ARBOR_MPI_ROOT_RENDERS", arbor] + cheap,
+                          dict(ENV, ARBOR_MPI_ROOT_RENDERS="0"), c2s)
+        t1s.append(t1)
+        t2s.append(t2)
     tiles = 240 * 135
     mb = 3840 * 2160 * 3 * 4 / 1e6
-    t1 = med([a for a, _ in rows])
-    t2 = med([b for _, b in rows])
     print(f"- rank 0's intake: 3840x2160, 1 spp, primary, RGB only, one triangle ({tiles} tiles, {mb:.1f} MB of "
-          f"pixels): one process, 1 thread: render {t1:.3f} s; 2 ranks with rank 0 only receiving: {t2:.3f} s "
-          f"(median of 3) = {tiles / t2:.0f} tiles/s, {mb / t2:.0f} MB/s through rank 0 (shared memory; every "
-          f"tile rendered, sent and stored).")
+          f"pixels), median of 3: one process, 1 thread: render {med(t1s):.2f} s, job {med(c1s):.2f} s CPU; "
+          f"2 ranks, rank 1 rendering every tile and rank 0 only receiving: render {med(t2s):.2f} s "
+          f"({tiles / med(t2s):.0f} tiles/s, {mb / med(t2s):.0f} MB/s through rank 0, shared memory), job "
+          f"{med(c2s):.2f} s CPU: {(med(c2s) - med(c1s)) / tiles * 1e6:.0f} us of CPU per tile for MPI (both "
+          f"ranks, start-up included).")
     print()
 
 
