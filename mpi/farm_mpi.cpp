@@ -72,8 +72,9 @@ FarmImpl::~FarmImpl() {
 }
 
 namespace {
-/// Work a rank keeps queued (at its own rate so far) beyond its threads' batch.
-constexpr double cover_seconds = 0.02;
+/// Work a rank asks for at a time (at its own rate so far; at least its threads' batch); it asks
+/// again when half of that is left, 25 ms, five times the service threads' longest sleep.
+constexpr double cover_seconds = 0.05;
 }  // namespace
 
 int FarmImpl::want() const {
@@ -134,6 +135,7 @@ bool FarmImpl::next(std::uint64_t& item) {
 }
 
 void FarmImpl::done(std::uint64_t item, std::string result) {
+    bool flush = false;
     {
         std::lock_guard lock(mu_);
         --in_hand_;
@@ -143,11 +145,12 @@ void FarmImpl::done(std::uint64_t item, std::string result) {
         } else {
             outbox_.emplace_back(item, std::move(result));
         }
+        flush = exhausted_ || queue_.empty() || needs_more();
     }
     if (root()) {
         cv_.notify_all();
-    } else {
-        job_.kick();
+    } else if (flush) {
+        job_.kick();  // the frame's last results: send now (otherwise at the service thread's next turn)
     }
 }
 
