@@ -16,11 +16,21 @@ struct Grant {
     std::uint32_t pad;
     std::uint64_t first, count;
 };
+/// A RESULT message: this head, then `count` records of {item, length} each followed by `length`
+/// bytes.
 struct ResultHead {
     std::uint32_t farm;
-    std::uint32_t pad;
-    std::uint64_t item;
+    std::uint32_t count;
 };
+struct ResultRecord {
+    std::uint64_t item, length;
+};
+
+/// Results are sent together: a message when this many bytes wait, when the oldest has waited
+/// this long, or when the rank has nothing left queued (the end of its share). Rank 0 pays per
+/// message more than per byte (measured: ~60 us of CPU per one-tile message on the shared VM).
+constexpr std::size_t result_bytes = std::size_t(64) << 10;
+constexpr double result_seconds = 0.02;
 
 template <class T>
 std::string pack(const T& v) {
@@ -143,6 +153,8 @@ void FarmImpl::done(std::uint64_t item, std::string result) {
         if (root()) {
             ++delivered_;
         } else {
+            if (outbox_.empty()) oldest_ = std::chrono::steady_clock::now();
+            outbox_bytes_ += result.size();
             outbox_.emplace_back(item, std::move(result));
         }
         flush = exhausted_ || queue_.empty() || needs_more();
@@ -173,24 +185,29 @@ bool FarmImpl::service_step() {
     {
         std::lock_guard lock(mu_);
         if (needs_more()) asked_ = ask = true, n = want();
-        out.swap(outbox_);
-        in_flight_ += int(out.size());
+        const double age = std::chrono::duration<double>(std::chrono::steady_clock::now() - oldest_).count();
+        if (!outbox_.empty() && (outbox_bytes_ >= result_bytes || age >= result_seconds || queue_.empty())) {
+            out.swap(outbox_);
+            outbox_bytes_ = 0;
+            ++in_flight_;
+        }
     }
     if (ask) job_.send(0, tag_request, pack(Request{id_, n}));
-    for (auto& [item, bytes] : out) {
-        // The callback runs on the service thread, which also detaches the farm: it finds the
-        // farm through the job, so a farm destroyed early (an exception) is never touched.
-        job_.send(0, tag_result, pack(ResultHead{id_, 0, item}) + bytes, [job = &job_, id = id_] {
-            FarmImpl* farm = job->farm_;
-            if (!farm || farm->id_ != id) return;
-            {
-                std::lock_guard lock(farm->mu_);
-                --farm->in_flight_;
-            }
-            farm->cv_.notify_all();
-        });
-    }
-    return ask || !out.empty();
+    if (out.empty()) return ask;
+    std::string msg = pack(ResultHead{id_, std::uint32_t(out.size())});
+    for (const auto& [item, bytes] : out) msg += pack(ResultRecord{item, bytes.size()}) + bytes;
+    // The callback runs on the service thread, which also detaches the farm: it finds the farm
+    // through the job, so a farm destroyed early (an exception) is never touched.
+    job_.send(0, tag_result, std::move(msg), [job = &job_, id = id_] {
+        FarmImpl* farm = job->farm_;
+        if (!farm || farm->id_ != id) return;
+        {
+            std::lock_guard lock(farm->mu_);
+            --farm->in_flight_;
+        }
+        farm->cv_.notify_all();
+    });
+    return true;
 }
 
 void FarmImpl::on_message(MpiJob& job, const MPI_Status& st) {
@@ -223,11 +240,19 @@ void FarmImpl::on_message(MpiJob& job, const MPI_Status& st) {
         case tag_result: {
             const ResultHead h = unpack<ResultHead>(bytes);
             if (!farm || farm->id_ != h.farm || bytes.size() < sizeof h) break;
-            if (farm->on_result_)
-                farm->on_result_(h.item, std::string_view(bytes).substr(sizeof h));
+            std::size_t at = sizeof h;
+            std::uint64_t got = 0;
+            for (std::uint32_t k = 0; k < h.count && at + sizeof(ResultRecord) <= bytes.size(); ++k) {
+                const ResultRecord r = unpack<ResultRecord>(bytes.substr(at, sizeof(ResultRecord)));
+                at += sizeof r;
+                if (r.length > bytes.size() - at) break;  // malformed: the rest is dropped
+                if (farm->on_result_) farm->on_result_(r.item, std::string_view(bytes).substr(at, r.length));
+                at += r.length;
+                ++got;
+            }
             {
                 std::lock_guard lock(farm->mu_);
-                ++farm->delivered_;
+                farm->delivered_ += got;
             }
             farm->cv_.notify_all();
             break;

@@ -4,7 +4,7 @@
 ///
 ///   rank r -> 0: REQUEST {farm, want}       when its queue runs low (the service thread sends it)
 ///   0 -> rank r: GRANT {farm, first, count} count 0: nothing left, the rank's next() ends
-///   rank r -> 0: RESULT {farm, item} bytes  one per finished item, sent as it finishes
+///   rank r -> 0: RESULT {farm, n} n x {item, length, bytes}  finished items, several per message
 ///
 /// Rank 0 grants itself items directly under the farm's lock. Messages use the host's byte order
 /// (a job's machines are assumed to share it, as they share the binary).
@@ -55,7 +55,9 @@ private:
     int in_hand_ = 0;                  ///< taken by next(), not yet done()
     bool exhausted_ = false, asked_ = false;
     std::deque<std::pair<std::uint64_t, std::string>> outbox_;  ///< results not yet sent (rank > 0)
-    int in_flight_ = 0;                                         ///< results being sent (rank > 0)
+    std::size_t outbox_bytes_ = 0;
+    std::chrono::steady_clock::time_point oldest_{};            ///< when the oldest of them finished
+    int in_flight_ = 0;                                         ///< result messages being sent (rank > 0)
     std::uint64_t next_item_ = 0, delivered_ = 0;               ///< rank 0
     std::uint64_t completed_ = 0;                               ///< done() on this rank
     std::chrono::steady_clock::time_point started_{};           ///< this rank's first next()

@@ -116,24 +116,38 @@ def model_inputs(arbor, work):
     one_pixel = ["--width", "1", "--height", "1", "--spp", "1", "-q", "--no-png", "--threads", "2", "-o", out]
     # Load + build: a frame of one pixel, so that the rest of the job is start-up (CPU: this job's
     # minus the same 1-pixel job on the 10k-triangle default scene).
-    c_big, c_small = [], []
-    w, _, b, _ = run([arbor, "render", "builtin:scaling:6"] + one_pixel, cpu=c_big)
-    w0, _, b0, _ = run([arbor, "render"] + one_pixel, cpu=c_small)
-    print(f"- builtin:scaling:6, a 1-pixel frame: job {w:.2f} s wall, {c_big[0]:.2f} s CPU; build {b / 1e3:.2f} s "
-          f"wall (bvh-sah, SIMD layout, 2 threads). The default scene's 1-pixel job: {w0:.2f} s wall, "
-          f"{c_small[0]:.2f} s CPU. Load + build of the 2.5M triangles: {w - w0:.2f} s wall, "
-          f"{c_big[0] - c_small[0]:.2f} s CPU.")
-    # One 16x16 tile at 64 spp, path: a 192x108 frame (12 x 7 = 84 tiles) on 2 threads.
-    c_tiles = []
-    w, t, b, so = run([arbor, "render", "builtin:scaling:6", "--integrator", "path", "--width", "192",
-                       "--height", "108", "--spp", "64", "-q", "--no-png", "--threads", "2", "-o", out], cpu=c_tiles)
-    rays = re.search(r"\(([0-9.e+]+) rays in", so)
-    tiles = 12 * 7
-    render_cpu = c_tiles[0] - c_big[0]
-    print(f"- path, 64 spp, 192x108 (84 tiles of 16x16, the last row 12 pixels high) on 2 threads: render {t:.2f} s "
-          f"wall, {render_cpu:.2f} s CPU (job CPU minus the 1-pixel job's): {render_cpu / tiles:.3f} CPU seconds "
-          f"per tile ({2 * t / tiles:.3f} thread-seconds of wall); {rays.group(1) if rays else '?'} rays, "
-          f"{float(rays.group(1)) / render_cpu / 1e6 if rays else 0:.2f} Mrays per CPU second. `{so.splitlines()[-1]}`")
+    c_big, c_small, ws, builds = [], [], [], []
+    for _ in range(3):
+        w, _, b, _ = run([arbor, "render", "builtin:scaling:6"] + one_pixel, cpu=c_big)
+        run([arbor, "render"] + one_pixel, cpu=c_small)
+        ws.append(w)
+        builds.append(b / 1e3)
+    lb = [a - b for a, b in zip(c_big, c_small)]
+    print(f"- builtin:scaling:6, a 1-pixel frame, 3 rounds: job {med(ws):.2f} s wall [{rng(ws)}], "
+          f"{med(c_big):.2f} s CPU [{rng(c_big)}]; build {med(builds):.2f} s wall [{rng(builds)}] (bvh-sah, SIMD "
+          f"layout, 2 threads); minus the default scene's 1-pixel job ({med(c_small):.2f} s CPU): load + build of "
+          f"the 2.5M triangles {med(lb):.2f} s CPU [{rng(lb)}].")
+    # The cost of a pixel at 64 spp, path: two frame sizes of the same view, 3 rounds interleaved;
+    # the difference of their jobs' CPU is the render of the extra pixels (load and build cancel).
+    sizes = [(192, 108), (384, 216)]
+    cpu = {sz: [] for sz in sizes}
+    last = ""
+    for _ in range(3):
+        for sz in sizes:
+            c = []
+            _, t, _, so = run([arbor, "render", "builtin:scaling:6", "--integrator", "path", "--width", str(sz[0]),
+                               "--height", str(sz[1]), "--spp", "64", "-q", "--no-png", "--threads", "2", "-o", out],
+                              cpu=c)
+            cpu[sz].append(c[0])
+            last = so.splitlines()[-1]
+    d = [b - a for a, b in zip(cpu[sizes[0]], cpu[sizes[1]])]
+    extra = (sizes[1][0] * sizes[1][1] - sizes[0][0] * sizes[0][1]) * 64
+    per_sample = med(d) / extra
+    print(f"- path, 64 spp: job CPU for 192x108 {med(cpu[sizes[0]]):.2f} s [{rng(cpu[sizes[0]])}], for 384x216 "
+          f"{med(cpu[sizes[1]]):.2f} s [{rng(cpu[sizes[1]])}] (3 rounds, interleaved); the difference, "
+          f"{med(d):.2f} s [{rng(d)}], renders {extra / 64:.0f} pixels: {per_sample * 1e6:.3f} CPU us per pixel "
+          f"sample, {per_sample * 256 * 64 * 1e3:.1f} CPU ms per 16x16 tile, {per_sample * 3840 * 2160 * 64:.0f} CPU s "
+          f"for 3840x2160 at 64 spp. Last run: `{last}`")
     # Rank 0's intake: a 3840x2160 frame, 1 spp, primary, of a one-triangle scene (tiles cost ~nothing).
     obj = os.path.join(work, "tri.obj")
     with open(obj, "w") as f:
@@ -163,15 +177,17 @@ def main():
     ap.add_argument("--arbor", default="build/release/apps/arbor/arbor")
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--skip-model", action="store_true")
+    ap.add_argument("--only-model", action="store_true")
     a = ap.parse_args()
     arbor = os.path.abspath(a.arbor)
     with open("/proc/loadavg") as f:
         load0 = " ".join(f.read().split()[:3])
     with tempfile.TemporaryDirectory() as work:
-        print(f"## 1. The cost of MPI itself (load average at the start: {load0})\n")
-        overhead(arbor, a.rounds, work)
-        print("## 2. N ranks on the 2-core machine (--oversubscribe): correctness\n")
-        ranks(arbor, work)
+        if not a.only_model:
+            print(f"## 1. The cost of MPI itself (load average at the start: {load0})\n")
+            overhead(arbor, a.rounds, work)
+            print("## 2. N ranks on the 2-core machine (--oversubscribe): correctness\n")
+            ranks(arbor, work)
         if not a.skip_model:
             print("## 3. Model inputs\n")
             model_inputs(arbor, work)
