@@ -7,7 +7,7 @@
 /// structure offers, then makes the one virtual call, run(), into the structure, which dispatches
 /// on the (query, path) statically down to its leaves' triangle tests. docs/architecture.md walks
 /// one ray through it.
-#include "accel/core/build_config.h"
+#include "accel/build_config.h"
 #include "accel/core/build_stats.h"
 #include "accel/core/geometry.h"
 #include "accel/core/query.h"

@@ -141,7 +141,7 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
         const accel::Timer t0;
         const accel::PrimRefs refs = accel::make_prim_refs(view);
         const double a = t0.ms();
-        accel::BinaryBvh bvh = accel::build_bvh_sah(refs, cfg);
+        accel::BinaryBvh bvh = accel::build_bvh_sah(refs, cfg.bvh);
         const double b = t0.ms();
         accel::BinaryBvh copy = bvh;
         const accel::Timer t1;
@@ -204,21 +204,21 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
 #endif
     if (mesh.triangle_count() <= o.sweep_max) {
         const accel::Timer t;
-        const accel::BinaryBvh sweep = accel::build_bvh_sah_sweep(accel::make_prim_refs(view), cfg);
+        const accel::BinaryBvh sweep = accel::build_bvh_sah_sweep(accel::make_prim_refs(view), cfg.bvh);
         const double ms = t.ms();
         const double sweep_cost = accel::bvh_tree_stats(sweep).sah_cost;
         std::printf("full-sweep SAH: cost %.2f (built in %.0f ms); bvh-sah / sweep = %.4f\n", sweep_cost, ms,
                     built.count("bvh-sah") ? built["bvh-sah"]->stats().sah_cost / sweep_cost : 0.0);
-        // The tree of the SIMD-only build stops at the layout's width (BuildConfig::leaf_floor):
+        // The tree of the SIMD-only build stops at the layout's width (BvhBuildConfig::leaf_floor):
         // compared with a full sweep under the same floor.
         accel::BuildConfig floor_cfg = cfg;
         floor_cfg.layouts = accel::Layouts::simd;
-        floor_cfg.leaf_floor = accel::bvh_leaf_floor(floor_cfg);
+        floor_cfg.bvh.leaf_floor = accel::bvh_leaf_floor(floor_cfg);
         const accel::PrimRefs refs = accel::make_prim_refs(view);
-        const double binned_floor = accel::bvh_tree_stats(accel::build_bvh_sah(refs, floor_cfg)).sah_cost;
-        const double sweep_floor = accel::bvh_tree_stats(accel::build_bvh_sah_sweep(refs, floor_cfg)).sah_cost;
+        const double binned_floor = accel::bvh_tree_stats(accel::build_bvh_sah(refs, floor_cfg.bvh)).sah_cost;
+        const double sweep_floor = accel::bvh_tree_stats(accel::build_bvh_sah_sweep(refs, floor_cfg.bvh)).sah_cost;
         std::printf("with leaf floor %u (the SIMD-only build): bvh-sah cost %.2f, full sweep %.2f; bvh-sah / sweep = %.4f\n",
-                    floor_cfg.leaf_floor, binned_floor, sweep_floor, binned_floor / sweep_floor);
+                    floor_cfg.bvh.leaf_floor, binned_floor, sweep_floor, binned_floor / sweep_floor);
     }
 }
 

@@ -54,7 +54,7 @@ struct Options {
     std::vector<int> widths{0};
     int threads = 2, repeats = 5;
     std::vector<std::uint32_t> merges{0};
-    /// Values of BuildConfig::simd_leaf_floor. The SIMD paths run on a build of the SIMD layouts
+    /// Values of BuildConfig::bvh.simd_leaf_floor. The SIMD paths run on a build of the SIMD layouts
     /// only, as `arbor trace` makes it (0: the leaf floor of that build; 1: the fine tree), the
     /// scalar path on a build of the scalar layout only.
     std::vector<std::uint32_t> floors{0};
@@ -136,12 +136,12 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                 for (const std::uint32_t floor : o.floors) {
                     accel::BuildConfig cfg;
                     cfg.layouts = accel::Layouts::simd;
-                    cfg.simd_leaf_floor = floor;
-                    cfg.bvh_width = std::uint32_t(width);
-                    cfg.wide_merge = merge;
-                    cfg.packet_switch = sw;
-                    cfg.packet_switch_mixed = swx;
-                    cfg.packet_lanes = o.packet_lanes;
+                    cfg.bvh.simd_leaf_floor = floor;
+                    cfg.wide.width = std::uint32_t(width);
+                    cfg.wide.merge_triangles = merge;
+                    cfg.packets.switch_lanes = sw;
+                    cfg.packets.switch_mixed = swx;
+                    cfg.packets.lanes = o.packet_lanes;
                     built.push_back(accel::make_accel(*kind, view, cfg));
                     if (const auto* bvh = dynamic_cast<const accel::BvhAccel*>(built.back().get())) {
                         const double tris = double(std::max<std::size_t>(view.triangle_count(), 1));
@@ -327,12 +327,12 @@ int main(int argc, char** argv) {
     app.add_option("--widths", o.widths, "BVH widths (0 = default)")->delimiter(',');
     app.add_option("--threads", o.threads, "threads")->check(CLI::Range(1, 4096));
     app.add_option("--repeats", o.repeats, "timed repeats")->check(CLI::Range(1, 1000));
-    app.add_option("--switches", o.switches, "values of BuildConfig::packet_switch (-1 = default)")->delimiter(',');
-    app.add_option("--switches-mixed", o.switches_mixed, "values of BuildConfig::packet_switch_mixed (-1 = default)")
+    app.add_option("--switches", o.switches, "values of BuildConfig::packets.switch_lanes (-1 = default)")->delimiter(',');
+    app.add_option("--switches-mixed", o.switches_mixed, "values of BuildConfig::packets.switch_mixed (-1 = default)")
         ->delimiter(',');
-    app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packet_lanes (8 or 16; 0 = default)");
-    app.add_option("--merges", o.merges, "values of BuildConfig::wide_merge (0 = the width)")->delimiter(',');
-    app.add_option("--floors", o.floors, "values of BuildConfig::simd_leaf_floor (0 = the width, 1 = the fine tree)")->delimiter(',');
+    app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packets.lanes (8 or 16; 0 = default)");
+    app.add_option("--merges", o.merges, "values of BuildConfig::wide.merge_triangles (0 = the width)")->delimiter(',');
+    app.add_option("--floors", o.floors, "values of BuildConfig::bvh.simd_leaf_floor (0 = the width, 1 = the fine tree)")->delimiter(',');
     app.add_flag("!--no-embree", o.embree, "leave Embree out");
     app.add_option("--brute-sample", o.brute_sample, "rays per file checked against brute")->capture_default_str();
     app.add_flag("--cpu-time", o.cpu_time, "time by process CPU time / threads, not the wall clock (for a loaded machine)");

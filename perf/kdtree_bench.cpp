@@ -103,10 +103,10 @@ double median(std::vector<double> v) {
 
 void run(const Options& o, const engine::Mesh& mesh, const char* label) {
     accel::BuildConfig cfg;
-    cfg.kd_perfect_splits = o.perfect;
-    if (o.kt > 0) cfg.kd_traversal_cost = o.kt;
-    if (o.ki > 0) cfg.intersection_cost = o.ki;
-    if (o.exact_below >= 0) cfg.kd_exact_below = std::uint32_t(std::min<long>(o.exact_below, 0xFFFFFFFFL));
+    cfg.kd.perfect_splits = o.perfect;
+    if (o.kt > 0) cfg.kd.traversal_cost = o.kt;
+    if (o.ki > 0) cfg.kd.intersection_cost = o.ki;
+    if (o.exact_below >= 0) cfg.kd.exact_below = std::uint32_t(std::min<long>(o.exact_below, 0xFFFFFFFFL));
     std::printf("== %s: %zu triangles, %d threads\n", label, mesh.triangle_count(), o.threads);
 
     // Builds, interleaved with Embree's so that machine noise hits both alike.
@@ -120,7 +120,7 @@ void run(const Options& o, const engine::Mesh& mesh, const char* label) {
 #endif
     }
     const accel::BuildStats& st = kd->stats();
-    const accel::KdTreeStats ks = accel::kd_tree_stats(kd->tree(), cfg.traversal_cost, cfg.intersection_cost);
+    const accel::KdTreeStats ks = accel::kd_tree_stats(kd->tree(), cfg.kd.reported_traversal_cost, cfg.kd.intersection_cost);
     std::printf("kdtree build   %9.2f ms (median of %d)  nodes %zu leaves %zu (empty %zu) refs/tri %.2f\n",
                 median(kd_ms), o.repeat, st.nodes, st.leaves, ks.empty_leaves,
                 double(ks.refs) / double(std::max<std::size_t>(1, kd->tree().tris.size())));

@@ -99,7 +99,7 @@ std::unique_ptr<accel::Accel> build_once(const Variant& v, const accel::Triangle
     {
         const accel::PrimRefs refs = accel::make_prim_refs(tris);
         s.refs_ms = step.ms();
-        bvh = v.is_lbvh ? accel::build_lbvh(refs, cfg, v.lbvh, &s.steps) : v.builder(refs, cfg);
+        bvh = v.is_lbvh ? accel::build_lbvh(refs, cfg.bvh, v.lbvh, &s.steps) : v.builder(refs, cfg.bvh);
     }
     const double build_ms = total.ms();
     step = accel::Timer();

@@ -27,9 +27,9 @@ inline std::vector<accel::BuildConfig> kd_simd_configs() {
     const int switches[] = {1, 0, 3};
     for (int i = 0; i < 3; ++i) {
         accel::BuildConfig c;
-        c.kd_block_width = has16 ? blocks[i] : 8;
-        c.packet_lanes = has16 ? lanes[i] : 8;
-        c.packet_switch = switches[i];
+        c.kd_blocks.width = has16 ? blocks[i] : 8;
+        c.packets.lanes = has16 ? lanes[i] : 8;
+        c.packets.switch_lanes = switches[i];
         out.push_back(c);
     }
     return out;
@@ -84,7 +84,7 @@ inline std::size_t check_kd_simd(const accel::KdTreeAccel& kd, const std::vector
                     const std::string what = std::string(accel::to_string(path)) + (any_hit ? " any" : " closest") +
                                              " block " + std::to_string(paths->simd_block_width()) + " lanes " +
                                              std::to_string(paths->offer().packet_lanes) + " switch " +
-                                             std::to_string(cfg.packet_switch) + " chunk " + std::to_string(chunk);
+                                             std::to_string(cfg.packets.switch_lanes) + " chunk " + std::to_string(chunk);
                     compare(kd_simd_trace(*paths, rays, path, any_hit, chunk), any_hit, what);
                 }
     }

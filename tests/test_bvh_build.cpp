@@ -13,13 +13,14 @@
 using namespace arbor;
 using accel::BinaryBvh;
 using accel::BuildConfig;
+using accel::BvhBuildConfig;
 
 namespace {
 
 const accel::BvhBuilder all_builders[] = {accel::build_bvh_median, accel::build_bvh_sah, accel::build_bvh_sah_sweep};
 const char* const builder_names[] = {"median", "sah", "sweep"};
 
-BinaryBvh build(accel::BvhBuilder builder, const accel::TriangleView& v, const BuildConfig& cfg) {
+BinaryBvh build(accel::BvhBuilder builder, const accel::TriangleView& v, const BvhBuildConfig& cfg) {
     return builder(accel::make_prim_refs(v), cfg);
 }
 
@@ -35,7 +36,7 @@ TEST_CASE("bvh build: invariants and leaf limits on procedural meshes, for every
     mesh.append(engine::make_torus({2, 0, 0}, 1.0f, 0.2f, 40, 10));
     const auto v = mesh.view();
     for (std::uint32_t leaf : {1u, 2u, 3u, 4u, 8u, 16u}) {
-        BuildConfig cfg;
+        BvhBuildConfig cfg;
         cfg.max_leaf_size = leaf;
         cfg.parallel_threshold = 256;
         for (int b = 0; b < 3; ++b) {
@@ -64,7 +65,7 @@ TEST_CASE("bvh build: invariants on every shared model, SAH cost ordering median
         engine::Warnings w;
         const engine::Mesh mesh = engine::load_obj(path, w);
         const auto v = mesh.view();
-        const BuildConfig cfg;
+        const BvhBuildConfig cfg;
         CAPTURE(path);
         const BinaryBvh median = build(accel::build_bvh_median, v, cfg), sah = build(accel::build_bvh_sah, v, cfg);
         CHECK(accel::validate_bvh(median, v, cfg.max_leaf_size) == "");
@@ -87,7 +88,7 @@ TEST_CASE("bvh build: bit-identical nodes and leaf order with 1 and 2 threads") 
     for (std::size_t i = 0; i < mesh.vertex_count(); i += 4099) mesh.z[i] = std::nanf("");
     const auto v = mesh.view();
     for (int b = 0; b < 2; ++b) {
-        BuildConfig cfg;
+        BvhBuildConfig cfg;
         cfg.parallel_threshold = 64;
         auto run = [&](int threads) {
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
@@ -105,7 +106,7 @@ TEST_CASE("bvh build: bit-identical nodes and leaf order with 1 and 2 threads") 
         CHECK(std::memcmp(layout_one.nodes.data(), layout_two.nodes.data(), layout_one.nodes.size() * 64) == 0);
         CHECK(layout_one.prim_ids == layout_two.prim_ids);
         // And the same tree whatever the parallel threshold (the frame only changes who builds what).
-        BuildConfig serial = cfg;
+        BvhBuildConfig serial = cfg;
         serial.parallel_threshold = 1u << 30;
         CHECK(same_nodes(one, build(all_builders[b], v, serial)));
     }
@@ -116,10 +117,10 @@ TEST_CASE("bvh build: statistics of the accel") {
     for (const auto& k : testing::bvh_kinds()) {
         CAPTURE(k.name);
         BuildConfig cfg;
-        cfg.max_leaf_size = 2;
+        cfg.bvh.max_leaf_size = 2;
         const auto a = accel::make_accel(k.kind, mesh.view(), cfg);
         const accel::BuildStats& s = a->stats();
-        const auto tree = accel::bvh_tree_stats(k.builder(accel::make_prim_refs(mesh.view()), cfg));
+        const auto tree = accel::bvh_tree_stats(k.builder(accel::make_prim_refs(mesh.view()), cfg.bvh));
         CHECK(a->kind() == k.kind);
         CHECK(s.triangles == mesh.triangle_count());
         CHECK(s.nodes == tree.nodes);

@@ -45,8 +45,8 @@ std::size_t check_all(const engine::Mesh& mesh, const std::vector<Ray>& rays, st
     for (const auto& k : testing::bvh_kinds()) {
         CAPTURE(k.name);
         BuildConfig cfg;
-        cfg.max_leaf_size = leaf;
-        const accel::BinaryBvh tree = k.builder(accel::make_prim_refs(mesh.view()), cfg);
+        cfg.bvh.max_leaf_size = leaf;
+        const accel::BinaryBvh tree = k.builder(accel::make_prim_refs(mesh.view()), cfg.bvh);
         CHECK(accel::validate_bvh(tree, mesh.view(), leaf) == "");
         hits = testing::check_oracle(*accel::make_accel(k.kind, mesh.view(), cfg), rays, ref);
     }
@@ -62,8 +62,8 @@ TEST_CASE("bvh degenerate: 100k copies of one triangle: index-median splits, no 
             CAPTURE(k.name);
             CAPTURE(leaf);
             BuildConfig cfg;
-            cfg.max_leaf_size = leaf;
-            const accel::BinaryBvh tree = k.builder(accel::make_prim_refs(mesh.view()), cfg);
+            cfg.bvh.max_leaf_size = leaf;
+            const accel::BinaryBvh tree = k.builder(accel::make_prim_refs(mesh.view()), cfg.bvh);
             CHECK(accel::validate_bvh(tree, mesh.view(), leaf) == "");
             const auto s = accel::bvh_tree_stats(tree);
             CHECK(s.max_leaf_size <= leaf);
@@ -129,13 +129,13 @@ TEST_CASE("bvh degenerate: exponentially spaced triangles: valid trees of bounde
     for (const auto& k : testing::bvh_kinds()) {
         CAPTURE(k.name);
         BuildConfig cfg;
-        cfg.max_leaf_size = 1;
-        const accel::BinaryBvh tree = k.builder(accel::make_prim_refs(mesh.view()), cfg);
+        cfg.bvh.max_leaf_size = 1;
+        const accel::BinaryBvh tree = k.builder(accel::make_prim_refs(mesh.view()), cfg.bvh);
         CHECK(accel::validate_bvh(tree, mesh.view(), 1) == "");
         CHECK(accel::bvh_tree_stats(tree).max_depth <= 48 + 7);
         // With a low depth limit, bvh-sah switches to median splits early: still valid, shallower.
-        cfg.sah_depth_limit = 3;
-        const accel::BinaryBvh capped = k.builder(accel::make_prim_refs(mesh.view()), cfg);
+        cfg.bvh.sah_depth_limit = 3;
+        const accel::BinaryBvh capped = k.builder(accel::make_prim_refs(mesh.view()), cfg.bvh);
         CHECK(accel::validate_bvh(capped, mesh.view(), 1) == "");
         CHECK(accel::bvh_tree_stats(capped).max_depth <= 3 + 7);  // 3 SAH levels, then halving 120
     }

@@ -37,9 +37,9 @@ TEST_CASE("bvh oracle: procedural meshes at several leaf sizes and bin counts") 
     for (std::uint32_t leaf : {1u, 3u, 8u})
         for (std::uint32_t bins : {2u, 16u, 32u}) {
             BuildConfig cfg;
-            cfg.max_leaf_size = leaf;
-            cfg.sah_bins = bins;
-            cfg.parallel_threshold = 128;
+            cfg.bvh.max_leaf_size = leaf;
+            cfg.bvh.sah_bins = bins;
+            cfg.bvh.parallel_threshold = 128;
             for (const auto& k : testing::bvh_kinds()) {
                 if (k.kind == accel::AccelKind::bvh_median && bins != 16) continue;
                 CAPTURE(leaf);
@@ -66,7 +66,7 @@ TEST_CASE("bvh oracle: watertight jittered icospheres, rays aimed at vertices an
         for (const auto& k : testing::bvh_kinds())
             for (std::uint32_t leaf : {1u, 4u}) {
                 BuildConfig cfg;
-                cfg.max_leaf_size = leaf;
+                cfg.bvh.max_leaf_size = leaf;
                 const auto bvh = accel::make_accel(k.kind, v, cfg);
                 std::vector<accel::Hit> hits(rays.size()), any(rays.size());
                 bvh->trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
@@ -127,7 +127,7 @@ TEST_CASE("bvh oracle: axis-parallel rays with +0/-0 components, rays in box fac
         for (const auto& k : testing::bvh_kinds())
             for (std::uint32_t leaf : {1u, 4u}) {
                 BuildConfig cfg;
-                cfg.max_leaf_size = leaf;
+                cfg.bvh.max_leaf_size = leaf;
                 CAPTURE(offset);
                 CAPTURE(scale);
                 CAPTURE(k.name);

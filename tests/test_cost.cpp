@@ -49,8 +49,8 @@ engine::Image cost_image(const engine::Scene& s, const accel::Accel& a, const en
 
 accel::BuildConfig fine_build() {
     accel::BuildConfig cfg;
-    cfg.max_leaf_size = 1;
-    cfg.kd_traversal_cost = 0.25f;  // so that the kd-tree splits two triangles at all
+    cfg.bvh.max_leaf_size = 1;
+    cfg.kd.traversal_cost = 0.25f;  // so that the kd-tree splits two triangles at all
     cfg.layouts = accel::Layouts::all;
     return cfg;
 }

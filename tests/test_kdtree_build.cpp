@@ -20,11 +20,12 @@ using accel::Hit;
 using accel::Ray;
 using accel::Vec3f;
 using accel::BuildConfig;
+using accel::KdBuildConfig;
 using accel::KdTree;
 
 namespace {
 
-void check_all(const engine::Mesh& mesh, const BuildConfig& cfg) {
+void check_all(const engine::Mesh& mesh, const KdBuildConfig& cfg) {
     const KdTree tree = accel::build_kdtree(mesh.view(), cfg);
     CHECK(testing::check_kdtree_structure(tree, mesh.view()) == "");
     CHECK(testing::check_kdtree_refs(tree, mesh.view()) == "");
@@ -51,8 +52,8 @@ TEST_CASE("kdtree build: invariants on small meshes, with and without perfect sp
         testing::integer_cubes(3),
     };
     for (const bool perfect : {true, false}) {
-        BuildConfig cfg;
-        cfg.kd_perfect_splits = perfect;
+        KdBuildConfig cfg;
+        cfg.perfect_splits = perfect;
         for (std::size_t i = 0; i < std::size(meshes); ++i) {
             CAPTURE(perfect);
             CAPTURE(i);
@@ -65,8 +66,8 @@ TEST_CASE("kdtree build: leaves stay within the depth limit 8 + 1.3 log2 N") {
     CHECK(accel::kd_depth_limit(1) == 0);
     CHECK(accel::kd_depth_limit(1024) == 21);
     CHECK(accel::kd_depth_limit(std::size_t(1) << 40) == accel::kd_max_depth);
-    BuildConfig cfg;
-    cfg.kd_traversal_cost = 0.01f;  // splitting looks almost free: only the limit stops it
+    KdBuildConfig cfg;
+    cfg.traversal_cost = 0.01f;  // splitting looks almost free: only the limit stops it
     const engine::Mesh mesh = testing::random_soup(500, 0.2f, 4);
     const KdTree tree = accel::build_kdtree(mesh.view(), cfg);
     const auto st = accel::kd_tree_stats(tree);
@@ -125,7 +126,7 @@ TEST_CASE("kdtree build: perfect-split clipping is conservative and exact about 
 TEST_CASE("kdtree build: deterministic with 1 and 2 threads") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 11);
     mesh.append(testing::random_soup(2000, 0.1f, 2));
-    BuildConfig cfg;
+    KdBuildConfig cfg;
     cfg.parallel_threshold = 64;  // many parallel splits on a small mesh
     KdTree one, two;
     {
@@ -191,7 +192,7 @@ TEST_CASE("kdtree build: statistics") {
     CHECK(st.sah_cost > 1.0);
     CHECK(st.sah_cost < 0.25 * double(tree.tris.size()));
     BuildConfig leaf_only;
-    leaf_only.kd_traversal_cost = 1e9f;
+    leaf_only.kd.traversal_cost = 1e9f;
     const auto root_leaf_built = accel::make_kdtree_accel(mesh.view(), leaf_only);
     const accel::KdTreeAccel& root_leaf = *root_leaf_built;
     CHECK(root_leaf.stats().leaves == 1);
@@ -200,11 +201,9 @@ TEST_CASE("kdtree build: statistics") {
 
 TEST_CASE("kdtree build: max_memory is honoured") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4);
-    BuildConfig cfg;
+    const KdBuildConfig cfg;
     const KdTree tree = accel::build_kdtree(mesh.view(), cfg);
     REQUIRE(tree.build_peak_bytes > 0);
-    cfg.max_memory = tree.build_peak_bytes / 2;
-    CHECK_THROWS_AS(accel::build_kdtree(mesh.view(), cfg), std::length_error);
-    cfg.max_memory = tree.build_peak_bytes * 2;
-    CHECK(same_tree(tree, accel::build_kdtree(mesh.view(), cfg)));
+    CHECK_THROWS_AS(accel::build_kdtree(mesh.view(), cfg, tree.build_peak_bytes / 2), std::length_error);
+    CHECK(same_tree(tree, accel::build_kdtree(mesh.view(), cfg, tree.build_peak_bytes * 2)));
 }

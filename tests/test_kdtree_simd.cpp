@@ -132,7 +132,7 @@ TEST_CASE("kdtree simd: coplanar duplicates (equal t, the lowest prim wins) and 
     rays.insert(rays.end(), into.begin(), into.end());
     for (const bool perfect : {true, false}) {
         accel::BuildConfig cfg;
-        cfg.kd_perfect_splits = perfect;
+        cfg.kd.perfect_splits = perfect;
         CAPTURE(perfect);
         check_mesh(mesh, rays, rays.size(), {1024, 13}, cfg);
     }

@@ -55,7 +55,7 @@ TEST_CASE("kdtree stiff: integer grid mesh, rays along and through the grid line
             }
     for (const bool perfect : {true, false}) {
         accel::BuildConfig cfg;
-        cfg.kd_perfect_splits = perfect;
+        cfg.kd.perfect_splits = perfect;
         CAPTURE(perfect);
         testing::require_agreement(grid, rays, cfg);
     }
@@ -85,7 +85,7 @@ TEST_CASE("kdtree stiff: integer cubes, rays along cube edges and through cube c
         }
     for (const bool perfect : {true, false}) {
         accel::BuildConfig cfg;
-        cfg.kd_perfect_splits = perfect;
+        cfg.kd.perfect_splits = perfect;
         CAPTURE(perfect);
         testing::require_agreement(cubes, rays, cfg);
     }

@@ -38,7 +38,7 @@ TEST_CASE("kdtree trace: agrees with brute on procedural meshes (coherent, incoh
     };
     for (const bool perfect : {true, false}) {
         BuildConfig cfg;
-        cfg.kd_perfect_splits = perfect;
+        cfg.kd.perfect_splits = perfect;
         for (std::size_t i = 0; i < std::size(meshes); ++i) {
             CAPTURE(perfect);
             CAPTURE(i);

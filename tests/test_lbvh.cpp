@@ -30,7 +30,7 @@ using accel::Vec3f;
 
 namespace {
 
-BinaryBvh build(const engine::Mesh& mesh, const accel::BuildConfig& cfg, const LbvhOptions& opt) {
+BinaryBvh build(const engine::Mesh& mesh, const accel::BvhBuildConfig& cfg, const LbvhOptions& opt) {
     return accel::build_lbvh(accel::make_prim_refs(mesh.view()), cfg, opt);
 }
 
@@ -64,7 +64,7 @@ bool same_tree_up_to_leaf_order(const BinaryBvh& a, BinaryBvh b) {
 /// digit widths unless `quick`) is valid; for a code width, all variants build the same tree bit
 /// for bit (the refined 63-bit order may permute the triangles inside a leaf). Returns the default
 /// build.
-BinaryBvh check_all_variants(const engine::Mesh& mesh, const accel::BuildConfig& cfg, bool quick = false) {
+BinaryBvh check_all_variants(const engine::Mesh& mesh, const accel::BvhBuildConfig& cfg, bool quick = false) {
     BinaryBvh result, first30, first63, sah_first;
     for (MortonSort codes : {MortonSort::bits30, MortonSort::bits63, MortonSort::bits63_refined}) {
         for (RadixTreeMethod method : {RadixTreeMethod::top_down, RadixTreeMethod::karras}) {
@@ -127,7 +127,7 @@ TEST_CASE("lbvh: valid trees on procedural meshes, Karras and top-down build the
     mesh.append(engine::make_box({-5, -5, -5}, {-4, 6, -4.5f}));
     for (std::uint32_t leaf : {1u, 4u, 7u}) {
         CAPTURE(leaf);
-        accel::BuildConfig cfg;
+        accel::BvhBuildConfig cfg;
         cfg.max_leaf_size = leaf;
         cfg.parallel_threshold = 256;
         const BinaryBvh bvh = check_all_variants(mesh, cfg);
@@ -143,7 +143,7 @@ TEST_CASE("lbvh: agrees with brute on procedural meshes") {
     const engine::Mesh mesh = engine::make_icosphere({0.5f, -1.0f, 2.0f}, 1.5f, 3, 0.1f, 4);
     for (std::uint32_t leaf : {1u, 4u, 8u}) {
         accel::BuildConfig cfg;
-        cfg.max_leaf_size = leaf;
+        cfg.bvh.max_leaf_size = leaf;
         const auto lbvh = make_lbvh(mesh, cfg);
         CHECK(lbvh->kind() == accel::AccelKind::lbvh);
         CHECK(lbvh->stats().nodes > 1);
@@ -173,7 +173,7 @@ TEST_CASE("lbvh: all centroids equal (100k copies of one triangle): bounded dept
     const std::size_t n = 100000;
     for (std::size_t i = 0; i < n; ++i) mesh.add_triangle(0, 1, 2);
     mesh.compute_bounds();
-    accel::BuildConfig cfg;
+    const accel::BvhBuildConfig cfg;
     for (RadixTreeMethod method : {RadixTreeMethod::top_down, RadixTreeMethod::karras}) {
         const BinaryBvh bvh = build(mesh, cfg, {method, MortonSort::bits63_refined, 8});
         CHECK(accel::validate_bvh(bvh, mesh.view(), cfg.max_leaf_size) == "");
@@ -339,7 +339,7 @@ TEST_CASE("lbvh: bit-identical tree with 1 and 2 threads") {
     copies.add_vertex({0, 0, 0}), copies.add_vertex({0.01f, 0, 0}), copies.add_vertex({0, 0.01f, 0});
     for (int i = 0; i < 5000; ++i) copies.add_triangle(0, 1, 2);  // a long run of equal codes
     mesh.append(copies);
-    accel::BuildConfig cfg;
+    accel::BvhBuildConfig cfg;
     cfg.parallel_threshold = 64;
     for (MortonSort codes : {MortonSort::bits30, MortonSort::bits63, MortonSort::bits63_refined}) {
         for (RadixTreeMethod method : {RadixTreeMethod::top_down, RadixTreeMethod::karras}) {

@@ -1,4 +1,4 @@
-// BuildConfig::leaf_floor: a BVH built for the SIMD layouts only stops at ranges of the layout's
+// BvhBuildConfig::leaf_floor: a BVH built for the SIMD layouts only stops at ranges of the layout's
 // width (one leaf block). Every builder keeps the floor exactly (no range of at most leaf_floor
 // triangles is split, no leaf above the larger of floor and max_leaf_size), stays deterministic,
 // and the SIMD-only structure still agrees with brute; --simd-leaf-floor 1 restores the fine tree.
@@ -50,7 +50,7 @@ TEST_CASE("leaf floor: no range of at most leaf_floor triangles is split, by any
         for (std::uint32_t floor : {8u, 16u}) {
             CAPTURE(names[b]);
             CAPTURE(floor);
-            BuildConfig cfg;
+            accel::BvhBuildConfig cfg;
             cfg.leaf_floor = floor;
             cfg.parallel_threshold = 64;
             auto run = [&](int threads) {
@@ -63,7 +63,7 @@ TEST_CASE("leaf floor: no range of at most leaf_floor triangles is split, by any
             REQUIRE(one.nodes.size() == two.nodes.size());
             CHECK(std::memcmp(one.nodes.data(), two.nodes.data(), one.nodes.size() * sizeof(accel::BvhBuildNode)) == 0);
             CHECK(one.prim_ids == two.prim_ids);
-            const BinaryBvh fine = builders[b](refs, BuildConfig{});
+            const BinaryBvh fine = builders[b](refs, accel::BvhBuildConfig{});
             CHECK(smallest_interior(fine) <= floor);  // the floor changed the tree: the check above can fail
             CHECK(one.nodes.size() < fine.nodes.size());
         }
@@ -84,16 +84,16 @@ TEST_CASE("leaf floor: SIMD-only BVH builds use the layout's width, agree with b
             CAPTURE(width);
             BuildConfig cfg;
             cfg.layouts = accel::Layouts::simd;
-            cfg.bvh_width = width;
+            cfg.wide.width = width;
             const auto coarse = accel::make_accel(kind, v, cfg);
-            cfg.simd_leaf_floor = 1;
+            cfg.bvh.simd_leaf_floor = 1;
             const auto fine = accel::make_accel(kind, v, cfg);
             BuildConfig all;
             const auto reference = accel::make_accel(kind, v, all);
             CHECK(fine->stats().sah_cost == reference->stats().sah_cost);  // the same binary tree
             // (bvh-median at width 4 = its leaf size: the same tree)
             CHECK(coarse->stats().nodes <= fine->stats().nodes);
-            if (width > cfg.max_leaf_size) CHECK(coarse->stats().nodes < fine->stats().nodes);
+            if (width > cfg.bvh.max_leaf_size) CHECK(coarse->stats().nodes < fine->stats().nodes);
             for (const auto path : {accel::TracePath::single, accel::TracePath::packet}) {
                 std::vector<accel::Hit> got(rays.size()), any(rays.size());
                 coarse->trace(rays, got, {accel::Query::closest, path});

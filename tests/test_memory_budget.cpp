@@ -112,8 +112,8 @@ TEST_CASE("memory budget: the build estimate bounds every BVH and brute from abo
             for (std::uint32_t leaf : {1u, 4u, 16u})
                 for (std::uint32_t width : {0u, 4u}) {
                     accel::BuildConfig cfg;
-                    cfg.max_leaf_size = leaf;
-                    cfg.bvh_width = width;
+                    cfg.bvh.max_leaf_size = leaf;
+                    cfg.wide.width = width;
                     const auto a = accel::make_accel(kind, m.view(), cfg);
                     const std::uint64_t estimate = accel::build_memory_estimate(kind, m.triangle_count(), cfg);
                     const std::uint64_t peak = std::max(a->stats().build_peak_bytes, a->stats().memory_bytes);

@@ -23,7 +23,7 @@ template <std::size_t N> void check_forms(const accel::TriangleView& view, const
     if constexpr (accel::wide_width_available<N>()) {
         accel::BuildConfig cfg;
         cfg.layouts = accel::Layouts::simd;
-        cfg.bvh_width = N;
+        cfg.wide.width = N;
         const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, view, cfg);
         const auto* w = dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get());
         REQUIRE(w != nullptr);

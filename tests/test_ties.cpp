@@ -125,7 +125,7 @@ void check_every_structure(const engine::Mesh& mesh, const std::vector<Ray>& ray
     check_all_paths(accel::BruteAccel(view), rays, expect, "brute");
     for (const std::uint32_t leaf : {1u, 4u}) {
         accel::BuildConfig cfg;
-        cfg.max_leaf_size = leaf;
+        cfg.bvh.max_leaf_size = leaf;
         for (const auto& b : testing::all_wide_bvhs(view, cfg)) check_all_paths(*b.accel, rays, expect, b.name);
         const auto lbvh = accel::make_accel(accel::AccelKind::lbvh, view, cfg);
         check_all_paths(*lbvh, rays, expect, "lbvh");

@@ -100,7 +100,7 @@ std::uint32_t check_layout(const accel::WideLayout<N>& L, const accel::TriangleV
     return largest;
 }
 
-template <std::size_t N> void check_all_builders(const accel::TriangleView& v, accel::BuildConfig cfg, accel::WideConfig wc) {
+template <std::size_t N> void check_all_builders(const accel::TriangleView& v, accel::BvhBuildConfig cfg, accel::WideConfig wc) {
     const accel::PrimRefs refs = accel::make_prim_refs(v);
     for (const auto build : {accel::build_bvh_median, accel::build_bvh_sah, accel::build_lbvh}) {
         const accel::BinaryBvh bvh = build(refs, cfg);
@@ -122,7 +122,7 @@ TEST_CASE_TEMPLATE("wide layout: invariants for every builder, leaf sizes, merge
     for (const std::uint32_t leaf : {1u, 4u, 40u})
         for (const std::uint32_t merge : {0u, 1u, 8u, 32u})
             for (const std::uint32_t max_leaf : {3u, 65535u}) {
-                accel::BuildConfig cfg;
+                accel::BvhBuildConfig cfg;
                 cfg.max_leaf_size = leaf;
                 accel::WideConfig wc;
                 wc.merge_triangles = merge;

@@ -90,7 +90,7 @@ TEST_CASE("wide order: children along the x axis come far to near for rays going
         row.add_triangle(3 * i, 3 * i + 1, 3 * i + 2);
     }
     row.compute_bounds();
-    accel::BuildConfig bc;
+    accel::BvhBuildConfig bc;
     bc.max_leaf_size = 1;
     accel::WideConfig wc;
     wc.merge_triangles = 1;

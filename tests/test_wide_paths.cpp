@@ -89,7 +89,7 @@ TEST_CASE("wide paths: procedural meshes at leaf sizes 1, 4 and 40") {
     rays.insert(rays.end(), cam.begin(), cam.end());
     for (const std::uint32_t leaf : {1u, 4u, 40u}) {
         accel::BuildConfig cfg;
-        cfg.max_leaf_size = leaf;
+        cfg.bvh.max_leaf_size = leaf;
         CAPTURE(leaf);
         check_mesh(mesh, rays, rays.size(), cfg);
     }

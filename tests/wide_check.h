@@ -52,16 +52,16 @@ inline std::vector<BuiltBvh> all_wide_bvhs(const accel::TriangleView& v, accel::
     const bool has16 = accel::wide_width_supported(16);
     int turn = 0;
     for (const Kind& k : kinds) {
-        const accel::BinaryBvh bvh = k.build(refs, cfg);
+        const accel::BinaryBvh bvh = k.build(refs, cfg.bvh);
         for (const std::uint32_t w : widths) {
-            cfg.bvh_width = w;
-            cfg.packet_lanes = has16 && turn % 2 == 0 ? 16 : 8;
-            cfg.packet_switch = (turn / 2) % 3 == 2 ? 3 : (turn / 2) % 3;
-            cfg.packet_switch_mixed = turn % 3 == 0 ? 0 : turn % 3 == 1 ? -1 : 16;
+            cfg.wide.width = w;
+            cfg.packets.lanes = has16 && turn % 2 == 0 ? 16 : 8;
+            cfg.packets.switch_lanes = (turn / 2) % 3 == 2 ? 3 : (turn / 2) % 3;
+            cfg.packets.switch_mixed = turn % 3 == 0 ? 0 : turn % 3 == 1 ? -1 : 16;
             ++turn;
             accel::BinaryBvh copy = bvh;
-            out.push_back({std::string(k.name) + "/w" + std::to_string(w) + "/p" + std::to_string(cfg.packet_lanes) + "s" +
-                               std::to_string(cfg.packet_switch) + "x" + std::to_string(cfg.packet_switch_mixed),
+            out.push_back({std::string(k.name) + "/w" + std::to_string(w) + "/p" + std::to_string(cfg.packets.lanes) + "s" +
+                               std::to_string(cfg.packets.switch_lanes) + "x" + std::to_string(cfg.packets.switch_mixed),
                            accel::make_bvh_accel(k.kind, std::move(copy), v, cfg, 0.0)});
         }
     }

@@ -27,7 +27,7 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     // The layouts and the statistics only read the binary tree: made side by side.
     tbb::parallel_invoke([&] { if (scalar) layout_ = make_bvh2_layout(bvh, tris); },
                          [&] { if (make_wide) wide_ = make_wide(); },
-                         [&] { tree = bvh_tree_stats(bvh, cfg.traversal_cost, cfg.intersection_cost); });
+                         [&] { tree = bvh_tree_stats(bvh, cfg.bvh.traversal_cost, cfg.bvh.intersection_cost); });
     stats_.triangles = tris.triangle_count();
     stats_.dropped_nonfinite = bvh.dropped_nonfinite;
     stats_.nodes = tree.nodes;
@@ -125,15 +125,15 @@ std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const Tri
 
 std::uint32_t bvh_leaf_floor(const BuildConfig& cfg) {
     if (cfg.layouts != Layouts::simd) return 0;
-    if (cfg.simd_leaf_floor != 0) return cfg.simd_leaf_floor;
-    return wide_width_or_default(cfg.bvh_width);
+    if (cfg.bvh.simd_leaf_floor != 0) return cfg.bvh.simd_leaf_floor;
+    return wide_width_or_default(cfg.wide.width);
 }
 
 std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
                                        BvhBuilder builder) {
     const Timer timer;
     BinaryBvh bvh;
-    BuildConfig build_cfg = cfg;
+    BvhBuildConfig build_cfg = cfg.bvh;
     build_cfg.leaf_floor = bvh_leaf_floor(cfg);  // the N-wide leaves' blocks: no finer split
     {
         const PrimRefs refs = make_prim_refs(tris);  // freed before the conversion

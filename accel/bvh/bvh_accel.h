@@ -55,19 +55,19 @@ private:
 };
 
 /// A BVH builder: a pure function of the prim refs and the config.
-using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BuildConfig&);
+using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BvhBuildConfig&);
 
 /// The Accel for any BinaryBvh: BvhAccel for a build of the scalar layout only, else
-/// WideBvhAccel<cfg.bvh_width> (wide/wide_paths.h).
+/// WideBvhAccel<cfg.wide.width> (wide/wide_paths.h).
 std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,
                                       const BuildConfig& cfg, double build_ms);
 
-/// The BuildConfig::leaf_floor a BVH build with `cfg` gets: for builds of the SIMD layouts only,
-/// cfg.simd_leaf_floor with 0 read as the SIMD layout's width; else 0 (no floor).
+/// The BvhBuildConfig::leaf_floor a BVH build with `cfg` gets: for builds of the SIMD layouts
+/// only, cfg.bvh.simd_leaf_floor with 0 read as the SIMD layout's width; else 0 (no floor).
 std::uint32_t bvh_leaf_floor(const BuildConfig& cfg);
 
 /// PrimRefs -> `builder` -> the Accel, timed as a whole (build_ms covers all three steps); the
-/// builder sees cfg with leaf_floor = bvh_leaf_floor(cfg).
+/// builder sees cfg.bvh with leaf_floor = bvh_leaf_floor(cfg).
 std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
                                        BvhBuilder builder);
 

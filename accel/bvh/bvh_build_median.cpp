@@ -20,7 +20,7 @@ struct MedianSplitter {
 
 }  // namespace
 
-BinaryBvh build_bvh_median(const PrimRefs& refs, const BuildConfig& cfg) {
+BinaryBvh build_bvh_median(const PrimRefs& refs, const BvhBuildConfig& cfg) {
     const MedianSplitter split{std::max<std::uint32_t>({cfg.max_leaf_size, cfg.leaf_floor, 1u})};
     return detail::build_top_down(refs, cfg, split);
 }

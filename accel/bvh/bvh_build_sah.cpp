@@ -212,7 +212,7 @@ SplitResult partition_range(std::span<BuildPrim> prims, const BuildTask& t, cons
 }
 
 struct SahSplitter {
-    const BuildConfig& cfg;
+    const BvhBuildConfig& cfg;
     std::uint32_t max_leaf, bins;
 
     /// SAH: a leaf costs intersection_cost * n, a split traversal_cost + intersection_cost *
@@ -300,7 +300,7 @@ struct SahSplitter {
 
 }  // namespace
 
-BinaryBvh build_bvh_sah(const PrimRefs& refs, const BuildConfig& cfg) {
+BinaryBvh build_bvh_sah(const PrimRefs& refs, const BvhBuildConfig& cfg) {
     const SahSplitter split{cfg, std::max<std::uint32_t>(cfg.max_leaf_size, 1), std::clamp<std::uint32_t>(cfg.sah_bins, 2, max_bins)};
     return detail::build_top_down(refs, cfg, split);
 }

@@ -22,7 +22,7 @@ void sort_by_axis(std::span<BuildPrim> prims, const BuildTask& t, int a) {
 }
 
 struct SweepSplitter {
-    const BuildConfig& cfg;
+    const BvhBuildConfig& cfg;
     std::uint32_t max_leaf;
 
     std::optional<SplitResult> operator()(std::span<BuildPrim> prims, const BuildTask& t) const {
@@ -64,7 +64,7 @@ struct SweepSplitter {
 
 }  // namespace
 
-BinaryBvh build_bvh_sah_sweep(const PrimRefs& refs, const BuildConfig& cfg) {
+BinaryBvh build_bvh_sah_sweep(const PrimRefs& refs, const BvhBuildConfig& cfg) {
     const SweepSplitter split{cfg, std::max<std::uint32_t>(cfg.max_leaf_size, 1)};
     return detail::build_top_down(refs, cfg, split);
 }

@@ -6,7 +6,7 @@
 /// own node arrays, and one final pass places all of them at offsets computed from subtree sizes,
 /// so node order never depends on scheduling.
 #include "accel/bvh/binary_bvh.h"
-#include "accel/core/build_config.h"
+#include "accel/bvh/bvh_build_config.h"
 #include "accel/bvh/prim_refs.h"
 #include "accel/util/prefault.h"
 #include "accel/util/uninit_vector.h"
@@ -75,7 +75,7 @@ std::size_t assemble(const Subtree& root, std::vector<BvhBuildNode>& out);
 /// range larger than cfg.max_leaf_size, and keep the recursion depth bounded.
 template <class Splitter> class TopDownBuilder {
 public:
-    TopDownBuilder(const PrimRefs& refs, const BuildConfig& cfg, const Splitter& split)
+    TopDownBuilder(const PrimRefs& refs, const BvhBuildConfig& cfg, const Splitter& split)
         : refs_(refs), cfg_(cfg), split_(split), prims_(make_build_prims(refs)) {}
 
     BinaryBvh run() {
@@ -136,13 +136,13 @@ private:
     std::uint32_t parallel_threshold() const { return std::max<std::uint32_t>(cfg_.parallel_threshold, 2); }
 
     const PrimRefs& refs_;
-    const BuildConfig& cfg_;
+    const BvhBuildConfig& cfg_;
     const Splitter& split_;
     UninitVector<BuildPrim> prims_;
 };
 
 /// Runs the frame with `split` over `refs`.
-template <class Splitter> BinaryBvh build_top_down(const PrimRefs& refs, const BuildConfig& cfg, const Splitter& split) {
+template <class Splitter> BinaryBvh build_top_down(const PrimRefs& refs, const BvhBuildConfig& cfg, const Splitter& split) {
     return TopDownBuilder<Splitter>(refs, cfg, split).run();
 }
 

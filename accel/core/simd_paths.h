@@ -5,8 +5,7 @@
 /// structure D supplies
 ///   template <bool AnyHit> void trace_single(rays, hits) const;
 ///   template <bool AnyHit, class P> void trace_packets(rays, hits) const;   // P = Float8 or Float16
-/// and the settings of its packets are resolved here once, from BuildConfig.
-#include "accel/core/build_config.h"
+/// and the settings of its packets (PacketConfig, BuildConfig::packets) are resolved here once.
 #include "accel/core/query.h"
 #include "accel/core/ray.h"
 
@@ -14,22 +13,36 @@
 
 namespace arbor::accel {
 
-/// The packet path's settings, as a build resolves them (0 and -1 in BuildConfig: the defaults).
+/// The packet path's settings as asked (BuildConfig::packets; 0 and -1: the defaults), read by
+/// resolve_packets below and nowhere else.
+struct PacketConfig {
+    /// Rays per packet, 8 or 16 (0 = 16 with AVX-512, else 8).
+    std::uint32_t lanes = 0;
+    /// BVHs: at a node reached by at most this many lanes they go on as single rays (kd-tree: a
+    /// leaf reached by at most this many lanes is tested lane by lane) (-1 = lanes / 8).
+    int switch_lanes = -1;
+    /// BVHs: the same for packets whose lanes do not all share a direction octant (diffuse
+    /// bounces: such packets part ways within a level or two; 1.05-1.15x over lanes / 8,
+    /// perf/results/octant-order-2026-12-02.md) (-1 = lanes / 2).
+    int switch_mixed = -1;
+};
+
+/// The packet path's settings, as a build resolves them.
 struct PacketSettings {
     std::uint32_t lanes = 8;  ///< rays per packet: 8, or 16 with AVX-512
     int switch_lanes = 1;     ///< at a node (kd-tree: leaf) reached by at most this many lanes they go on alone
     int switch_mixed = 4;     ///< the same for packets whose lanes do not share one direction octant (BVHs)
 };
 
-/// cfg's packet settings with the defaults filled in: lanes cfg.packet_lanes when 8 or 16 and this
-/// build has them (else 16 with AVX-512, 8 otherwise), switch_lanes lanes / 8, switch_mixed lanes / 2.
-inline PacketSettings resolve_packets(const BuildConfig& cfg) {
+/// cfg with the defaults filled in: lanes cfg.lanes when 8 or 16 and this build has them (else 16
+/// with AVX-512, 8 otherwise), switch_lanes lanes / 8, switch_mixed lanes / 2.
+inline PacketSettings resolve_packets(const PacketConfig& cfg) {
     PacketSettings s;
     constexpr bool has16 = XSIMD_WITH_AVX512F != 0;
-    s.lanes = cfg.packet_lanes == 8 || cfg.packet_lanes == 16 ? cfg.packet_lanes : (has16 ? 16 : 8);
+    s.lanes = cfg.lanes == 8 || cfg.lanes == 16 ? cfg.lanes : (has16 ? 16 : 8);
     if (!has16) s.lanes = 8;
-    s.switch_lanes = cfg.packet_switch >= 0 ? cfg.packet_switch : int(s.lanes / 8);
-    s.switch_mixed = cfg.packet_switch_mixed >= 0 ? cfg.packet_switch_mixed : int(s.lanes / 2);
+    s.switch_lanes = cfg.switch_lanes >= 0 ? cfg.switch_lanes : int(s.lanes / 8);
+    s.switch_mixed = cfg.switch_mixed >= 0 ? cfg.switch_mixed : int(s.lanes / 2);
     return s;
 }
 

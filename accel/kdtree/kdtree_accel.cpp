@@ -11,7 +11,7 @@ namespace arbor::accel {
 
 KdTreeAccel::KdTreeAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms) : Accel(AccelKind::kdtree), tree_(std::move(tree)) {
     stats_.build_ms = build_ms;
-    const KdTreeStats st = kd_tree_stats(tree_, cfg.traversal_cost, cfg.intersection_cost);
+    const KdTreeStats st = kd_tree_stats(tree_, cfg.kd.reported_traversal_cost, cfg.kd.intersection_cost);
     stats_.triangles = tree_.tris.size() + tree_.dropped_nonfinite;  // the view's count
     stats_.dropped_nonfinite = tree_.dropped_nonfinite;
     stats_.nodes = st.nodes;
@@ -79,7 +79,7 @@ std::unique_ptr<KdTreeAccel> make_kdtree_accel(KdTree tree, const BuildConfig& c
 
 std::unique_ptr<KdTreeAccel> make_kdtree_accel(const TriangleView& tris, const BuildConfig& cfg) {
     const Timer timer;
-    KdTree tree = build_kdtree(tris, cfg);
+    KdTree tree = build_kdtree(tris, cfg.kd, cfg.max_memory);
     return make_kdtree_accel(std::move(tree), cfg, timer.ms());
 }
 

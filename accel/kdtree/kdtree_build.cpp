@@ -149,7 +149,7 @@ struct Builder {
 
 }  // namespace
 
-KdTree build_kdtree(const TriangleView& view, const BuildConfig& cfg) {
+KdTree build_kdtree(const TriangleView& view, const KdBuildConfig& cfg, std::uint64_t max_memory) {
     const IeeeFpGuard guard;
     KdTree tree;
     const std::size_t count = view.triangle_count();
@@ -170,7 +170,7 @@ KdTree build_kdtree(const TriangleView& view, const BuildConfig& cfg) {
     if (n > kd_max_index) throw std::length_error("kdtree: more than 2^30 triangles");
 
     MemoryMeter meter;
-    meter.limit = cfg.max_memory;
+    meter.limit = max_memory;
     kd::BuildTriangles tris;
     tris.v.resize(3 * n);
     NodeWork root(n, false);
@@ -182,7 +182,7 @@ KdTree build_kdtree(const TriangleView& view, const BuildConfig& cfg) {
         boxes[i] = view.triangle_bounds(finite[i]);
     });
     for (std::size_t i = 0; i < n; ++i) root.box.grow(boxes[i]);
-    if (n <= cfg.kd_exact_below) {
+    if (n <= cfg.exact_below) {
         root.allocate_events();
         tbb::parallel_for(0, 3, [&](int k) {
             const IeeeFpGuard task_guard;
@@ -198,11 +198,11 @@ KdTree build_kdtree(const TriangleView& view, const BuildConfig& cfg) {
     tree.depth_limit = kd_depth_limit(n);
     tbb::enumerable_thread_specific<kd::SplitScratch> scratch;
     const Builder builder{tris,
-                          {double(cfg.kd_traversal_cost), double(cfg.intersection_cost), double(cfg.kd_empty_bonus)},
-                          cfg.kd_perfect_splits,
+                          {double(cfg.traversal_cost), double(cfg.intersection_cost), double(cfg.empty_bonus)},
+                          cfg.perfect_splits,
                           tree.depth_limit,
                           std::max<std::size_t>(cfg.parallel_threshold, 1),
-                          cfg.kd_exact_below,
+                          cfg.exact_below,
                           meter,
                           scratch};
     Subtree out;

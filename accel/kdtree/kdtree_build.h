@@ -1,6 +1,6 @@
 #pragma once
 /// The SAH kd-tree builder: a pure function from triangles and settings to a KdTree with ropes.
-#include "accel/core/build_config.h"
+#include "accel/kdtree/kdtree_config.h"
 #include "accel/kdtree/kdtree_node.h"
 
 namespace arbor::accel {
@@ -14,8 +14,9 @@ std::uint32_t kd_depth_limit(std::size_t n);
 /// and counted. Deterministic: the same tree, bit for bit, for any number of TBB threads (children
 /// are built in parallel above cfg.parallel_threshold triangles and laid out depth-first after).
 /// Exact float comparisons run under IeeeFpGuard, so the caller's FTZ/DAZ mode does not matter.
-/// Throws std::length_error when the build's temporaries would exceed cfg.max_memory (0: no limit).
-KdTree build_kdtree(const TriangleView& tris, const BuildConfig& cfg = {});
+/// Throws std::length_error when the build's temporaries would exceed max_memory bytes (0: no limit;
+/// BuildConfig::max_memory).
+KdTree build_kdtree(const TriangleView& tris, const KdBuildConfig& cfg = {}, std::uint64_t max_memory = 0);
 
 /// Statistics of a built tree (SAH cost normalized to the scene box area: sum over interior nodes
 /// of K_T * area + over leaves of K_I * area * count, divided by the root area).

@@ -46,7 +46,7 @@ public:
     using T = typename LaneOf<N>::type;
 
     KdSimdAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms)
-        : KdTreeAccel(std::move(tree), cfg, build_ms), SimdPaths<KdSimdAccel<N>>(resolve_packets(cfg)) {
+        : KdTreeAccel(std::move(tree), cfg, build_ms), SimdPaths<KdSimdAccel<N>>(resolve_packets(cfg.packets)) {
         const Timer timer;
         blocks_ = make_kd_blocks<N>(tree_);
         stats_.build_ms += timer.ms();
@@ -253,7 +253,7 @@ private:
 std::uint32_t default_kd_block_width() { return 8; }
 
 std::unique_ptr<KdTreeAccel> make_kd_simd_accel(KdTree tree, const BuildConfig& cfg, double build_ms) {
-    const std::uint32_t width = cfg.kd_block_width ? cfg.kd_block_width : default_kd_block_width();
+    const std::uint32_t width = cfg.kd_blocks.width ? cfg.kd_blocks.width : default_kd_block_width();
 #if XSIMD_WITH_AVX512F
     if (width == 16) return std::make_unique<KdSimdAccel<16>>(std::move(tree), cfg, build_ms);
 #endif

@@ -14,9 +14,9 @@ namespace arbor::accel {
 /// Block width when none is asked for (perf/results/kdtree-simd-*.md).
 std::uint32_t default_kd_block_width();
 
-/// The kd-tree over `tree` with blocks of cfg.kd_block_width triangles (0 or unsupported: the
-/// default), packets of cfg.packet_lanes rays (0: 16 with AVX-512, else 8), leaves reached by at
-/// most cfg.packet_switch lanes of a packet (-1: lanes / 8) tested one lane at a time.
+/// The kd-tree over `tree` with blocks of cfg.kd_blocks.width triangles (0 or unsupported: the
+/// default), packets of cfg.packets.lanes rays (0: 16 with AVX-512, else 8), leaves reached by at
+/// most cfg.packets.switch_lanes lanes of a packet (-1: lanes / 8) tested one lane at a time.
 std::unique_ptr<KdTreeAccel> make_kd_simd_accel(KdTree tree, const BuildConfig& cfg, double build_ms);
 
 }  // namespace arbor::accel

@@ -84,9 +84,9 @@ std::size_t refine_runs(std::span<std::uint64_t> keys, std::span<const std::uint
 
 }  // namespace
 
-BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg) { return build_lbvh(refs, cfg, LbvhOptions{}); }
+BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg) { return build_lbvh(refs, cfg, LbvhOptions{}); }
 
-BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings) {
+BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings) {
     BinaryBvh bvh;
     bvh.dropped_nonfinite = refs.dropped_nonfinite;
     const std::size_t n = refs.size();

@@ -3,7 +3,7 @@
 /// sort of (code, index) -> binary radix tree over the sorted codes, collapsed into small leaves.
 /// Lauterbach et al. 2009 "Fast BVH Construction on GPUs"; Karras 2012 for the hierarchy.
 #include "accel/bvh/binary_bvh.h"
-#include "accel/core/build_config.h"
+#include "accel/bvh/bvh_build_config.h"
 #include "accel/bvh/prim_refs.h"
 #include "accel/lbvh/radix_tree.h"
 
@@ -39,7 +39,7 @@ struct LbvhTimings {
 /// Builds the LBVH over `refs` with cfg.max_leaf_size (leaves hold at most that many primitives)
 /// and cfg.parallel_threshold. Deterministic: the same tree for any thread count. All centroids
 /// equal (identical codes) splits on the sorted position, so the depth stays within 64 + log2(n).
-BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg);
-BinaryBvh build_lbvh(const PrimRefs& refs, const BuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings = nullptr);
+BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg);
+BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings = nullptr);
 
 }  // namespace arbor::accel

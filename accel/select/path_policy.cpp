@@ -42,7 +42,7 @@ PathChoice choose_offered(const PathOffer& offer, std::span<const Ray> rays, con
     }
     // Packets for groups that share an octant and a place (primary, shadow rays) and for groups
     // that share a place only (diffuse bounces: their packets switch to single rays early, see
-    // TraversalConfig::packet_switch_mixed); single rays for scattered origins.
+    // PacketConfig::switch_mixed); single rays for scattered origins.
     const float spread = together_fraction * offer.scene_diagonal;
     c.why = PathChoice::Why::measured;
     c.group = offer.packet_lanes;

@@ -15,7 +15,7 @@
 ///      consecutive rays that would share a packet start within 5% of the scene's diagonal of each
 ///      other (one direction octant, or, failing that, any), else `single`
 ///      (perf/results/wide-*.md, octant-order-2026-12-02.md).
-#include "accel/core/build_config.h"
+#include "accel/build_config.h"
 #include "accel/core/query.h"
 #include "accel/core/ray.h"
 

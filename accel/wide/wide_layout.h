@@ -17,6 +17,7 @@
 /// Rays", H. Dammertz et al., EGSR 2008, and Wald et al., "Getting Rid of Packets", RT 2008.
 #include "accel/bvh/binary_bvh.h"
 #include "accel/util/uninit_vector.h"
+#include "accel/wide/wide_config.h"
 #include "simd/box_kernels.h"
 #include "simd/tri_kernels.h"
 
@@ -24,28 +25,6 @@
 #include <vector>
 
 namespace arbor::accel {
-
-/// Settings of the collapse; the defaults are the measured best (perf/results/wide-*.md).
-struct WideConfig {
-    /// A binary subtree with at most this many triangles may become one leaf (the SAH decides; a
-    /// binary leaf always stays one). 0 = the width N.
-    std::uint32_t merge_triangles = 0;
-    /// Most triangles in one leaf (1..65535): bigger binary leaves are split into chunks under
-    /// extra nodes (all with the leaf's box).
-    std::uint32_t max_leaf_triangles = 65535;
-    /// SAH costs of the collapse: one N-wide node test and one N-triangle block test (block / node
-    /// = 2, 3 or 4 measured alike; perf/results/wide-2026-11-22.md).
-    float node_cost = 1.0f, block_cost = 3.0f;
-    /// Packet path: rays per packet, 8 or 16 (anything else: the default of the build).
-    std::uint32_t packet_lanes = 0;
-    /// Packet path: at a node reached by at most this many lanes, they go on as single rays
-    /// (-1: lanes / 8), for packets whose active lanes share one direction octant.
-    int switch_lanes = -1;
-    /// The same for packets whose active lanes do not all share a direction octant (-1: lanes / 2):
-    /// such packets part ways within a level or two, and their lanes do better alone from there
-    /// (diffuse bounces: 1.05-1.15x over lanes / 8; perf/results/octant-order-2026-12-02.md).
-    int switch_lanes_mixed = -1;
-};
 
 /// One N-wide node: child boxes in SoA, and per child either an interior node (count == 0: node
 /// index in child) or a leaf (count > 0 triangles in blocks child, child + 1, ...). Slots

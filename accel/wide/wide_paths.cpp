@@ -25,7 +25,7 @@ std::uint32_t wide_width_or_default(std::uint32_t width) {
 
 std::unique_ptr<Accel> make_wide_bvh_accel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
                                            const BuildConfig& cfg, double build_ms) {
-    switch (wide_width_or_default(cfg.bvh_width)) {
+    switch (wide_width_or_default(cfg.wide.width)) {
 #if XSIMD_WITH_AVX2
     case 8: return make_wide_bvh_accel_n<8>(kind, bvh, tris, cfg, build_ms);
 #endif

@@ -17,7 +17,7 @@ bool wide_width_supported(std::uint32_t width);
 /// The width a layout asked for `width` gets: `width` when supported, else default_wide_width().
 std::uint32_t wide_width_or_default(std::uint32_t width);
 
-/// The BVH over `bvh` (built over `tris`) with the SIMD layout of width cfg.bvh_width (0 or
+/// The BVH over `bvh` (built over `tris`) with the SIMD layout of width cfg.wide.width (0 or
 /// unsupported: the default) and, when cfg.layouts asks for it, the scalar layout too.
 std::unique_ptr<Accel> make_wide_bvh_accel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
                                            const BuildConfig& cfg, double build_ms);

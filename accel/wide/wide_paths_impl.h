@@ -27,11 +27,9 @@ public:
     using T = WideLane<N>;
 
     WideBvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
-        : BvhAccel(kind), SimdPaths<WideBvhAccel<N>>(resolve_packets(cfg)) {
-        WideConfig wide_cfg;
-        wide_cfg.merge_triangles = cfg.wide_merge;
+        : BvhAccel(kind), SimdPaths<WideBvhAccel<N>>(resolve_packets(cfg.packets)) {
         init(bvh, tris, cfg, build_ms, [&] {
-            layout_ = make_wide_layout<N>(bvh, tris, wide_cfg);
+            layout_ = make_wide_layout<N>(bvh, tris, cfg.wide);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });
         offer_.add(TracePath::single);

@@ -53,7 +53,7 @@ int run_info(const InfoOptions& o) {
         const auto accel = accel::make_accel(kind, mesh.view(), o.build);
         j["accel"] = accel::to_string(kind);
         j["build_ms"] = accel->stats().build_ms;
-        j["leaf_size"] = o.build.max_leaf_size;
+        j["leaf_size"] = o.build.bvh.max_leaf_size;
         put_stats(j, accel->stats());
     }
     if (o.json) {

@@ -81,7 +81,7 @@ int run_trace(const TraceOptions& o) {
     j["repeat"] = o.repeat;
     j["mrays_per_s"] = median_ms > 0 ? double(rays.size()) / (median_ms * 1e3) : 0.0;
     j["threads"] = active_threads();
-    j["leaf_size"] = o.build.max_leaf_size;
+    j["leaf_size"] = o.build.bvh.max_leaf_size;
     const bool has_layouts = kind != accel::AccelKind::brute;
     j["layouts"] = has_layouts ? (build.layouts == accel::Layouts::scalar ? "scalar" : "simd") : "none";
     const std::vector<std::string> skipped = accel::skipped_by_build(kind, build);

@@ -38,10 +38,10 @@ CLI::Option* add_accel_list_option(CLI::App& cmd, std::string& names) {
 }
 
 void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
-    cmd.add_option("--leaf-size", cfg.max_leaf_size, "most triangles per BVH leaf")
+    cmd.add_option("--leaf-size", cfg.bvh.max_leaf_size, "most triangles per BVH leaf")
         ->check(CLI::Range(1u, 1u << 16))
         ->capture_default_str();
-    cmd.add_option("--sah-bins", cfg.sah_bins, "bins per axis of the binned SAH build (bvh-sah)")
+    cmd.add_option("--sah-bins", cfg.bvh.sah_bins, "bins per axis of the binned SAH build (bvh-sah)")
         ->check(CLI::Range(2u, 32u))
         ->capture_default_str();
     cmd.add_option("--max-memory", cfg.max_memory,
@@ -55,12 +55,12 @@ void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
                 return {};
             },
             "BYTES"));
-    cmd.add_option("--simd-leaf-floor", cfg.simd_leaf_floor,
+    cmd.add_option("--simd-leaf-floor", cfg.bvh.simd_leaf_floor,
                    "BVHs traced on a SIMD path: ranges of at most this many triangles are not split (0: the SIMD "
                    "layout's width; 1: none, the binary tree of the scalar path)")
         ->check(CLI::Range(0u, 1u << 16))
         ->capture_default_str();
-    cmd.add_option("--bvh-width", cfg.bvh_width, "children per node of the BVHs' SIMD layout: 4, 8 or 16 (default: the measured best)")
+    cmd.add_option("--bvh-width", cfg.wide.width, "children per node of the BVHs' SIMD layout: 4, 8 or 16 (default: the measured best)")
         ->check(CLI::IsMember({4u, 8u, 16u}));
 }
 

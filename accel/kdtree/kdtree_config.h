@@ -1,0 +1,39 @@
+#pragma once
+/// The kd-tree's settings, each read by one part of it: KdBuildConfig by the builder
+/// (kdtree_build.h), KdBlockConfig by the SIMD leaf blocks (kdtree_simd.h). Parts of BuildConfig
+/// (accel/build_config.h) as `kd` and `kd_blocks`.
+#include <cstdint>
+
+namespace arbor::accel {
+
+struct KdBuildConfig {
+    /// SAH cost of a traversal step (K_T) against intersection_cost (K_I). The rope walk pays per
+    /// leaf (exit planes, rope, descent, a cache miss), so the kd-tree wants bigger leaves than the
+    /// BVH ratio gives: on the bunny 1 -> 4 cuts nodes 6x and build time 2.5x at the same trace
+    /// speed (perf/kdtree_bench).
+    float traversal_cost = 4.0f;
+    float intersection_cost = 1.0f;
+    /// K_T of the SAH cost the build reports (BuildStats::sah_cost): 1, the BVHs' default, so that
+    /// the reported figures compare across structures.
+    float reported_traversal_cost = 1.0f;
+    /// Nodes with more triangles than this choose their plane from 256 bins per axis (no events,
+    /// O(N)); smaller ones by Wald-Havran's exact event sweep, their events sorted once when they
+    /// drop below. 0xFFFFFFFF: exact sweep from the root (the pure O(N log N) build).
+    std::uint32_t exact_below = 4096;
+    /// Clip triangles to the node box when computing split candidates (perfect splits).
+    bool perfect_splits = true;
+    /// Factor on the SAH cost of a split that cuts off empty space (one side holds no triangle);
+    /// Wald & Havran's lambda = 0.8, i.e. such splits look 20% cheaper. 1 = no bonus.
+    float empty_bonus = 0.8f;
+    /// Below this many triangles a node's subtree is built serially.
+    std::uint32_t parallel_threshold = 1024;
+};
+
+/// The SIMD paths' leaf blocks.
+struct KdBlockConfig {
+    /// Triangles per SIMD block of a leaf, 8 or 16 (0 = the measured best, kdtree_simd.h; 16 needs
+    /// AVX-512, else 8 is used).
+    std::uint32_t width = 0;
+};
+
+}  // namespace arbor::accel

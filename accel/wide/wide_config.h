@@ -1,0 +1,24 @@
+#pragma once
+/// WideConfig: the settings of the BVHs' SIMD layout, read by the collapse (wide_layout.h) and
+/// the width's factory (wide_paths.h). Part of BuildConfig (accel/build_config.h) as `wide`; the
+/// defaults are the measured best (perf/results/wide-*.md).
+#include <cstdint>
+
+namespace arbor::accel {
+
+struct WideConfig {
+    /// Children per node: 4, 8 or 16 (0 = the measured best of this build, wide_paths.h; a width
+    /// the build's ISA lacks falls back to the default). `--bvh-width`.
+    std::uint32_t width = 0;
+    /// A binary subtree with at most this many triangles may become one leaf (the SAH decides; a
+    /// binary leaf always stays one). 0 = the width N.
+    std::uint32_t merge_triangles = 0;
+    /// Most triangles in one leaf (1..65535): bigger binary leaves are split into chunks under
+    /// extra nodes (all with the leaf's box).
+    std::uint32_t max_leaf_triangles = 65535;
+    /// SAH costs of the collapse: one N-wide node test and one N-triangle block test (block / node
+    /// = 2, 3 or 4 measured alike; perf/results/wide-2026-11-22.md).
+    float node_cost = 1.0f, block_cost = 3.0f;
+};
+
+}  // namespace arbor::accel
