@@ -1,5 +1,7 @@
 #include "engine/procedural.h"
 
+#include "accel/util/splitmix64.h"
+
 #include <array>
 #include <cmath>
 #include <map>
@@ -9,14 +11,6 @@
 namespace arbor::engine {
 
 namespace {
-/// SplitMix64: a small, well-known deterministic hash for procedural jitter.
-std::uint64_t splitmix(std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
-float unit_float(std::uint64_t h) { return float(h >> 40) * (1.0f / 16777216.0f); }
 }  // namespace
 
 Mesh make_icosphere(Vec3f center, float radius, int subdivisions, float jitter, std::uint32_t seed) {
@@ -49,7 +43,7 @@ Mesh make_icosphere(Vec3f center, float radius, int subdivisions, float jitter, 
     }
     Mesh m;
     for (std::size_t i = 0; i < v.size(); ++i) {
-        const float scale = jitter > 0 ? 1.0f + jitter * (2.0f * unit_float(splitmix(seed * 1000003ull + i)) - 1.0f) : 1.0f;
+        const float scale = jitter > 0 ? 1.0f + jitter * (2.0f * accel::unit_float24(accel::splitmix64(seed * 1000003ull + i)) - 1.0f) : 1.0f;
         m.add_vertex(center + v[i] * (radius * scale));
     }
     for (const auto& tri : f) m.add_triangle(tri[0], tri[1], tri[2]);

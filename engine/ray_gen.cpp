@@ -2,6 +2,7 @@
 
 #include "accel/core/offset_ray.h"
 #include "accel/trace.h"
+#include "accel/util/splitmix64.h"
 #include "engine/error.h"
 #include "engine/hit_geometry.h"
 
@@ -26,18 +27,12 @@ constexpr std::array<std::pair<RayKind, std::string_view>, 4> kind_names{{
     {RayKind::random, "random"},
 }};
 
-/// splitmix64 finalizer (Steele, Lea, Flood 2014): a counter-based generator, so every ray's
-/// numbers depend only on (seed, stream, index), never on the order or thread it is made in.
-std::uint64_t mix(std::uint64_t z) {
-    z += 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-/// Uniform in [0, 1) from 24 random bits.
+/// Uniform in [0, 1) from 24 random bits of splitmix64 (accel/util/splitmix64.h) used as a
+/// counter-based generator, so every ray's numbers depend only on (seed, stream, index), never on
+/// the order or thread it is made in.
 float u01(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) {
-    return float(mix(seed ^ mix(stream ^ mix(index))) >> 40) * 0x1p-24f;
+    using accel::splitmix64;
+    return accel::unit_float24(splitmix64(seed ^ splitmix64(stream ^ splitmix64(index))));
 }
 
 // Streams: one per purpose, pass and dimension.

@@ -3,6 +3,7 @@
 /// sub-pixel positions, and the warps from [0,1)^2 to directions and triangle points.
 /// Everything here is a pure function of its arguments, so images do not depend on threads.
 #include "accel/core/ray.h"
+#include "accel/util/splitmix64.h"
 
 #include <cstdint>
 #include <numbers>
@@ -11,13 +12,8 @@ namespace arbor::engine {
 
 using accel::Vec3f;
 
-/// SplitMix64 finaliser (Steele, Lea, Flood 2014): a bijective 64-bit hash.
-inline std::uint64_t mix64(std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
+/// SplitMix64 (accel/util/splitmix64.h) as a bijective 64-bit hash.
+using accel::splitmix64;
 
 /// The random numbers of one (seed, pixel, sample): the d-th call of next() returns a value that
 /// depends only on (seed, pixel, sample, d). Cheap to copy; no global state.
@@ -25,10 +21,10 @@ class SampleStream {
 public:
     SampleStream() = default;
     SampleStream(std::uint32_t seed, std::uint32_t pixel, std::uint32_t sample)
-        : key_(mix64((std::uint64_t(pixel) << 32 | sample) ^ mix64(seed))) {}
+        : key_(splitmix64((std::uint64_t(pixel) << 32 | sample) ^ splitmix64(seed))) {}
 
     /// Uniform in [0, 1): 24 random bits, so 1.0 is never returned.
-    float next() { return float(mix64(key_ + 0x632BE59BD9B4E019ull * ++dim_) >> 40) * (1.0f / 16777216.0f); }
+    float next() { return accel::unit_float24(splitmix64(key_ + 0x632BE59BD9B4E019ull * ++dim_)); }
     std::uint32_t dimension() const { return dim_; }
 
 private:

@@ -1,5 +1,6 @@
 #include "perf/scenes.h"
 
+#include "accel/util/splitmix64.h"
 #include "engine/log.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
@@ -16,16 +17,9 @@ using engine::Vec3f;
 
 namespace {
 
-/// splitmix64 stream: the same numbers on every platform (std distributions are not).
-struct Rng {
-    std::uint64_t state;
-    std::uint64_t next() {
-        std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    float u01() { return float(next() >> 40) * 0x1p-24f; }
+/// splitmix64 stream (accel/util/splitmix64.h): the same numbers on every platform (std
+/// distributions are not).
+struct Rng : accel::SplitMix64 {
     float range(float lo, float hi) { return lo + (hi - lo) * u01(); }
 };
 

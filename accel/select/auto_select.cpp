@@ -1,5 +1,6 @@
 #include "accel/select/auto_select.h"
 
+#include "accel/util/splitmix64.h"
 #include "accel/util/timer.h"
 #include "accel/trace.h"
 
@@ -17,13 +18,7 @@ namespace arbor::accel {
 
 namespace {
 
-std::uint64_t mix(std::uint64_t z) {  // splitmix64 finalizer
-    z += 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-float u01(std::uint64_t seed, std::uint64_t i) { return float(mix(seed ^ mix(i)) >> 40) * 0x1p-24f; }
+float u01(std::uint64_t seed, std::uint64_t i) { return unit_float24(splitmix64(seed ^ splitmix64(i))); }
 
 constexpr AccelKind candidates[] = {AccelKind::brute, AccelKind::bvh_median, AccelKind::bvh_sah, AccelKind::lbvh,
                                     AccelKind::kdtree};
