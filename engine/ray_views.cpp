@@ -24,6 +24,18 @@ Vec3f jitter(std::uint64_t seed, std::uint64_t k, float radius) {
     return direction(draw(seed, k), draw(seed, k + 1)) * (radius * draw(seed, k + 2));
 }
 
+/// The share of the surface area whose plane has `eye` and `light` on the same side.
+double lit_share(const accel::TriangleView& tris, Vec3f eye, Vec3f light) {
+    double both = 0.0, all = 0.0;
+    for (std::size_t t = 0; t < tris.triangle_count(); ++t) {
+        const Vec3f a = tris.corner(t, 0), n = simd::cross(tris.corner(t, 1) - a, tris.corner(t, 2) - a);
+        const double area = double(simd::length(n));
+        all += area;
+        if (simd::dot(n, eye - a) * simd::dot(n, light - a) > 0.0f) both += area;
+    }
+    return all > 0.0 ? both / all : 1.0;
+}
+
 }  // namespace
 
 void place_seeded_view(RayGenScene& gen, const Scene& scene, std::uint64_t seed, bool own_camera) {
@@ -44,7 +56,7 @@ void place_seeded_view(RayGenScene& gen, const Scene& scene, std::uint64_t seed,
         }
         return;
     }
-    const Vec3f dir = direction(draw(seed, 0), draw(seed, 1));
+    const Vec3f dir = direction(draw(seed, 0), draw(seed, 1));  // from the centre to the camera
     const float distance = 1.6f + 1.9f * draw(seed, 2);  // in radii
     const float zoom = 0.55f + 0.45f * draw(seed, 3);    // share of the sphere disk's width in view
     Camera c;
@@ -58,7 +70,15 @@ void place_seeded_view(RayGenScene& gen, const Scene& scene, std::uint64_t seed,
     const float aspect = 4.0f / 3.0f;
     c.vfov_degrees = 2.0f * std::atan(half_diag / std::sqrt(1.0f + aspect * aspect)) * 180.0f / std::numbers::pi_v<float>;
     gen.camera = c;
-    gen.light = s.center + direction(draw(seed, 7), draw(seed, 8)) * ((1.5f + 2.5f * draw(seed, 9)) * s.radius);
+    // The light on the camera's side of the centre, drawn again (up to 16 times) while less than
+    // a fifth of the surface area has camera and light on the same side: behind a flat model (the
+    // alligator) it would leave no lit surface in view and no shadow ray to make.
+    for (std::uint64_t k = 0; k < 16; ++k) {
+        Vec3f ldir = direction(draw(seed, 7 + 3 * k), draw(seed, 8 + 3 * k));
+        if (simd::dot(ldir, dir) < 0.0f) ldir = ldir * -1.0f;
+        gen.light = s.center + ldir * ((1.5f + 2.5f * draw(seed, 9 + 3 * k)) * s.radius);
+        if (lit_share(gen.tris, c.eye, gen.light) >= 0.2) break;
+    }
 }
 
 }  // namespace arbor::engine

@@ -16,7 +16,8 @@ namespace arbor::engine {
 ///     bounding sphere at a uniformly random direction (below the model too), 1.6-3.5 radii from
 ///     the centre, aimed within 0.15 radii of the centre, its image covering 55-100% of the width
 ///     of the sphere's disk (near and zoomed views send most rays onto the model); the light sits
-///     at a uniform direction 1.5-4 radii out.
+///     at a uniform direction of the camera's hemisphere, 1.5-4 radii out, drawn again while less
+///     than a fifth of the surface area has camera and light on the same side (flat models).
 ///   - Scenes with their own camera (builtin scenes, `own_camera` true, gen.camera set): that camera
 ///     moved by up to 10% of its distance to its target, the target by up to 5%, and the scene's
 ///     first light moved by up to 10% of the bounds' size, or, when the scene has no point light
