@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # `mpirun -np N arbor render|converge` (spec/cli.md, "Across machines"): the image of N = 1, 2, 3
 # ranks equals the single-process image bit for bit (default scene, Cornell box path traced);
-# rank 0 alone prints and writes; a plain call loads no MPI; a rank that crashes, throws or is
-# killed mid-frame stops the job with one line from rank 0 naming it, a non-zero exit and no
-# output written or overwritten; a rank with another scene file or other settings is refused.
+# rank 0 alone prints and writes; a plain call loads no MPI; a rank that crashes, throws, runs out
+# of memory or is killed mid-frame stops the job with one line naming it, an exit status of
+# 1..127 and no output written or overwritten; a rank with another scene file or other settings is refused.
 # Every mpirun runs under `timeout`. Needs Open MPI's mpirun (the MPI front end is built).
 set -u
 ARBOR=$(realpath "$1")
@@ -99,7 +99,8 @@ timeout 120 "$ARBOR" render --mpi "${small[@]}" -o "$WORK/single-mpi.exr" >"$WOR
   { LD_DEBUG=files "${MPIRUN[@]}" -x LD_DEBUG -np 1 "$ARBOR" render "${small[@]}" -o "$WORK/y.exr" 2>&1 | grep -q "libmpi" \
       || fail "under mpirun libmpi was not loaded"; }
 
-# 5. Faults: one line from rank 0 naming the rank, exit 1..127, no output written or overwritten.
+# 5. Faults: one line naming the rank (from rank 0, or from the guardian of a rank killed by a
+# signal), exit 1..127, no output written or overwritten.
 # expect_stop EXIT_TEST NEEDLE ENV... -- ARGS...: runs 2 ranks (3 with ranks=3) on the Cornell box.
 expect_stop() {
   local want_rc=$1 needle=$2; shift 2
@@ -129,10 +130,16 @@ expect_stop 4 "arbor: rank 1: crashed: SIGSEGV" $idle ARBOR_MPI_TEST_FAULT=1:2:s
 expect_stop 4 "arbor: rank 1: test fault after 3 tiles" $idle ARBOR_MPI_TEST_FAULT=1:3:throw -- "${frame[@]}"
 expect_stop 3 "arbor: rank 1: out of memory" $idle ARBOR_MPI_TEST_FAULT=1:1:oom -- "${frame[@]}"
 expect_stop 4 "arbor: rank 0: crashed: SIGABRT" ARBOR_MPI_TEST_FAULT=0:1:abort -- "${frame[@]}"
-# SIGKILL cannot be caught: mpirun stops the job and exits 128 + 9 (its own choice); rank 0 still
-# names the rank that vanished.
-expect_stop 137 "arbor: rank 1 (pid [0-9]* on .*) died without a word (SIGKILL" $idle ARBOR_MPI_TEST_FAULT=1:3:kill \
+# A rank killed mid-frame: SIGKILL cannot be caught, so the rank's guardian (the process mpirun
+# started) names it and exits 4 (mpirun alone would exit 128 + 9); a SIGTERM from a user, to the
+# rank or to its guardian, is a fault reported by rank 0 with its sender.
+expect_stop 4 "arbor: rank 1 (pid [0-9]* on .*) was killed by SIGKILL" $idle ARBOR_MPI_TEST_FAULT=1:3:kill \
   -- "${frame[@]}"
+expect_stop 4 "arbor: rank 1: stopped by SIGTERM (sent by pid [0-9]*)" $idle ARBOR_MPI_TEST_FAULT=1:3:term \
+  -- "${frame[@]}"
+expect_stop 4 "arbor: rank 1: stopped by SIGTERM (sent by pid [0-9]*)" $idle ARBOR_MPI_TEST_FAULT=1:2:term-guardian \
+  -- "${frame[@]}"
+expect_stop 4 "arbor: rank 0 (pid [0-9]* on .*) was killed by SIGKILL" ARBOR_MPI_TEST_FAULT=0:1:kill -- "${frame[@]}"
 
 # Ranks that disagree: another file with the same name in another folder, another setting, a
 # file missing on one rank.
