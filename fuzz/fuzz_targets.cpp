@@ -27,32 +27,41 @@ std::string describe(const accel::Ray& r, const accel::Hit& ref, const accel::Hi
     return buf;
 }
 
-/// Every structure and path against brute force on `rays`: closest answers agree (rayfile.md),
-/// any-hit answers hit exactly when brute does, with t in [tnear, tfar]; untraceable rays miss.
-void check_structures(const accel::TriangleView& tris, const std::vector<accel::Ray>& rays) {
-    const accel::BruteAccel brute(tris);
-    std::vector<accel::Hit> ref(rays.size()), got(rays.size()), any(rays.size());
+/// Brute force's closest hits on `rays`; untraceable rays must miss.
+std::vector<accel::Hit> brute_answers(const accel::BruteAccel& brute, std::span<const accel::Ray> rays) {
+    std::vector<accel::Hit> ref(rays.size());
     brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
     for (std::size_t i = 0; i < rays.size(); ++i)
         require(accel::ray_is_traceable(rays[i]) || !ref[i].is_hit(), "brute: an untraceable ray hit");
-    static const std::vector<accel::AccelKind> kinds = stress::buildable_kinds();
-    for (accel::AccelKind kind : kinds) {
-        if (kind == accel::AccelKind::brute) continue;
-        const auto a = accel::make_accel(kind, tris);
-        require(a->stats().dropped_nonfinite == brute.stats().dropped_nonfinite,
-                std::string(accel::to_string(kind)) + ": dropped a different number of triangles");
-        for (accel::TracePath path : stress::paths_of(*a)) {
-            a->trace(rays, got, {accel::Query::closest, path});
-            a->trace(rays, any, {accel::Query::any, path});
-            const std::string where = std::string(accel::to_string(kind)) + "/" + std::string(accel::to_string(path));
-            for (std::size_t i = 0; i < rays.size(); ++i) {
-                require(accel::hits_agree(ref[i], got[i]), where + ": closest hit differs from brute on " + describe(rays[i], ref[i], got[i]));
-                require(any[i].is_hit() == ref[i].is_hit(), where + ": any hit differs from brute on " + describe(rays[i], ref[i], any[i]));
-                if (any[i].is_hit())
-                    require(any[i].t >= rays[i].tnear && any[i].t <= rays[i].tfar, where + ": any hit outside [tnear, tfar]");
-            }
+    return ref;
+}
+
+/// check_structure with brute's answers `ref` given.
+void check_paths(const accel::Accel& a, const accel::BruteAccel& brute, std::span<const accel::Ray> rays,
+                 const std::vector<accel::Hit>& ref) {
+    require(a.stats().dropped_nonfinite == brute.stats().dropped_nonfinite,
+            std::string(accel::to_string(a.kind())) + ": dropped a different number of triangles");
+    std::vector<accel::Hit> got(rays.size()), any(rays.size());
+    for (accel::TracePath path : stress::paths_of(a)) {
+        a.trace(rays, got, {accel::Query::closest, path});
+        a.trace(rays, any, {accel::Query::any, path});
+        const std::string where = std::string(accel::to_string(a.kind())) + "/" + std::string(accel::to_string(path));
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            require(accel::hits_agree(ref[i], got[i]), where + ": closest hit differs from brute on " + describe(rays[i], ref[i], got[i]));
+            require(any[i].is_hit() == ref[i].is_hit(), where + ": any hit differs from brute on " + describe(rays[i], ref[i], any[i]));
+            if (any[i].is_hit())
+                require(any[i].t >= rays[i].tnear && any[i].t <= rays[i].tfar, where + ": any hit outside [tnear, tfar]");
         }
     }
+}
+
+/// Every structure and path against brute force on `rays` (check_structure).
+void check_structures(const accel::TriangleView& tris, const std::vector<accel::Ray>& rays) {
+    const accel::BruteAccel brute(tris);
+    const std::vector<accel::Hit> ref = brute_answers(brute, rays);
+    static const std::vector<accel::AccelKind> kinds = stress::buildable_kinds();
+    for (accel::AccelKind kind : kinds)
+        if (kind != accel::AccelKind::brute) check_paths(*accel::make_accel(kind, tris), brute, rays, ref);
 }
 
 /// A few rays into the bounds of a mesh (deterministic), axis-parallel and oblique.
@@ -92,6 +101,11 @@ const engine::Mesh& ray_scene() {
 }
 
 }  // namespace
+
+void check_structure(const accel::Accel& a, const accel::TriangleView& tris, std::span<const accel::Ray> rays) {
+    const accel::BruteAccel brute(tris);
+    check_paths(a, brute, rays, brute_answers(brute, rays));
+}
 
 void fuzz_obj(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

@@ -6,8 +6,11 @@
 /// else is a finding: a crash or sanitizer report, an unexpected exception, or a FuzzFinding thrown
 /// when a result breaks a contract (a loaded mesh with an index out of range, a structure whose
 /// answer differs from brute force, an untraceable ray that hits).
+#include "accel/accel.h"
+
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 
 namespace arbor::fuzz {
@@ -15,6 +18,12 @@ namespace arbor::fuzz {
 struct FuzzFinding : std::logic_error {
     using std::logic_error::logic_error;
 };
+
+/// The contract every target checks a structure by: on every path `a` offers, closest hits agree
+/// with brute force over `tris` (spec/rayfile.md rule), any-hit answers hit exactly when brute's
+/// closest does, with t in [tnear, tfar], untraceable rays miss, and `a` dropped as many non-finite
+/// triangles as brute. Throws FuzzFinding naming the structure, path and ray otherwise.
+void check_structure(const accel::Accel& a, const accel::TriangleView& tris, std::span<const accel::Ray> rays);
 
 /// The OBJ loader (engine::load_obj_text) on `data` as a file's text; a mesh that loads is
 /// checked and, when small, traced by every structure and path against brute force.

@@ -50,4 +50,5 @@ expect_error "--kinds" "$BENCH" --scenes tiny --kinds ambient -q -o "$WORK/x"
 expect_error "--rays" "$BENCH" --rays 0 -o "$WORK/x"
 
 [ $fails -eq 0 ] && echo "bench tests passed"
-exit $fails
+# Not `exit $fails`: exit statuses are taken mod 256, so 256 failures would exit 0.
+[ $fails -eq 0 ] || { echo "$fails failure(s)"; exit 1; }

@@ -9,7 +9,7 @@ ARBOR=$1
 SHARED=$2
 PY=/usr/bin/python3
 BUNNY="$SHARED/models/stanford-bunny.obj"
-if [ ! -f "$BUNNY" ]; then echo "no $BUNNY: nothing to check"; exit 0; fi
+if [ ! -f "$BUNNY" ]; then echo "FAIL: no $BUNNY (this test needs ../shared)"; exit 1; fi
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 for kind in primary random; do

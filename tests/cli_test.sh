@@ -30,6 +30,7 @@ expect_status() {
   [ "$LAST_RC" -eq "$want" ] || fail "$* -> exit $LAST_RC, expected $want"
 }
 
+[ -d "$SHARED/bad" ] || fail "$SHARED/bad not found: the bad-input tests need ../shared"
 if [ -d "$SHARED/bad" ]; then
   for f in "$SHARED"/bad/*.obj; do
     name=$(basename "$f")
@@ -292,4 +293,5 @@ expect_error "--reference" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c3" -
   --reference "$WORK/conv/reference-direct.exr"
 
 [ $fails -eq 0 ] && echo "cli tests passed"
-exit $fails
+# Not `exit $fails`: exit statuses are taken mod 256, so 256 failures would exit 0.
+[ $fails -eq 0 ] || { echo "$fails failure(s)"; exit 1; }

@@ -65,7 +65,7 @@ void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::siz
     std::vector<Ray> sub;
     for (std::size_t i : sample) sub.push_back(rays[i]);
     const auto ref = testing::brute_answers(brute, sub);
-    CHECK(testing::check_paths(kd, rays, sample, ref, chunks.front()) == 3);
+    CHECK(testing::check_paths(kd, mesh.view(), rays, sample, ref, chunks.front()) == 3);
 }
 
 }  // namespace

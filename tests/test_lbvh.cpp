@@ -154,7 +154,6 @@ TEST_CASE("lbvh: agrees with brute on procedural meshes") {
 
 TEST_CASE("lbvh: shared models: invariants, both methods identical, agreement with brute") {
     const auto paths = testing::model_paths();
-    if (paths.empty()) MESSAGE("shared/scenes/models not found: skipped");
     for (const std::string& path : paths) {
         CAPTURE(path);
         engine::Warnings warnings;

@@ -101,11 +101,8 @@ TEST_CASE("memory budget: the build estimate bounds every BVH and brute from abo
     one.add_vertex({0, 0, 0}), one.add_vertex({1, 0, 0}), one.add_vertex({0, 1, 0});
     one.add_triangle(0, 1, 2);
     meshes.push_back(one);
-    const std::string dir = testing::shared_scenes_dir();
-    if (!dir.empty()) {
-        engine::Warnings w;
-        meshes.push_back(engine::load_obj(dir + "/models/spot.obj", w));
-    }
+    engine::Warnings w;
+    meshes.push_back(engine::load_obj(testing::shared_scenes_dir() + "/models/spot.obj", w));
     using accel::AccelKind;
     for (const auto& m : meshes)
         for (AccelKind kind : {AccelKind::brute, AccelKind::bvh_median, AccelKind::bvh_sah, AccelKind::lbvh, AccelKind::kdtree})

@@ -1,6 +1,8 @@
 // Known answers: the white furnace, a plane under a point light (inverse-square cosine law per
 // pixel), a plane under a square area light (form factor), a closed emissive room
 // (L = Le / (1 - albedo)), the 1/sqrt(spp) convergence of the per-pixel error and of the image mean.
+// Each image is rendered with brute force and with bvh-sah on its packet path and on its single-ray
+// path, bit-identical (testing::render_all_paths), so every known answer holds on all three.
 #include "engine/image_metrics.h"
 #include "render_scenes.h"
 
@@ -78,7 +80,7 @@ TEST_CASE("white furnace: albedo 1 gives the environment radiance in every pixel
     const auto s = furnace(1.0f);
     auto set = testing::tiny_settings(IntegratorKind::path, 20, 20, 4);
     engine::RenderStats st;
-    const auto img = testing::render_brute(s, set, 2, &st);
+    const auto img = testing::render_all_paths(s, set, 2, &st);
     for (int c = 0; c < 3; ++c)
         for (float v : img.planes[std::size_t(c)]) REQUIRE(v == doctest::Approx(s.background[c]).epsilon(1e-6));
     CHECK(st.count(engine::RenderRayKind::shadow) == 0);  // no lights, no emitters
@@ -89,7 +91,7 @@ TEST_CASE("white furnace: albedo a gives a x L where every sample hits the spher
     const float a = 0.4f;
     const auto s = furnace(a);
     auto set = testing::tiny_settings(IntegratorKind::path, 20, 20, 4);
-    const auto img = testing::render_brute(s, set);
+    const auto img = testing::render_all_paths(s, set);
     // The pixel at the centre sees only the sphere, the corner only the environment.
     for (int c = 0; c < 3; ++c) {
         CHECK(img.at(c, 10, 10) == doctest::Approx(a * s.background[c]).epsilon(1e-6));
@@ -113,7 +115,7 @@ TEST_CASE("point light over a plane: the inverse-square cosine law, pixel by pix
     auto set = testing::tiny_settings(IntegratorKind::direct, 24, 16, 1);
     set.jitter = false;
     set.layers = engine::Layers{true, true, true};
-    const auto img = testing::render_brute(s, set);
+    const auto img = testing::render_all_paths(s, set);
     engine::Camera cam = s.camera;
     cam.prepare(set.width, set.height);
     const int z = img.channel("Z"), ny = img.channel("N.Y"), ar = img.channel("A.R");
@@ -141,7 +143,7 @@ TEST_CASE("square area light over a plane: the form factor, by direct and by pat
     const auto s = area_light_scene();
     for (IntegratorKind k : {IntegratorKind::direct, IntegratorKind::path}) {
         CAPTURE(engine::to_string(k));
-        const auto img = testing::render_brute(s, testing::tiny_settings(k, 8, 8, 256));
+        const auto img = testing::render_all_paths(s, testing::tiny_settings(k, 8, 8, 256));
         double se = 0;
         const double m = mean_and_stderr(img, se);
         CHECK(se > 0.0);
@@ -159,7 +161,7 @@ TEST_CASE("closed emissive room: L = Le / (1 - a), and the error falls as 1/sqrt
     const int spp[2] = {4, 64};
     for (int i = 0; i < 2; ++i) {
         set.spp = spp[i];
-        const auto img = testing::render_brute(s, set);
+        const auto img = testing::render_all_paths(s, set);
         double se = 0;
         const double m = mean_and_stderr(img, se);
         CAPTURE(spp[i]);
@@ -189,7 +191,7 @@ TEST_CASE("area light over a plane: the error of the image mean falls as 1/sqrt(
         for (int k = 0; k < seeds; ++k) {
             set.seed = std::uint32_t(1000 + k);
             double se = 0;
-            const double err = mean_and_stderr(testing::render_brute(s, set), se) - area_light_expected;
+            const double err = mean_and_stderr(testing::render_all_paths(s, set), se) - area_light_expected;
             sum += err;
             sum2 += err * err;
         }

@@ -73,10 +73,6 @@ TEST_CASE("stress: non-finite and extreme rays over every structure and path") {
 
 TEST_CASE("stress: a closed shared model (spot) from inside never leaks") {
     const std::string dir = testing::shared_scenes_dir();
-    if (dir.empty()) {
-        MESSAGE("shared/scenes not found: skipped");
-        return;
-    }
     engine::Warnings w;
     const engine::Mesh spot = engine::load_obj(dir + "/models/spot.obj", w);
     REQUIRE(is_closed(spot));

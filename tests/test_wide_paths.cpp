@@ -61,7 +61,7 @@ void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::siz
     const auto ref = testing::brute_answers(brute, sub);
     for (const auto& b : testing::all_wide_bvhs(mesh.view(), cfg)) {
         CAPTURE(b.name);
-        CHECK(testing::check_paths(*b.accel, rays, sample, ref, chunk) >= 2);
+        CHECK(testing::check_paths(*b.accel, mesh.view(), rays, sample, ref, chunk) >= 2);
     }
 }
 

@@ -2,6 +2,8 @@
 
 #include "engine/procedural.h"
 
+#include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -10,15 +12,19 @@ namespace arbor::testing {
 
 std::string shared_scenes_dir() {
     const std::string dir = ARBOR_SHARED_SCENES;
-    return std::filesystem::is_directory(dir) ? dir : std::string();
+    // The tests on real models must not pass by skipping them: a missing ../shared is a failure.
+    REQUIRE_MESSAGE(std::filesystem::is_directory(dir), "shared scenes not found at " << dir
+                                                        << " (ARBOR_SHARED_SCENES): the real-model tests need them");
+    return dir;
 }
 
 std::vector<std::string> model_paths() {
     std::vector<std::string> out;
-    const std::string dir = shared_scenes_dir();
-    if (dir.empty()) return out;
-    for (const auto& e : std::filesystem::directory_iterator(dir + "/models"))
+    const std::string dir = shared_scenes_dir() + "/models";
+    REQUIRE_MESSAGE(std::filesystem::is_directory(dir), dir << " not found: the real-model tests need it");
+    for (const auto& e : std::filesystem::directory_iterator(dir))
         if (e.path().extension() == ".obj") out.push_back(e.path().string());
+    REQUIRE_MESSAGE(!out.empty(), "no .obj model in " << dir);
     std::sort(out.begin(), out.end());
     return out;
 }

@@ -13,9 +13,10 @@ using accel::Hit;
 using accel::Ray;
 using accel::Vec3f;
 
-/// Folder of ../shared/scenes (set by CMake); empty when it is not there.
+/// Folder of ../shared/scenes (set by CMake). A test that calls it fails (REQUIRE) when the folder
+/// is not there: tests on the shared files never pass by skipping them.
 std::string shared_scenes_dir();
-/// Paths of shared/scenes/models/*.obj, sorted; empty when the folder is missing.
+/// Paths of shared/scenes/models/*.obj, sorted; fails the calling test when there are none.
 std::vector<std::string> model_paths();
 
 /// Rays from points around the bounds towards random points inside them (mostly hitting).
