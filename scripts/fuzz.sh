@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Fuzzes the OBJ loader and the ray-file readers (libFuzzer, preset fuzz: clang + ASan + UBSan) for
-# SECONDS each (default 60), both at once. Seeds: tests/fuzz/seeds, the committed regressions,
-# ../shared/scenes/bad and the first vertices and faces of ../shared/scenes/models. A finding
-# (crash, sanitizer report, FuzzFinding) is saved under build/fuzz/findings/ and fails the run:
-# commit the input under tests/fuzz/regressions/{obj,rays}/ (the doctest suite replays them all),
-# then fix the bug.
+# Fuzzes the OBJ loader, the mesh loader of every format (PLY, STL, glTF through Assimp) and the
+# ray-file readers (libFuzzer, preset fuzz: clang + ASan + UBSan) for SECONDS each (default 60), all
+# three at once. Seeds: tests/fuzz/seeds, the committed regressions, ../shared/scenes/bad, the first
+# vertices and faces of ../shared/scenes/models, and small PLY/STL/glTF files good and broken
+# (tests/fuzz/seeds/mesh, written by scripts/fuzz_seeds.py mesh). A finding (crash, sanitizer
+# report, FuzzFinding) is saved under build/fuzz/findings/ and fails the run: commit the input under
+# tests/fuzz/regressions/{obj,mesh,rays}/ (the doctest suite replays them all), then fix the bug.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
@@ -15,9 +16,11 @@ cmake --build --preset fuzz -j "$(nproc)"
 
 work=$build/work
 rm -rf "$work" "$build/findings"
-mkdir -p "$work"/{seeds,corpus}-{obj,rays} "$build/findings"
+mkdir -p "$work"/{seeds,corpus}-{obj,mesh,rays} "$build/findings"
 cp tests/fuzz/seeds/obj/* "$work/seeds-obj/"
+cp tests/fuzz/seeds/obj/* tests/fuzz/seeds/mesh/* "$work/seeds-mesh/"
 cp tests/fuzz/regressions/obj/* "$work/seeds-obj/" 2>/dev/null || true
+cp tests/fuzz/regressions/mesh/* "$work/seeds-mesh/" 2>/dev/null || true
 cp tests/fuzz/regressions/rays/* "$work/seeds-rays/" 2>/dev/null || true
 if [ -d "$shared/bad" ]; then cp "$shared"/bad/*.obj "$work/seeds-obj/"; fi
 if [ -d "$shared/models" ]; then python3 scripts/fuzz_seeds.py obj "$work/seeds-obj" "$shared/models"; fi
@@ -31,17 +34,19 @@ run() {
 }
 status=0
 run obj 8192 -dict=tests/fuzz/obj.dict & obj_pid=$!
+run mesh 8192 -dict=tests/fuzz/mesh.dict & mesh_pid=$!
 run rays 2064 & rays_pid=$!
 wait $obj_pid || status=1
+wait $mesh_pid || status=1
 wait $rays_pid || status=1
-for name in obj rays; do
+for name in obj mesh rays; do
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$work/$name.log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -o 'cov: [0-9]*' "$work/$name.log" | tail -1 || echo 'cov: ?')
   echo "fuzz $name: $execs runs in ${seconds}s, $cov, corpus $(ls "$work/corpus-$name" | wc -l) new inputs"
 done
 if [ $status -ne 0 ]; then
-  echo "fuzzing found a problem (logs: $work/obj.log, $work/rays.log)"
-  for name in obj rays; do grep -E "ERROR|FuzzFinding|what\(\)|SUMMARY" "$work/$name.log" | head -5 || true; done
+  echo "fuzzing found a problem (logs: $work/obj.log, $work/mesh.log, $work/rays.log)"
+  for name in obj mesh rays; do grep -E "ERROR|FuzzFinding|what\(\)|SUMMARY" "$work/$name.log" | head -5 || true; done
   for f in "$build"/findings/*; do
     [ -e "$f" ] || continue
     name=$(basename "$f"); name=${name%%-*}

@@ -4,7 +4,7 @@
 #include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 #include "engine/ray_gen.h"
 #include "engine/rayfile.h"
 
@@ -30,7 +30,7 @@ int run_rays(const RaysOptions& o) {
     const auto limit = limit_threads(o.threads);
     const accel::Timer timer;
     engine::Warnings warnings;
-    const engine::Scene scene = engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
+    const engine::Scene scene = engine::scene_from_mesh(engine::load_mesh(o.scene, warnings), o.scene);
     engine::RayGenConfig cfg;
     cfg.kind = *engine::parse_ray_kind(o.kind);
     cfg.order = *engine::parse_pixel_order(o.order);
@@ -70,7 +70,7 @@ int run_rays(const RaysOptions& o) {
 
 Run add_rays(CLI::App& cmd) {
     auto o = std::make_shared<RaysOptions>();
-    cmd.add_option("--scene", o->scene, "OBJ file")->required();
+    cmd.add_option("--scene", o->scene, "mesh file: OBJ, PLY, STL or glTF 2.0")->required();
     cmd.add_option("--kind", o->kind, "primary, shadow, diffuse or random")
         ->check([](const std::string& v) -> std::string {
             return engine::parse_ray_kind(v) ? std::string()

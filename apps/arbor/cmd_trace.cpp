@@ -5,7 +5,7 @@
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "engine/log.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 #include "engine/rayfile.h"
 
 #include <tbb/global_control.h>
@@ -28,7 +28,7 @@ struct TraceOptions {
 int run_trace(const TraceOptions& o) {
     const auto limit = limit_threads(o.threads);
     engine::Warnings warnings;
-    const engine::Mesh mesh = engine::load_obj(o.scene, warnings, o.build.max_memory);
+    const engine::Mesh mesh = engine::load_mesh(o.scene, warnings, o.build.max_memory);
     const std::vector<accel::Ray> rays = engine::read_rays(o.rays, o.build.max_memory);
     // Only the layout the path reads is built: the scalar one for --path scalar, else the SIMD ones.
     auto path = *accel::parse_trace_path(o.path);
@@ -123,7 +123,7 @@ int run_trace(const TraceOptions& o) {
 
 Run add_trace(CLI::App& cmd) {
     auto o = std::make_shared<TraceOptions>();
-    cmd.add_option("--scene", o->scene, "OBJ file")->required();
+    cmd.add_option("--scene", o->scene, "mesh file: OBJ, PLY, STL or glTF 2.0")->required();
     cmd.add_option("--rays", o->rays, ".rays file (spec/rayfile.md)")->required();
     cmd.add_option("--hits", o->hits, "write the answers to this .hits file");
     add_accel_option(cmd, o->accel)->capture_default_str();

@@ -5,7 +5,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/error.h"
 #include "engine/log.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 
 #include <charconv>
 #include <cmath>
@@ -60,7 +60,7 @@ engine::Vec3f parse_vec3(const std::string& option, const std::string& text) {
 }
 
 void add_scene_options(CLI::App& cmd, SceneOptions& o) {
-    cmd.add_option("SCENE", o.scene, "OBJ file, or " + engine::builtin_scene_names() + " (default: builtin:default)");
+    cmd.add_option("SCENE", o.scene, "mesh file (OBJ, PLY, STL, glTF 2.0), or " + engine::builtin_scene_names() + " (default: builtin:default)");
     auto vec3 = [](const char* option) {
         return parse_check(option, [option](const std::string& v) { return parse_vec3(option, v); });
     };
@@ -83,7 +83,7 @@ engine::Scene load_scene(const SceneOptions& o, bool print_warnings) {
         scene = engine::make_builtin_scene(o.scene);
     } else {
         engine::Warnings warnings;
-        scene = engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
+        scene = engine::scene_from_mesh(engine::load_mesh(o.scene, warnings), o.scene);
         if (print_warnings) engine::print_warnings(warnings);
     }
     engine::Camera& cam = scene.camera;
