@@ -148,7 +148,9 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     for (const Built& b : built) {
         if (!b.accel) continue;
         accel::TraceCounters tc;
-        if (b.accel->trace_counted(count_rays, count_hits, in.query == Query::any, tc) && tc.rays > 0)
+        if (!b.accel->offer().counts) continue;
+        b.accel->trace(count_rays, count_hits, {in.query, accel::TracePath::scalar, {}, {}, &tc});
+        if (tc.rays > 0)
             counted[&b] = {double(tc.nodes_visited) / double(tc.rays), double(tc.triangles_tested) / double(tc.rays)};
     }
 
@@ -181,7 +183,7 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
         std::map<accel::TracePath, std::size_t> votes;
         for (std::size_t i = 0; i < nt; i += 1024) {
             const auto chunk = std::span<const Ray>(timed).subspan(i, std::min<std::size_t>(1024, nt - i));
-            ++votes[b.accel->resolve_path(chunk, in.query == Query::any)];
+            ++votes[accel::choose_path(b.accel->offer(), chunk, {in.query}).path];
         }
         best_of[&b] = std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) {
                           return x.second < y.second;

@@ -29,15 +29,16 @@ TEST_CASE("trace counters: brute counts one node and every triangle per traceabl
     rays.push_back({{0, 0, 0}, 0.0f, {0, 0, 0}, INFINITY});  // untraceable: counted as a ray only
     std::vector<accel::Hit> counted(rays.size()), plain(rays.size());
     accel::TraceCounters c;
-    REQUIRE(brute.trace_counted(rays, counted, false, c));
-    brute.intersect(rays, plain, accel::TracePath::scalar);
+    REQUIRE(brute.offer().counts);
+    brute.trace(rays, counted, {accel::Query::closest, accel::TracePath::scalar, {}, {}, &c});
+    brute.trace(rays, plain, {accel::Query::closest, accel::TracePath::scalar});
     CHECK(testing::count_disagreements(counted, plain) == 0);
     CHECK(c.rays == rays.size());
     CHECK(c.nodes_visited == rays.size() - 1);
     CHECK(c.triangles_tested == (rays.size() - 1) * view.triangle_count());
     // Any hit stops at the first hit: fewer tests, never more.
     accel::TraceCounters any;
-    REQUIRE(brute.trace_counted(rays, counted, true, any));
+    brute.trace(rays, counted, {accel::Query::any, accel::TracePath::scalar, {}, {}, &any});
     CHECK(any.triangles_tested < c.triangles_tested);
     CHECK(any.rays == c.rays);
 }
@@ -179,7 +180,7 @@ TEST_CASE("bench: a tiny run validates every row against brute and writes consis
         const auto kind = *accel::parse_accel_kind(std::get<0>(key));
         const auto acc = accel::make_accel(kind, s_view_for_paths());
         for (const auto p : {accel::TracePath::packet, accel::TracePath::single})
-            CHECK(e.second.count(std::string(accel::to_string(p))) == (acc->has_path(p) ? 1u : 0u));
+            CHECK(e.second.count(std::string(accel::to_string(p))) == (acc->offer().has(p) ? 1u : 0u));
     }
     // auto on every (kind, threads, budget), judged against the best (structure, path) row.
     CHECK(r.autos.size() == 4 * 2 * o.budgets.size());

@@ -34,17 +34,6 @@ struct ConvergeCommand {
     accel::BuildConfig build;
 };
 
-std::vector<std::string> split_list(const std::string& s) {
-    std::vector<std::string> out;
-    std::size_t b = 0;
-    while (true) {
-        const std::size_t e = s.find(',', b);
-        out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
-        if (e == std::string::npos) return out;
-        b = e + 1;
-    }
-}
-
 std::string shell_quote(const std::string& s) {
     std::string q = "'";
     for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -80,6 +69,9 @@ int run_converge(ConvergeCommand& o) {
     }
     std::vector<engine::IntegratorKind> integrators;
     for (const std::string& name : split_list(o.integrators)) integrators.push_back(parse_integrator_option(name));
+    for (engine::IntegratorKind k : integrators)
+        if (k == engine::IntegratorKind::cost)
+            throw OptionError("--integrator: cost makes no image to converge (use arbor render --integrator cost)");
     if (o.max_spp < 1) throw OptionError("--max-spp: must be at least 1");
 
     engine::Image given_reference;
@@ -105,11 +97,10 @@ int run_converge(ConvergeCommand& o) {
     std::string csv = "accel,integrator,spp,seconds,rays,rmse,rel_mse,mean,mrays_per_s,build_ms,threads,width,height\n";
     std::printf("%-10s %-8s %6s %10s %12s %12s %12s\n", "accel", "integr.", "spp", "seconds", "rays", "rmse", "rel_mse");
     for (std::size_t a = 0; a < kinds.size(); ++a) {
-        std::string reason;
-        const auto kind = resolve_accel(std::string(accel::to_string(kinds[a])), scene.mesh.view(), &reason);
+        const auto kind = resolve_accel(std::string(accel::to_string(kinds[a])), scene.mesh.view()).kind;
         const accel::Timer build_timer;
         accel::BuildConfig build = o.build;
-        build.layouts = accel::Layouts::simd;  // the renderer traces the SIMD paths only
+        build.layouts = accel::layouts_for(accel::TracePath::best);  // the renderer traces the SIMD paths only
         const auto structure = accel::make_accel(kind, scene.mesh.view(), build);
         const double build_ms = build_timer.ms();
         for (std::size_t i = 0; i < integrators.size(); ++i) {

@@ -4,6 +4,7 @@
 #include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
+#include "apps/arbor/render_cost.h"
 #include "apps/arbor/render_options.h"
 #include "apps/arbor/scene_options.h"
 #include "accel/core/memory_estimate.h"
@@ -46,24 +47,27 @@ void check_render_memory(const RenderCommand& o, const engine::Scene& scene, acc
 
 int run_render(const RenderCommand& o) {
     const auto limit = limit_threads(o.threads);
-    const engine::RenderSettings base = to_settings(o.render, parse_integrator_option(o.render.integrator));
+    const engine::IntegratorKind integrator = parse_integrator_option(o.render.integrator);
+    if (integrator == engine::IntegratorKind::cost)
+        return run_cost_render({o.scene, o.render, o.accel, o.build, o.out, o.no_png, o.verbose, o.quiet});
+    if (o.accel.find(',') != std::string::npos)
+        throw OptionError("--accel: a list of structures needs --integrator cost");
+    const engine::RenderSettings base = to_settings(o.render, integrator);
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
     const engine::Scene scene = load_scene(o.scene);
-    std::string reason;
-    AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
-    hints.budget = double(set.width) * double(set.height) * double(set.spp) *
-                   double(1 + scene.lights.size() + set.depth());
+    accel::AutoWork work;  // about (1 primary + 1 shadow per light + bounces) rays per sample
+    work.budget = double(set.width) * double(set.height) * double(set.spp) *
+                  double(1 + scene.lights.size() + set.depth());
     // The renderer traces the SIMD paths (packets and single rays): the scalar layout is not built.
     accel::BuildConfig build = o.build;
-    build.layouts = accel::Layouts::simd;
-    hints.build = build;
-    const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason, hints);
+    build.layouts = accel::layouts_for(accel::TracePath::best);
+    work.build = build;
+    const accel::AccelPick pick = resolve_accel(o.accel, scene.mesh.view(), work);
+    const auto kind = pick.kind;
     const engine::LightSet lights(scene);
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
-    if (kind != accel::AccelKind::brute)
-        plan.skipped.push_back("the structure's scalar layout (the renderer traces its SIMD paths)");
-    if (const std::string floor = leaf_floor_skipped(kind, build); !floor.empty()) plan.skipped.push_back(floor);
+    for (const std::string& s : accel::skipped_by_build(kind, build)) plan.skipped.push_back("the structure's " + s);
     check_render_memory(o, scene, kind, build, plan);
     const std::string accel_name(accel::to_string(kind));
     std::printf("%s\n", plan.line(accel_name).c_str());
@@ -80,7 +84,7 @@ int run_render(const RenderCommand& o) {
         written += (written.empty() ? "" : ", ") + f;
     std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s -> %s\n",
                 scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
-                reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, set.width,
+                pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms, set.width,
                 set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
                 stats.threads, stats.threads == 1 ? "" : "s", written.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
@@ -95,7 +99,7 @@ Run add_render(CLI::App& cmd) {
     cmd.add_option("-o,--output", o->out, "output image: .exr (all layers, and a PNG preview beside it), .png or .pfm")
         ->check(CLI::Validator([](std::string& v) { return engine::output_problem(v); }, "PATH"))
         ->capture_default_str();
-    add_accel_option(cmd, o->accel)->capture_default_str();
+    add_accel_list_option(cmd, o->accel)->capture_default_str();
     add_build_options(cmd, o->build);
     add_render_options(cmd, o->render, false);
     cmd.add_flag("--no-png", o->no_png, "with .exr output: do not write the PNG preview");

@@ -10,7 +10,7 @@ void add_render_options(CLI::App& cmd, RenderOptions& o, bool converge) {
     cmd.add_option("--height", o.height, "image height")->check(CLI::Range(1, 1 << 15))->capture_default_str();
     if (!converge) {
         cmd.add_option("--spp", o.spp, "samples per pixel (stratified jitter)")->check(CLI::Range(1, 1 << 16))->capture_default_str();
-        cmd.add_option("--integrator", o.integrator, "primary, ao, direct or path")
+        cmd.add_option("--integrator", o.integrator, "primary, ao, direct, path or cost")
             ->check(parse_check("--integrator", parse_integrator_option))
             ->capture_default_str();
     }
