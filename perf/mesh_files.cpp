@@ -137,11 +137,14 @@ std::string obj_text(const engine::Mesh& m) {
     for (std::size_t t = 0; t < m.triangle_count(); ++t) {
         out += "f";
         for (std::size_t k = 3 * t; k < 3 * t + 3; ++k) {
-            out += " " + std::to_string(m.indices[k] + 1);
+            // snprintf rather than string concatenation: GCC 12 warns about the latter (-Wrestrict, bug 105329).
             const bool uv = m.has_uvs() && m.uv_index[k] != engine::no_attribute;
             const bool n = m.has_normals() && m.normal_index[k] != engine::no_attribute;
-            if (uv || n) out += "/" + (uv ? std::to_string(m.uv_index[k] + 1) : std::string());
-            if (n) out += "/" + std::to_string(m.normal_index[k] + 1);
+            std::snprintf(buf, sizeof buf, " %u", m.indices[k] + 1);
+            out += buf;
+            if (uv || n) out += '/';
+            if (uv) std::snprintf(buf, sizeof buf, "%u", m.uv_index[k] + 1), out += buf;
+            if (n) std::snprintf(buf, sizeof buf, "/%u", m.normal_index[k] + 1), out += buf;
         }
         out += "\n";
     }
