@@ -8,6 +8,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <stdexcept>
 
@@ -48,10 +49,15 @@ void store_tile(const TileFilm& film, int spp, const Layers& layers, Image& img)
 
 Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
              const RenderSettings& set, RenderStats* stats) {
+    return render(scene, scene.camera, lights, plan, accel, set, stats);
+}
+
+Image render(const Scene& scene, const Camera& view, const LightSet& lights, const RenderPlan& plan,
+             const accel::Accel& accel, const RenderSettings& set, RenderStats* stats) {
     if (set.width < 1 || set.height < 1 || set.spp < 1 || set.tile < 1)
         throw std::invalid_argument("render: width, height, spp and tile must be positive");
     const accel::Timer timer;
-    Camera camera = scene.camera;
+    Camera camera = view;
     camera.prepare(set.width, set.height);
     const RenderContext ctx(scene, camera, lights, plan, set);
     const auto integrator = make_integrator(plan.integrator);
@@ -64,6 +70,9 @@ Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan,
         Tracer& tracer = tracers.local();
         for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
             for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+                // A render inside a cancelled task group (the viewer's page moved or left) stops at
+                // the next tile: one thread may own a long range of tiles.
+                if (tbb::is_current_task_group_canceling()) return;
                 const Tile tile{tx * set.tile, ty * set.tile, std::min((tx + 1) * set.tile, set.width),
                                 std::min((ty + 1) * set.tile, set.height)};
                 TileFilm film(tile, plan.layers);

@@ -15,5 +15,6 @@ Run add_render(CLI::App& app);
 Run add_rays(CLI::App& app);
 Run add_converge(CLI::App& app);
 Run add_stress(CLI::App& app);
+Run add_view(CLI::App& app);
 
 }  // namespace arbor::app
