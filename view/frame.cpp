@@ -14,24 +14,32 @@ namespace arbor::view {
 
 namespace {
 
-/// The sRGB curve to 8 bits as the PNG preview computes it, by binary search over the 255 linear
-/// values where the output level steps up (worked out once): 8 comparisons instead of a pow per
-/// channel, which cost 20-30 ms per 640 x 480 frame.
+/// The sRGB curve to 8 bits as the PNG preview computes it, without a pow per channel (which cost
+/// 20-30 ms per 640 x 480 frame): the 255 linear values where the output level steps up are worked
+/// out once (bisection on the exact curve); a table over [0, 1] in 4096 buckets gives the level at
+/// the start of v's bucket, and the steps inside the bucket (at most one; none for most buckets)
+/// are checked one by one, so the result is exact.
 class Srgb8 {
 public:
     Srgb8() {
         for (int k = 1; k < 256; ++k) {
-            float lo = 0.0f, hi = 1.0f;  // the smallest v with encode(v) >= k, by bisection on the exact curve
+            float lo = 0.0f, hi = 1.0f;  // the smallest v with encode(v) >= k
             for (int i = 0; i < 40; ++i) {
                 const float mid = 0.5f * (lo + hi);
                 (encode(mid) >= k ? hi : lo) = mid;
             }
             step_[k - 1] = hi;
         }
+        step_[255] = 2.0f;  // no level above 255
+        for (int b = 0; b < buckets; ++b)
+            start_[b] = std::uint8_t(std::upper_bound(step_, step_ + 255, float(b) / float(buckets)) - step_);
     }
     std::uint8_t operator()(float v) const {
         if (!(v > 0.0f)) return 0;  // also NaN
-        return std::uint8_t(std::upper_bound(step_, step_ + 255, v) - step_);
+        if (v >= 1.0f) return 255;
+        int level = start_[int(v * float(buckets))];
+        while (v >= step_[level]) ++level;
+        return std::uint8_t(level);
     }
     static int encode(float v) {
         v = std::min(v, 1.0f);
@@ -40,7 +48,9 @@ public:
     }
 
 private:
-    float step_[255];
+    static constexpr int buckets = 4096;
+    float step_[256];  ///< step_[k]: the smallest value shown as level k + 1
+    std::uint8_t start_[buckets];
 };
 
 const Srgb8 srgb8;
