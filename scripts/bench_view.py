@@ -4,7 +4,8 @@
 For each model and integrator, ROUNDS rounds, interleaved: the viewer (one running server per
 model, a WebSocket client that acknowledges every frame at once, as the page does) refines the
 picture for FRAMES frames after WARMUP frames, and `arbor render` renders the same frame (same size,
-1 spp, same integrator, structure and threads) in a fresh process, REPEAT times. Reported per
+1 spp, same integrator, structure and threads, no extra layers: the viewer computes none) in a
+fresh process, REPEAT times. Reported per
 (model, integrator): the viewer's frames per second (1 / median interval between frames arriving at
 the client), the render's frames per second (1 / median of its "rendered in" seconds: the render
 alone, without loading and building), the overhead per frame (median interval - median render)
@@ -67,7 +68,7 @@ def viewer_round(page, integrator):
 def render_once(model, integrator, out):
     r = subprocess.run([args.arbor, "render", model, "--integrator", integrator, "--accel", args.accel,
                         "--width", str(args.width), "--height", str(args.height), "--spp", "1",
-                        "--threads", str(args.threads), "-q", "--no-png", "-o", out],
+                        "--threads", str(args.threads), "--layers", "none", "-q", "--no-png", "-o", out],
                        capture_output=True, text=True, timeout=600, check=True)
     return 1000 * float(re.search(r"rendered in ([0-9.]+) s", r.stdout).group(1))
 

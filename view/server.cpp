@@ -40,6 +40,10 @@ void refuse_handshake(mg_connection* conn, int status, const char* status_text, 
     mg_write(conn, body.data(), body.size());
 }
 
+/// While mg_start runs on this thread, civetweb's complaints are collected here (for the one-line
+/// error) instead of printed.
+thread_local std::string* start_errors = nullptr;
+
 void log_line(const std::string& s) {
     std::fprintf(stderr, "arbor view: %s\n", s.c_str());
     std::fflush(stderr);
@@ -108,10 +112,15 @@ void Server::start() {
                             nullptr};
     mg_callbacks callbacks{};
     callbacks.log_message = &Server::on_log;
+    std::string errors;
+    start_errors = &errors;
     ctx_ = mg_start(&callbacks, this, config);
+    start_errors = nullptr;
     if (!ctx_) {
         mg_exit_library();
-        throw std::runtime_error("cannot listen on " + ports + " (in use, or not an address of this machine)");
+        const auto cut = errors.find('\n');
+        throw std::runtime_error("cannot listen on " + ports + " (" +
+                                 (errors.empty() ? "in use, or not an address of this machine" : errors.substr(0, cut)) + ")");
     }
     mg_server_port info[4];
     const int n = mg_get_server_ports(ctx_, 4, info);
@@ -136,7 +145,10 @@ void Server::stop() {
 }
 
 int Server::on_log(const mg_connection*, const char* message) {
-    log_line(std::string("civetweb: ") + message);
+    std::string m(message);
+    while (!m.empty() && (m.back() == '\n' || m.back() == '\r')) m.pop_back();
+    if (start_errors) *start_errors += (start_errors->empty() ? "" : "\n") + m;
+    else log_line("civetweb: " + m);
     return 1;
 }
 

@@ -8,6 +8,8 @@
 #include "apps/arbor/scene_options.h"
 #include "view/server.h"
 
+#include <arpa/inet.h>
+
 #include <csignal>
 #include <cstdio>
 #include <pthread.h>
@@ -73,6 +75,12 @@ Run add_view(CLI::App& cmd) {
     cmd.add_option("--listen", o->listen,
                    "address to listen on (numeric; default 127.0.0.1, this machine only; 0.0.0.0 opens the viewer to "
                    "the network)")
+        ->check([](const std::string& v) -> std::string {
+            unsigned char buf[16];
+            const bool v6 = v.find(':') != std::string::npos;
+            if (inet_pton(v6 ? AF_INET6 : AF_INET, v.c_str(), buf) == 1) return {};
+            return "'" + v + "' is not a numeric IPv4 or IPv6 address";
+        })
         ->capture_default_str();
     cmd.add_option("--accel", o->accel, "the structure a page starts with: " + accel::accel_kind_names())
         ->check([](const std::string& v) -> std::string {

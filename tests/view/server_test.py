@@ -14,6 +14,7 @@ Usage: server_test.py ARBOR
 """
 import os
 import signal
+import subprocess
 import sys
 import time
 
@@ -144,6 +145,17 @@ def disconnect_mid_frame(v):
     check(" 1 cancelled" in line, f"the long pass was cancelled: {line}")
 
 
+def command_line(v):
+    """A port in use is a clear one-line error (exit 1); a bad --listen an option error (exit 2)."""
+    for extra, status, needle in [(["--port", str(v.port)], 1, f"cannot listen on 127.0.0.1:{v.port}"),
+                                  (["--listen", "999.1.1.1"], 2, "--listen"), (["--port", "70000"], 2, "--port"),
+                                  (["--accel", "auto"], 2, "--accel")]:
+        r = subprocess.run([ARBOR, "view", *extra], capture_output=True, text=True, timeout=30)
+        lines = r.stderr.strip().splitlines()
+        check(r.returncode == status and len(lines) == 1 and needle in r.stderr and r.stdout == "",
+              f"arbor view {' '.join(extra)} -> exit {r.returncode}, stderr {r.stderr!r}")
+
+
 for sig in (signal.SIGTERM, signal.SIGINT):
     v = Viewer(ARBOR, "--threads", "2")
     try:
@@ -155,6 +167,7 @@ for sig in (signal.SIGTERM, signal.SIGINT):
             origin_checks(v)
             message_checks(v, good)
             two_pages(v)
+            command_line(v)
             disconnect_mid_frame(v)
         status = v.stop(sig)  # with a page still open
         check(status == 0, f"exit status {status} after {sig!r}")
