@@ -10,7 +10,8 @@
 # The source is Debian's own (`apt-get source`, the same version as the installed libtbb-dev, through
 # a private apt list folder: the system's apt configuration is not touched). The headers installed
 # with it are that same version, so arbor compiles against them exactly as against the system's.
-# Skipped when the prefix already holds that version.
+# Skipped when the prefix already holds that version. Only libtbb is built: with libhwloc-dev on the
+# machine (Open MPI brings it) oneTBB would also configure tbbbind, which the install then misses.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=build/tsan-tbb
@@ -41,7 +42,7 @@ fetch || { echo "tsan-tbb: fetching the onetbb source failed, trying once more" 
 src=$(find "$out/src" -mindepth 1 -maxdepth 1 -type d -name 'onetbb-*' | head -1)
 cmake -S "$src" -B "$out/build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_INSTALL_PREFIX="$(pwd)/$prefix" \
   -DCMAKE_INSTALL_LIBDIR=lib -DTBB_SANITIZE=thread -DTBB_TEST=OFF -DTBB_EXAMPLES=OFF -DTBBMALLOC_BUILD=OFF \
-  -DTBB_STRICT=OFF >/dev/null
+  -DTBB_STRICT=OFF -DTBB_DISABLE_HWLOC_AUTOMATIC_SEARCH=ON >/dev/null
 cmake --build "$out/build" -j "$(nproc)" --target tbb >/dev/null
 cmake --install "$out/build" >/dev/null
 echo "$version" >"$prefix/VERSION"

@@ -55,11 +55,11 @@ def main():
         before = b.evaluate(tab, CANVAS_HASH)
 
         # Drag the camera: the picture starts over and changes.
-        frames = b.evaluate(tab, "arborView.frames")
+        frames, pictures = b.evaluate(tab, "[arborView.frames, arborView.pictures]")
         rect = b.evaluate(tab, "(() => { const r = document.getElementById('view').getBoundingClientRect();"
                                " return [r.left + r.width / 2, r.top + r.height / 2]; })()")
         b.drag(tab, rect[0], rect[1], 160, 40)
-        b.wait_for(tab, f"arborView.frames > {frames} && arborView.last.samples <= 2", 20, "a frame after the drag")
+        b.wait_for(tab, f"arborView.pictures > {pictures}", 20, "a new picture after the drag")
         after = b.evaluate(tab, CANVAS_HASH)
         assert after != before, "the picture did not change after the drag"
         b.drag(tab, rect[0], rect[1], -60, 30, shift=True)  # pan
@@ -83,6 +83,9 @@ def main():
         assert b.evaluate(tab2, "arborView.closed") is None, "the second tab was closed"
 
         if args.screenshot:
+            pictures = b.evaluate(tab, "arborView.pictures")
+            b.evaluate(tab, "document.getElementById('reset').click()")  # the scene's own camera again
+            b.wait_for(tab, f"arborView.pictures > {pictures}", 20, "a picture from the reset camera")
             choose(b, tab, "integrator", args.integrator_for_screenshot)
             choose(b, tab, "spp", "16")
             b.wait_for(tab, f"arborView.last.integrator === '{args.integrator_for_screenshot}' && "

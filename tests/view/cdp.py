@@ -19,7 +19,7 @@ FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-
 
 
 class Browser:
-    def __init__(self, executable="/usr/bin/chromium", window=(1100, 760), timeout=30):
+    def __init__(self, executable="/usr/bin/chromium", window=(1100, 800), timeout=30):
         self.profile = tempfile.mkdtemp(prefix="arbor-chromium-")
         self.proc = subprocess.Popen([executable, *FLAGS, f"--user-data-dir={self.profile}",
                                       f"--window-size={window[0]},{window[1]}", "about:blank"],
