@@ -11,7 +11,7 @@ int main() {
     const auto accel = accel::make_accel(accel::AccelKind::brute, sphere.view());
     const accel::Ray ray{{0, 0, 5}, 0.0f, {0, 0, -1}, INFINITY};
     accel::Hit hit;
-    accel->intersect({&ray, 1}, {&hit, 1}, accel::TracePath::best);
+    accel->trace({&ray, 1}, {&hit, 1}, {accel::Query::closest, accel::TracePath::best});
     std::printf("t = %g, prim = %u\n", hit.t, hit.prim);
     return hit.is_hit() && std::fabs(hit.t - 4.0f) < 0.05f ? 0 : 1;
 }
