@@ -45,8 +45,10 @@ public:
     void post(std::function<void()> f);
     /// Wakes the service thread now (e.g. a farm's queue ran low).
     void kick();
-    /// Service thread: calls `then` on the service thread once `request` completes.
-    void watch(MPI_Request request, std::function<void()> then);
+    /// Service thread: calls `then` on the service thread once `request` completes. `urgent`: an
+    /// application thread waits for it (a collective), so the loop keeps its shortest pause (MPI
+    /// progresses nonblocking collectives only inside MPI calls).
+    void watch(MPI_Request request, std::function<void()> then, bool urgent = true);
     /// Service thread: sends `bytes` to `dest` without blocking; the buffer lives until sent.
     void send(int dest, int tag, std::string bytes, std::function<void()> then = {});
     MPI_Comm comm() const { return comm_; }
@@ -61,7 +63,9 @@ public:
 
 private:
     void loop(std::promise<void>& started);
-    bool step();           ///< one turn of the service loop; true when something happened
+    /// One turn of the service loop. Returns 2 when a message arrived or an urgent request is
+    /// pending (keep polling fast), 1 when only local work was done, 0 when idle.
+    int step();
     bool poll_messages();  ///< receives and dispatches every waiting message
     void on_fatal(const MPI_Status& st);
     void check_signals();
@@ -80,6 +84,7 @@ private:
     struct Watched {
         MPI_Request request;
         std::function<void()> then;
+        bool urgent;
     };
     std::vector<Watched> watched_;  ///< service thread only
     std::list<std::string> sending_;  ///< buffers of sends in flight (service thread only)

@@ -91,6 +91,10 @@ ARBOR_MPI_MODULE=$WORK/none.so OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0 "$A
   -o "$WORK/x.exr" >/dev/null 2>"$WORK/err"
 rc=$?
 { [ $rc -ge 1 ] && [ $rc -le 127 ] && grep -q "none.so" "$WORK/err"; } || fail "a launcher variable did not ask for MPI: exit $rc $(cat "$WORK/err")"
+# --mpi joins without a launcher (Open MPI's singleton start): a job of 1 rank.
+timeout 120 "$ARBOR" render --mpi "${small[@]}" -o "$WORK/single-mpi.exr" >"$WORK/out" 2>"$WORK/err" \
+  && grep -q "on 1 rank -> " "$WORK/out" && cmp -s "$WORK/default-single.exr" "$WORK/single-mpi.exr" \
+  || fail "--mpi without mpirun: $(cat "$WORK/out" "$WORK/err")"
 "${MPIRUN[@]}" -np 2 "$ARBOR" render "${small[@]}" -o "$WORK/y.exr" >/dev/null 2>&1 &&
   { LD_DEBUG=files "${MPIRUN[@]}" -x LD_DEBUG -np 1 "$ARBOR" render "${small[@]}" -o "$WORK/y.exr" 2>&1 | grep -q "libmpi" \
       || fail "under mpirun libmpi was not loaded"; }
