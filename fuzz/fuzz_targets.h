@@ -26,5 +26,9 @@ void fuzz_mesh(const std::uint8_t* data, std::size_t size);
 /// The ray- and hit-file readers (engine::parse_rays/parse_hits) on `data` as a file's bytes;
 /// rays that parse are traced through a fixed scene by every structure and path against brute force.
 void fuzz_rays(const std::uint8_t* data, std::size_t size);
+/// The viewer's message parser (view::parse_client_message) on `data` as a WebSocket text message:
+/// a message that parses must hold values the server can use (finite camera with a view direction,
+/// settings within the limits); a refused one must say why.
+void fuzz_view_message(const std::uint8_t* data, std::size_t size);
 
 }  // namespace arbor::fuzz

@@ -65,6 +65,13 @@ TEST_CASE("fuzz regressions: ray and hit files that once failed are read or refu
     replay(regressions, arbor::fuzz::fuzz_rays);
 }
 
+TEST_CASE("fuzz regressions: the viewer's message seeds and regressions parse or are refused cleanly") {
+    const auto seeds = files_in(fuzz_dir + "/seeds/view");
+    CHECK(seeds.size() >= 4);
+    replay(seeds, arbor::fuzz::fuzz_view_message);
+    replay(files_in(fuzz_dir + "/regressions/view"), arbor::fuzz::fuzz_view_message);
+}
+
 TEST_CASE("fuzz targets: a broken contract is reported, not swallowed") {
     // A ray file whose only ray is valid: no finding. The targets themselves must be able to fail:
     // a loaded OBJ is checked (here: fine), and a FuzzFinding is a logic_error, not an InputError.
