@@ -251,4 +251,20 @@ TEST_CASE("best path: packets for rays that start together (one octant or not), 
     CHECK(accel::path_reason(c).find("start together") != std::string::npos);
     CHECK(accel::choose_path(acc->offer(), testing::camera_rays(b, 64, 16), {}).path == accel::TracePath::packet);
     CHECK(accel::choose_path(acc->offer(), testing::random_rays_inside(b, 1024, 5), {}).path == accel::TracePath::single);
+    // Shadow rays from scattered points towards one light beyond the bounds (one octant): packets
+    // for the any-hit query, single rays for the same rays as closest-hit; any-hit rays in all
+    // octants stay single.
+    std::vector<Ray> shadow;
+    const Vec3f light = b.hi + ext;
+    for (int i = 0; i < 1024; ++i) {
+        const Vec3f o{b.lo.x + u(rng) * ext.x, b.lo.y + u(rng) * ext.y, b.lo.z + u(rng) * ext.z};
+        shadow.push_back({o, 0.0f, light - o, 0.9999f});
+    }
+    accel::TraceRequest any;
+    any.query = accel::Query::any;
+    const accel::PathChoice sc = accel::choose_path(acc->offer(), shadow, any);
+    CHECK(sc.path == accel::TracePath::packet);
+    CHECK(accel::path_reason(sc).find("any-hit") != std::string::npos);
+    CHECK(accel::choose_path(acc->offer(), shadow, {}).path == accel::TracePath::single);
+    CHECK(accel::choose_path(acc->offer(), testing::random_rays_inside(b, 1024, 5), any).path == accel::TracePath::single);
 }

@@ -41,6 +41,8 @@ struct PathChoice {
     std::uint32_t group = 0;
     double coherent = 0.0, together = 0.0;
     bool one_octant = false;
+    /// Any-hit queries that would go single: the fraction of groups in one octant, origins anywhere.
+    double octant_only = 0.0;
 };
 
 /// The path for `rays` on a structure offering `offer`, asked as `req` (query, path, hint,
