@@ -1,7 +1,9 @@
 #pragma once
 /// The Accel interface: one virtual call per batch of rays, static dispatch inside.
+#include "accel/all_hits.h"
 #include "accel/build_config.h"
 #include "accel/build_stats.h"
+#include "accel/closest_point.h"
 #include "accel/geometry.h"
 
 #include <cstdint>
@@ -65,6 +67,17 @@ public:
     virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const = 0;
     /// Any hit in [tnear, tfar] for each ray: t and prim of some hit, or the miss record.
     virtual void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const = 0;
+
+    /// All hits: every triangle each ray crosses in its whole [tnear, tfar] (never shortened), each
+    /// triangle once, sorted by (t, prim), handed to sink.take(i, ...) ray by ray (all_hits.h).
+    /// With the watertight test, a ray crossing a closed mesh away from its edges and vertices gets
+    /// every crossing exactly once. Single-threaded; call from many threads on disjoint spans.
+    /// Untraceable rays get an empty list.
+    virtual void trace_all(std::span<const Ray> rays, HitSink& sink) const = 0;
+    /// Closest point: for each point, the nearest point of the scene within max_distance
+    /// (closest_point.h; every structure returns the record brute force returns). Non-finite points
+    /// and a negative max_distance get the miss record. Single-threaded, as above.
+    virtual void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const = 0;
 
     /// Statistics mode: the same answers as intersect (any_hit = false) or occluded (true) on the
     /// scalar path, while adding what the traversal did to `counters`. Returns false, leaving

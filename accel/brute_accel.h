@@ -15,6 +15,10 @@ public:
     const BuildStats& stats() const override { return stats_; }
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    /// Every triangle tested, every hit kept.
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
+    /// Every triangle's exact distance.
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
     /// One node (the whole list) per traceable ray; every triangle tested until the answer.
     bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
                        TraceCounters& counters) const override;

@@ -1,5 +1,6 @@
 #include "accel/bvh_accel.h"
 
+#include "accel/bvh2_queries.h"
 #include "accel/bvh2_traverse.h"
 #include "accel/coherence.h"
 #include "accel/timer.h"
@@ -149,6 +150,34 @@ void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePat
     if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, true);
     if (path == TracePath::scalar) trace_batch<true>(rays, hits);
     else wide_->trace(rays, hits, path, true);
+}
+
+void BvhAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
+    if (wide_) {
+        wide_->trace_all(rays, sink);
+        return;
+    }
+    std::vector<Bvh2StackEntry> stack(bvh2_stack_size(layout_));
+    std::vector<Hit> hits;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits.clear();
+        if (ray_is_traceable(rays[i])) all_hits_bvh2(layout_, rays[i], stack, hits);
+        sort_unique_hits(hits);
+        sink.take(i, hits);
+    }
+}
+
+void BvhAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
+    if (wide_) {
+        wide_->closest_points(points, max_distance, out);
+        return;
+    }
+    std::vector<Bvh2StackEntry> stack;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        PointSearch s(points[i], max_distance);
+        closest_point_bvh2(layout_, s, stack);
+        out[i] = s.result();
+    }
 }
 
 bool BvhAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceCounters& counters) const {

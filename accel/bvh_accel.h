@@ -31,6 +31,9 @@ public:
     const BuildStats& stats() const override { return stats_; }
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    /// On the SIMD layout when it was built, else on the scalar one (wide_queries.h, bvh2_queries.h).
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
     bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
                        TraceCounters& counters) const override;
 

@@ -1,10 +1,10 @@
 #include "accel/kdtree_accel.h"
 
 #include "accel/kdtree_build.h"
+#include "accel/kdtree_queries.h"
 #include "accel/kdtree_traverse.h"
 #include "accel/timer.h"
 #include "simd/tri_test.h"
-
 
 namespace arbor::accel {
 
@@ -92,6 +92,24 @@ void KdTreeAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, Trace
     if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, true);
     if (path != TracePath::scalar) return simd_->trace(tree_, rays, hits, path, true);
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<true>(rays[i]);
+}
+
+void KdTreeAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
+    std::vector<Hit> hits;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits.clear();
+        all_hits_kdtree(tree_, rays[i], hits);
+        sort_unique_hits(hits);
+        sink.take(i, hits);
+    }
+}
+
+void KdTreeAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        PointSearch s(points[i], max_distance);
+        closest_point_kdtree(tree_, s);
+        out[i] = s.result();
+    }
 }
 
 }  // namespace arbor::accel

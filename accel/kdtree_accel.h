@@ -23,6 +23,10 @@ public:
     TracePath resolve_path(std::span<const Ray> rays, bool any_hit, std::string* reason = nullptr) const override;
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
     void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    /// The rope walk with every hit kept (kdtree_queries.h).
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
+    /// Depth-first over the cells, the nearer first (kdtree_queries.h).
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
 
     bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
                        TraceCounters& counters) const override;

@@ -26,6 +26,9 @@ public:
     /// else is traced as single). Single-threaded; call from many threads on disjoint spans.
     /// Untraceable rays (ray_is_traceable) miss.
     virtual void trace(std::span<const Ray> rays, std::span<Hit> hits, TracePath path, bool any_hit) const = 0;
+    /// Accel::trace_all and Accel::closest_points on this layout (wide_queries.h).
+    virtual void trace_all(std::span<const Ray> rays, HitSink& sink) const = 0;
+    virtual void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const = 0;
 };
 
 /// The width used when none is asked for: the measured best of this build (perf/results/wide-*.md).
