@@ -1,11 +1,11 @@
 #include "accel/accel.h"
 
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
-#include "accel/bvh_build.h"
-#include "accel/lbvh_build.h"
-#include "accel/memory_estimate.h"
-#include "accel/kdtree_accel.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
+#include "accel/bvh/bvh_build.h"
+#include "accel/lbvh/lbvh_build.h"
+#include "accel/core/memory_estimate.h"
+#include "accel/kdtree/kdtree_accel.h"
 
 #include <array>
 #include <stdexcept>

@@ -1,10 +1,10 @@
 #pragma once
 /// The Accel interface: one virtual call per batch of rays, static dispatch inside.
-#include "accel/all_hits.h"
-#include "accel/build_config.h"
-#include "accel/build_stats.h"
-#include "accel/closest_point.h"
-#include "accel/geometry.h"
+#include "accel/core/all_hits.h"
+#include "accel/core/build_config.h"
+#include "accel/core/build_stats.h"
+#include "accel/core/closest_point.h"
+#include "accel/core/geometry.h"
 
 #include <cstdint>
 #include <memory>

@@ -1,9 +1,9 @@
 /// arbor::Scene: its meshes, loading, building (auto resolved here), and the error boundary.
 #include "api/scene_impl.h"
 
-#include "accel/auto_select.h"
-#include "accel/kernel_set.h"
-#include "accel/memory_estimate.h"
+#include "accel/select/auto_select.h"
+#include "accel/core/kernel_set.h"
+#include "accel/core/memory_estimate.h"
 #include "engine/error.h"
 #include "engine/obj_loader.h"
 #include "engine/rayfile.h"

@@ -1,6 +1,6 @@
 #pragma once
 /// Pinhole camera. Pixel (x, y) with y = 0 at the top; sub-pixel offsets in [0, 1).
-#include "accel/geometry.h"
+#include "accel/core/geometry.h"
 
 namespace arbor::engine {
 

@@ -2,9 +2,9 @@
 /// The geometry of a ray's hit that the renderer and the ray generator start new rays from: the hit
 /// point, the unit geometric normal turned to face the incoming ray, and the triangle's scale for
 /// accel::offset_ray_origin.
-#include "accel/geometry.h"
-#include "accel/offset_ray.h"
-#include "accel/ray.h"
+#include "accel/core/geometry.h"
+#include "accel/core/offset_ray.h"
+#include "accel/core/ray.h"
 
 #include <cmath>
 

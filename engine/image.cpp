@@ -78,16 +78,17 @@ std::uint8_t to_srgb8(float v) {
 }
 }  // namespace
 
-void write_png_preview(const std::string& path, const Image& img) {
+void write_png_preview(const std::string& path, const Image& img, float exposure_ev) {
+    const float gain = std::exp2(exposure_ev);
     const int r = img.channel("R"), g = img.channel("G"), b = img.channel("B");
     if (r < 0 || g < 0 || b < 0) throw InputError(path, 0, "image has no R, G, B channels");
     std::vector<std::uint8_t> rgb(std::size_t(img.width) * std::size_t(img.height) * 3);
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
             const std::size_t i = (std::size_t(y) * std::size_t(img.width) + std::size_t(x)) * 3;
-            rgb[i + 0] = to_srgb8(img.at(r, x, y));
-            rgb[i + 1] = to_srgb8(img.at(g, x, y));
-            rgb[i + 2] = to_srgb8(img.at(b, x, y));
+            rgb[i + 0] = to_srgb8(gain * img.at(r, x, y));
+            rgb[i + 1] = to_srgb8(gain * img.at(g, x, y));
+            rgb[i + 2] = to_srgb8(gain * img.at(b, x, y));
         }
     AtomicFile out(path);
     png_image image{};

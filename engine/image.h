@@ -26,7 +26,7 @@ struct Image {
 void write_exr(const std::string& path, const Image& img);
 /// Reads the channels of an EXR file written by write_exr (or any float/half EXR).
 Image read_exr(const std::string& path);
-/// Tone-maps channels R, G, B (exposure 1, clamp, sRGB curve) into an 8-bit RGB PNG.
-void write_png_preview(const std::string& path, const Image& img);
+/// Tone-maps channels R, G, B (radiance x 2^exposure_ev, clamp, sRGB curve) into an 8-bit RGB PNG.
+void write_png_preview(const std::string& path, const Image& img, float exposure_ev = 0.0f);
 
 }  // namespace arbor::engine

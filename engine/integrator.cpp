@@ -2,7 +2,7 @@
 
 #include "engine/hit_geometry.h"
 
-#include "accel/offset_ray.h"
+#include "accel/core/offset_ray.h"
 
 #include <algorithm>
 #include <numbers>
@@ -117,6 +117,7 @@ std::unique_ptr<Integrator> make_integrator(IntegratorKind kind) {
     case IntegratorKind::ao: return make_ao_integrator();
     case IntegratorKind::direct: return make_direct_integrator();
     case IntegratorKind::path: return make_path_integrator();
+    case IntegratorKind::cost: return make_cost_integrator();
     }
     return nullptr;
 }

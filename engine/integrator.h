@@ -117,6 +117,8 @@ std::unique_ptr<Integrator> make_primary_integrator();
 std::unique_ptr<Integrator> make_ao_integrator();
 std::unique_ptr<Integrator> make_direct_integrator();
 std::unique_ptr<Integrator> make_path_integrator();
+/// Nodes visited and triangles tested per camera ray, in the film's first two colour sums.
+std::unique_ptr<Integrator> make_cost_integrator();
 std::unique_ptr<Integrator> make_integrator(IntegratorKind kind);
 
 }  // namespace arbor::engine

@@ -3,7 +3,7 @@
 /// Misses (the open sky) count as unoccluded: 1.
 #include "engine/integrator.h"
 
-#include "accel/offset_ray.h"
+#include "accel/core/offset_ray.h"
 
 namespace arbor::engine {
 

@@ -4,7 +4,7 @@
 /// material with both a diffuse and a mirror lobe gets both.
 #include "engine/integrator.h"
 
-#include "accel/offset_ray.h"
+#include "accel/core/offset_ray.h"
 
 namespace arbor::engine {
 

@@ -7,7 +7,7 @@
 /// Misses see the background (an environment that is never sampled directly, so always counted).
 #include "engine/integrator.h"
 
-#include "accel/offset_ray.h"
+#include "accel/core/offset_ray.h"
 
 namespace arbor::engine {
 

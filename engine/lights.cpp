@@ -1,6 +1,6 @@
 #include "engine/lights.h"
 
-#include "accel/offset_ray.h"
+#include "accel/core/offset_ray.h"
 
 #include "engine/sampling.h"
 

@@ -1,6 +1,6 @@
 #pragma once
 /// Mesh: owned triangle data in structure-of-arrays form, the engine side of accel::TriangleView.
-#include "accel/geometry.h"
+#include "accel/core/geometry.h"
 
 #include <string>
 #include <vector>

@@ -35,7 +35,8 @@ RenderPlan make_plan(const Scene& scene, const LightSet& lights, const RenderSet
     p.integrator = set.integrator;
     p.spp = set.spp;
     p.depth = set.depth();
-    p.layers = set.resolved_layers();
+    const bool cost = set.integrator == IntegratorKind::cost;
+    p.layers = cost ? Layers{} : set.resolved_layers();
     auto skip = [&](const std::string& what, const std::string& why) { p.skipped.push_back(what + " (" + why + ")"); };
     const bool lit = set.integrator == IntegratorKind::direct || set.integrator == IntegratorKind::path;
 
@@ -72,16 +73,18 @@ RenderPlan make_plan(const Scene& scene, const LightSet& lights, const RenderSet
             else p.diffuse = true;
         }
     }
-    p.background = t.background && set.integrator != IntegratorKind::ao;
-    if (!t.background && set.integrator != IntegratorKind::ao) skip("background radiance", "the background is black");
+    const bool shaded = set.integrator != IntegratorKind::ao && !cost;
+    p.background = t.background && shaded;
+    if (!t.background && shaded) skip("background radiance", "the background is black");
+    if (cost) skip("shading, background and layers Z, N, A", "the cost integrator writes the layers nodes and tris only");
     p.position = p.shadows() || p.mirror || p.diffuse || p.ao;
     if (!p.position) skip("hit positions", "no secondary ray starts at a hit");
-    const bool wants_material = set.integrator != IntegratorKind::ao || p.layers.albedo;
+    const bool wants_material = shaded || p.layers.albedo;
     p.material = wants_material && !t.single_material;
     if (wants_material && t.single_material) skip("per-hit material lookup", "every triangle uses one material");
-    if (!p.layers.depth) skip("depth layer Z", "not requested");
-    if (!p.layers.normal) skip("normal layer N", "not requested");
-    if (!p.layers.albedo) skip("albedo layer A", "not requested");
+    if (!p.layers.depth && !cost) skip("depth layer Z", "not requested");
+    if (!p.layers.normal && !cost) skip("normal layer N", "not requested");
+    if (!p.layers.albedo && !cost) skip("albedo layer A", "not requested");
     skip("vertex normals and texture coordinates", "flat shading and no textures: never read");
     return p;
 }
@@ -95,6 +98,10 @@ std::string RenderPlan::line(const std::string& accel) const {
     if (mirror) s += ", mirror";
     if (diffuse) s += ", diffuse(RR)";
     if (ao) s += ", ao(" + std::to_string(ao_samples) + ")";
+    if (integrator == IntegratorKind::cost) {
+        s += "; per ray: nodes visited, triangles tested (statistics mode); layers: nodes tris";
+        return s + "; " + std::to_string(skipped.size()) + " items skipped";
+    }
     s += "; per hit:";
     s += position ? " position" : "";
     s += " normal";

@@ -1,7 +1,7 @@
 #pragma once
 /// A progress bar with the time left, drawn on stderr only when stderr is a terminal. Safe to
 /// tick from many threads: one thread draws at a time, at most every 0.1 s; the others only count.
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 
 #include <atomic>
 #include <mutex>

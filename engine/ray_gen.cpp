@@ -1,6 +1,6 @@
 #include "engine/ray_gen.h"
 
-#include "accel/offset_ray.h"
+#include "accel/core/offset_ray.h"
 #include "accel/trace.h"
 #include "engine/error.h"
 #include "engine/hit_geometry.h"

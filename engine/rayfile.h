@@ -1,6 +1,6 @@
 #pragma once
 /// .rays / .hits files of ../shared/spec/rayfile.md (little-endian, 16-byte header, fixed records).
-#include "accel/ray.h"
+#include "accel/core/ray.h"
 
 #include <cstdint>
 #include <span>

@@ -5,7 +5,7 @@
 namespace arbor::engine {
 
 namespace {
-constexpr std::array<std::string_view, 4> integrator_name{"primary", "ao", "direct", "path"};
+constexpr std::array<std::string_view, 5> integrator_name{"primary", "ao", "direct", "path", "cost"};
 constexpr std::array<std::string_view, render_ray_kind_count> ray_kind_name{"primary", "shadow", "mirror", "diffuse", "ao"};
 }  // namespace
 

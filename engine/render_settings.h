@@ -10,12 +10,13 @@ namespace arbor::engine {
 
 /// primary: first hits only (colour = albedo x |cos|, plus depth/normal/albedo layers);
 /// ao: ambient occlusion; direct: point and area lights with shadow rays, mirror bounces to a
-/// depth (Whitted style); path: diffuse global illumination with next-event estimation.
-enum class IntegratorKind { primary, ao, direct, path };
+/// depth (Whitted style); path: diffuse global illumination with next-event estimation; cost: what
+/// each camera ray costs the structure (nodes visited, triangles tested: layers nodes and tris).
+enum class IntegratorKind { primary, ao, direct, path, cost };
 
 std::string_view to_string(IntegratorKind k);
 std::optional<IntegratorKind> parse_integrator(std::string_view s);
-/// "primary, ao, direct, path", for messages.
+/// "primary, ao, direct, path, cost", for messages.
 std::string integrator_names();
 
 /// Extra image layers beside R, G, B (from the first hit of each sample).
@@ -46,7 +47,7 @@ struct RenderSettings {
     Layers resolved_layers() const {
         if (layers) return *layers;
         const bool primary = integrator == IntegratorKind::primary;
-        return {primary, primary, primary};
+        return {primary, primary, primary};  // none for cost: its layers are nodes and tris
     }
 };
 

@@ -1,6 +1,6 @@
 #include "engine/renderer.h"
 
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "engine/integrator.h"
 #include "engine/progress.h"
 
@@ -21,6 +21,11 @@ std::vector<std::string> channel_names(const Layers& layers) {
     return n;
 }
 
+std::vector<std::string> channel_names(const RenderPlan& plan) {
+    if (plan.integrator == IntegratorKind::cost) return {"nodes", "tris"};
+    return channel_names(plan.layers);
+}
+
 namespace {
 
 /// Writes the averages of a finished tile into the image.
@@ -28,10 +33,11 @@ void store_tile(const TileFilm& film, int spp, const Layers& layers, Image& img)
     const float inv = 1.0f / float(spp);
     const Tile& t = film.tile;
     const int z = img.channel("Z"), nx = img.channel("N.X"), ar = img.channel("A.R");
+    const int colour = img.channel("R") == 0 ? 3 : 2;  // R, G, B; or the cost integrator's nodes, tris
     for (int y = t.y0; y < t.y1; ++y)
         for (int x = t.x0; x < t.x1; ++x) {
             const std::size_t i = std::size_t((y - t.y0) * t.width() + (x - t.x0));
-            for (int c = 0; c < 3; ++c) img.at(c, x, y) = film.color[i][c] * inv;
+            for (int c = 0; c < colour; ++c) img.at(c, x, y) = film.color[i][c] * inv;
             if (layers.depth) img.at(z, x, y) = film.depth[i];
             for (int c = 0; layers.normal && c < 3; ++c) img.at(nx + c, x, y) = film.normal[i][c] * inv;
             for (int c = 0; layers.albedo && c < 3; ++c) img.at(ar + c, x, y) = film.albedo[i][c] * inv;
@@ -49,7 +55,7 @@ Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan,
     camera.prepare(set.width, set.height);
     const RenderContext ctx(scene, camera, lights, plan, set);
     const auto integrator = make_integrator(plan.integrator);
-    Image img(set.width, set.height, channel_names(plan.layers));
+    Image img(set.width, set.height, channel_names(plan));
 
     const int tiles_x = (set.width + set.tile - 1) / set.tile, tiles_y = (set.height + set.tile - 1) / set.tile;
     Progress progress("rendering", long(tiles_x) * tiles_y, set.progress);

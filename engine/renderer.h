@@ -15,7 +15,7 @@ namespace arbor::engine {
 
 /// Renders `scene` with `accel` (built over scene.mesh) following `plan` (from make_plan with the
 /// same settings). The image has channels R, G, B, then Z, N.X N.Y N.Z, A.R A.G A.B as the plan's
-/// layers say. `stats` (optional) receives the rays traced per kind and the times.
+/// layers say (cost integrator: nodes, tris). `stats` (optional) receives the rays traced per kind and the times.
 Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
              const RenderSettings& settings, RenderStats* stats = nullptr);
 
@@ -25,5 +25,8 @@ Image render(const Scene& scene, const accel::Accel& accel, const RenderSettings
 
 /// The channel names of an image rendered with `layers`.
 std::vector<std::string> channel_names(const Layers& layers);
+/// The channel names of an image rendered with `plan`: those above, or `nodes` and `tris` (per-pixel
+/// means over the samples) for the cost integrator.
+std::vector<std::string> channel_names(const RenderPlan& plan);
 
 }  // namespace arbor::engine

@@ -2,7 +2,7 @@
 /// Sampling helpers of the renderer: per-(pixel, sample, dimension) random streams, stratified
 /// sub-pixel positions, and the warps from [0,1)^2 to directions and triangle points.
 /// Everything here is a pure function of its arguments, so images do not depend on threads.
-#include "accel/ray.h"
+#include "accel/core/ray.h"
 
 #include <cstdint>
 #include <numbers>

@@ -4,7 +4,7 @@
 /// the trace path for the kind (packets for coherent kinds, single-ray SIMD for incoherent ones,
 /// when the structure has them), and counts rays and time per kind. One Tracer per thread.
 #include "accel/accel.h"
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "engine/render_settings.h"
 
 #include <span>
@@ -38,6 +38,18 @@ public:
         const accel::Timer t;
         accel_.occluded(rays, hits, trace_path_for(accel_, k));
         add(k, rays.size(), t.seconds());
+    }
+
+    /// Statistics mode (accel.h, TraceCounters): the closest hit of each ray on the structure's
+    /// counting loop, and what that ray alone cost it in `per_ray`. Neither counted nor timed as a
+    /// ray kind (the cost integrator times the same rays on the normal path). False when the
+    /// structure cannot count (a BVH built without its scalar layout).
+    bool counted(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, std::span<accel::TraceCounters> per_ray) {
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            per_ray[i] = {};
+            if (!accel_.trace_counted(rays.subspan(i, 1), hits.subspan(i, 1), false, per_ray[i])) return false;
+        }
+        return true;
     }
 
     std::array<std::uint64_t, render_ray_kind_count> counts{};  ///< rays traced per kind

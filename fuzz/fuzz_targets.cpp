@@ -1,6 +1,6 @@
 #include "fuzz/fuzz_targets.h"
 
-#include "accel/brute_accel.h"
+#include "accel/brute/brute_accel.h"
 #include "engine/error.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"

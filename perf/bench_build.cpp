@@ -1,6 +1,6 @@
 #include "perf/bench_build.h"
 
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "engine/error.h"
 
 #include <tbb/global_control.h>

@@ -7,10 +7,10 @@
 // RTC_BUILD_QUALITY_MEDIUM, when the peer is built) are run interleaved (A B C A B C ...) so that
 // machine noise hits them alike; ratios to Embree are medians of the per-round ratios.
 #include "accel/accel.h"
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
-#include "accel/bvh_build.h"
-#include "accel/timer.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
+#include "accel/bvh/bvh_build.h"
+#include "accel/util/timer.h"
 #include "accel/trace.h"
 #include "engine/obj_loader.h"
 #include "engine/ray_gen.h"

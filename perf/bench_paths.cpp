@@ -15,9 +15,9 @@
 // scripts/bench_vs_embree.sh). Shadow rays are any-hit queries, the others closest hit; Embree
 // gets the coherent flag for primary and shadow rays, as in arbor_bench.
 #include "accel/accel.h"
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
-#include "accel/timer.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
+#include "accel/util/timer.h"
 #include "accel/trace.h"
 #include "engine/error.h"
 #include "engine/obj_loader.h"

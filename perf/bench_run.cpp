@@ -1,8 +1,8 @@
 #include "perf/bench_run.h"
 
-#include "accel/auto_select.h"
-#include "accel/brute_accel.h"
-#include "accel/timer.h"
+#include "accel/select/auto_select.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/util/timer.h"
 #include "engine/error.h"
 #include "engine/ray_gen.h"
 #include "perf/bench_build.h"

@@ -1,6 +1,6 @@
 #include "perf/embree_peer.h"
 
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>

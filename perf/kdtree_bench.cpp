@@ -4,10 +4,10 @@
 //
 //   kdtree_bench [--model FILE] [--replicate N] [--repeat R] [--threads T] [--rays N] [--validate N]
 //                [--build-only] [--no-embree] [--compare-bvh] [--no-perfect-splits] [--kt K_T] [--exact-below N]
-#include "accel/brute_accel.h"
-#include "accel/kdtree_accel.h"
-#include "accel/kdtree_build.h"
-#include "accel/timer.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/kdtree/kdtree_accel.h"
+#include "accel/kdtree/kdtree_build.h"
+#include "accel/util/timer.h"
 #include "accel/trace.h"
 #include "engine/obj_loader.h"
 

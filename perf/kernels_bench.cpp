@@ -5,7 +5,7 @@
 // The counters are the CPU time per single ray-box or ray-triangle test ("per_test") and per kernel
 // call ("per_call": one call tests lanes<T> boxes/triangles, or a packet of lanes<T> rays).
 // How to run: perf/README.md.
-#include "accel/ray.h"
+#include "accel/core/ray.h"
 #include "simd/box_kernels.h"
 #include "simd/lane_order.h"
 #include "simd/packet_bounds.h"

@@ -4,6 +4,7 @@
 /// rays and hits. T = float is a one-ray packet: the scalar instantiation every kernel is checked
 /// against, lane by lane.
 #include "simd/box_test.h"
+#include "simd/ray.h"
 #include "simd/tri_test.h"
 
 #include <algorithm>
@@ -21,18 +22,6 @@ template <class T> struct WoopLanes {
     bool uniform = true;  ///< every active lane has the permutation (kx, ky, kz) below
     int kx = 0, ky = 1, kz = 2;
 };
-
-/// The rule of accel::ray_is_traceable per lane: finite origin and direction, a non-zero direction
-/// (some component at least FLT_MIN), tnear <= tfar (false when either is NaN).
-template <class T> inline Mask<T> traceable(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar) {
-    const auto finite = [](const T& x) {
-        if constexpr (std::is_same_v<T, float>) return bool(std::isfinite(x));
-        else return xsimd::isfinite(x);
-    };
-    const T min_normal(std::numeric_limits<float>::min());
-    return finite(org.x) & finite(org.y) & finite(org.z) & finite(dir.x) & finite(dir.y) & finite(dir.z) &
-           ((vabs(dir.x) >= min_normal) | (vabs(dir.y) >= min_normal) | (vabs(dir.z) >= min_normal)) & (tnear <= tfar);
-}
 
 /// v with its components put in the lane's (kx, ky, kz) order, chosen per lane with selects.
 template <class T> inline Vec3<T> permute_lanes(const WoopLanes<T>& w, const Vec3<T>& v) {
@@ -117,7 +106,7 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
     return p;
 }
 
-/// Packet from the first min(rays.size(), lanes<T>) rays of an array of accel::Ray-like records
+/// Packet from the first min(rays.size(), lanes<T>) rays of an array of Ray-like records (ray.h)
 /// (members org, dir, tnear, tfar); the remaining lanes are inactive (a partial packet).
 template <class T, class R> inline RayPacket<T> load_packet(std::span<const R> rays) {
     constexpr std::size_t n = lanes<T>;
@@ -189,7 +178,7 @@ inline Mask<T> record_hits(PacketHit<T>& best, RayPacket<T>& p, const TriHit<T>&
     return take;
 }
 
-/// Writes the first min(hits.size(), lanes<T>) lanes to an array of accel::Hit-like records
+/// Writes the first min(hits.size(), lanes<T>) lanes to an array of Hit-like records (ray.h)
 /// (members t, prim, u, v).
 template <class T, class H> inline void store_hits(const PacketHit<T>& h, std::span<H> hits) {
     constexpr std::size_t n = lanes<T>;

@@ -4,6 +4,7 @@
 /// scalar slab_ray() and woop_shear() (tested), so a wide test does per lane exactly what the
 /// scalar test does on that box or triangle.
 #include "simd/box_test.h"
+#include "simd/ray.h"
 #include "simd/tri_test.h"
 
 namespace arbor::simd {
@@ -23,14 +24,10 @@ template <class T> struct WideRay {
     bool plain = false;
 };
 
-/// The ray o + t d, t in [tnear, tfar]. A ray that fails the accel::ray_is_traceable rule (NaN or
+/// The ray o + t d, t in [tnear, tfar]. A ray that fails the traceable rule of simd/ray.h (NaN or
 /// Inf components, zero direction, tnear > tfar) is kept as `traceable = false` and never hits.
 template <class T> inline WideRay<T> wide_ray(const Vec3f& o, const Vec3f& d, float tnear, float tfar) {
-    constexpr float min_normal = std::numeric_limits<float>::min();  // accel::ray_is_traceable's rule
-    const bool ok = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
-                    std::isfinite(d.y) && std::isfinite(d.z) &&
-                    (std::fabs(d.x) >= min_normal || std::fabs(d.y) >= min_normal || std::fabs(d.z) >= min_normal) &&
-                    tnear <= tfar;
+    const bool ok = traceable<float>(o, d, tnear, tfar);
     // slab_ray()'s reciprocals, with the padding done by the batch pad_2ulp (bit-identical, and
     // ~20 ns per ray cheaper than six std::nextafter calls).
     // (Built in registers: a 16-byte load of three just-stored floats would stall store forwarding.)

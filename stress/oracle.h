@@ -13,7 +13,7 @@
 /// differences v - o are floats: then those coordinates are exact. The edge functions' errors
 /// follow from the coordinates' errors; their signs are exact for exact coordinates (the float
 /// test refines zeros in double), so integer grids traced along the axes have no band at all.
-#include "accel/geometry.h"
+#include "accel/core/geometry.h"
 
 #include <cstdint>
 #include <span>

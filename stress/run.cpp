@@ -1,6 +1,6 @@
 #include "stress/run.h"
 
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "accel/trace.h"
 
 #include <algorithm>

@@ -2,7 +2,7 @@
 /// The stiff cases: meshes and rays, independent of any acceleration structure, shared by the
 /// doctest suite (small sizes) and `arbor stress` (full sizes). Each case is judged by the
 /// double-precision oracle (oracle.h) plus the promises its rays carry (RayTag).
-#include "accel/ray.h"
+#include "accel/core/ray.h"
 #include "engine/mesh.h"
 
 #include <cmath>

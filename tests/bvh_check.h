@@ -1,9 +1,9 @@
 #pragma once
 /// Helpers of the BVH tests: build a structure by name, compare it with brute on a set of rays.
 #include "accel/accel.h"
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
-#include "accel/bvh_build.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
+#include "accel/bvh/bvh_build.h"
 #include "accel/trace.h"
 #include "engine/mesh.h"
 #include "testing.h"

@@ -14,11 +14,20 @@ expect_error() {
   local needle=$1; shift
   "$@" >"$WORK/out" 2>"$WORK/err"
   local rc=$?
+  LAST_RC=$rc
   local lines
   lines=$(wc -l <"$WORK/err")
   if [ $rc -lt 1 ] || [ $rc -gt 127 ]; then fail "$* -> exit $rc"; return; fi
   if [ "$lines" -ne 1 ]; then fail "$* -> $lines stderr lines: $(cat "$WORK/err")"; return; fi
   grep -qF -- "$needle" "$WORK/err" || fail "$* -> stderr lacks '$needle': $(cat "$WORK/err")"
+}
+# expect_status RC NEEDLE CMD...: as expect_error, and the exit status is exactly RC (2: bad option,
+# 1: bad input file; spec/cli.md)
+expect_status() {
+  local want=$1; shift
+  LAST_RC=-1
+  expect_error "$@"
+  [ "$LAST_RC" -eq "$want" ] || fail "$* -> exit $LAST_RC, expected $want"
 }
 
 if [ -d "$SHARED/bad" ]; then
@@ -188,18 +197,53 @@ echo keep >"$WORK/keep.hits"
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/missing.rays" --hits "$WORK/keep.hits" 2>/dev/null
 [ "$(cat "$WORK/keep.hits")" = keep ] || fail "failed trace touched the existing hits file"
 
-# Rendering: option errors name the option; builtin scenes by name; the plan line; EXR + PNG.
-expect_error "--integrator" "$ARBOR" render --integrator magic -o "$WORK/x.exr"
-expect_error "--eye" "$ARBOR" render --eye 1,2 -o "$WORK/x.exr"
-expect_error "--look-at" "$ARBOR" render --eye 1,1,1 --look-at 1,1,1 -o "$WORK/x.exr"
-expect_error "--up" "$ARBOR" render --eye 0,5,0 --look-at 0,0,0 --up 0,1,0 -o "$WORK/x.exr"
-expect_error "--layers" "$ARBOR" render --layers z,q -o "$WORK/x.exr"
-expect_error "--light" "$ARBOR" render --light 1,2,3,4,5 -o "$WORK/x.exr"
-expect_error "builtin:nope" "$ARBOR" render builtin:nope -o "$WORK/x.exr"
-expect_error "builtin:scaling:0" "$ARBOR" render builtin:scaling:0 -o "$WORK/x.exr"
-expect_error "--out" "$ARBOR" converge "$WORK/quad.obj" --out /proc/forbidden/dir
-expect_error "--accel" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c" --accel brute,warp
-expect_error "--integrator" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c" --integrator path,nope
+# Rendering: option errors name the option and exit 2 before anything is loaded or rendered;
+# builtin scenes by name; the plan line; EXR + PNG.
+expect_status 2 "--integrator" "$ARBOR" render --integrator magic -o "$WORK/x.exr"
+expect_status 2 "--eye" "$ARBOR" render --eye 1,2 -o "$WORK/x.exr"
+expect_status 2 "--look-at" "$ARBOR" render --eye 1,1,1 --look-at 1,1,1 -o "$WORK/x.exr"
+expect_status 2 "--up" "$ARBOR" render --eye 0,5,0 --look-at 0,0,0 --up 0,1,0 -o "$WORK/x.exr"
+expect_status 2 "--layers" "$ARBOR" render --layers z,q -o "$WORK/x.exr"
+expect_status 2 "--light" "$ARBOR" render --light 1,2,3,4,5 -o "$WORK/x.exr"
+expect_status 2 "--light" "$ARBOR" render --light 1,2 -o "$WORK/x.exr"
+expect_status 2 "--light" "$ARBOR" render --light -o "$WORK/x.exr"
+expect_status 2 "--background" "$ARBOR" render --background 1,2 -o "$WORK/x.exr"
+expect_status 2 "--exposure" "$ARBOR" render --exposure x -o "$WORK/x.exr"
+expect_status 1 "builtin:nope" "$ARBOR" render builtin:nope -o "$WORK/x.exr"
+expect_status 1 "builtin:scaling:0" "$ARBOR" render builtin:scaling:0 -o "$WORK/x.exr"
+expect_status 2 "--out" "$ARBOR" converge "$WORK/quad.obj" --out /proc/forbidden/dir
+expect_status 2 "--accel" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c" --accel brute,warp
+expect_status 2 "--integrator" "$ARBOR" converge "$WORK/quad.obj" --out "$WORK/c" --integrator path,nope
+# The output format follows -o's extension; anything else, or a folder that does not exist or
+# cannot be written, is an option error that names the user's path, before the scene is even loaded.
+expect_status 2 "$WORK/z.jpg" "$ARBOR" render "$WORK/no-such.obj" -o "$WORK/z.jpg"
+expect_status 2 "$WORK/none/x.png" "$ARBOR" render -o "$WORK/none/x.png"
+expect_status 2 "/proc/arbor.png" "$ARBOR" render -o /proc/arbor.png
+[ -e "$WORK/z.jpg" ] && fail "render -o z.jpg wrote a file"
+for ext in png pfm exr PNG; do
+  "$ARBOR" render "$WORK/quad.obj" -o "$WORK/out.$ext" --width 9 --height 7 --spp 1 --threads 1 -q >"$WORK/out" 2>"$WORK/err" \
+    || fail "render -o out.$ext exited $?: $(cat "$WORK/err")"
+  grep -q "with 1 thread ->" "$WORK/out" || fail "summary should say '1 thread': $(cat "$WORK/out")"
+done
+python3 - "$WORK" <<'PY' || fail "outputs by extension have the wrong content"
+import struct, sys, os
+w = sys.argv[1]
+png = open(w + "/out.png", "rb").read()
+assert png[:8] == b"\x89PNG\r\n\x1a\n" and struct.unpack(">II", png[16:24]) == (9, 7), png[:24]
+pfm = open(w + "/out.pfm", "rb").read()
+assert pfm.startswith(b"PF\n9 7\n-1.0\n") and len(pfm) == len(b"PF\n9 7\n-1.0\n") + 9 * 7 * 12, pfm[:16]
+assert open(w + "/out.exr", "rb").read()[:4] == b"\x76\x2f\x31\x01"          # OpenEXR magic
+assert open(w + "/out.png", "rb").read() != b"" and os.path.exists(w + "/out.png")  # .exr's preview
+assert open(w + "/out.PNG", "rb").read()[:4] == b"\x89PNG"
+PY
+# The image and its layers count against --max-memory: refused before rendering.
+expect_status 1 "--max-memory" "$ARBOR" render --width 4000 --height 4000 --layers z,n,a --max-memory 64M -o "$WORK/big.exr"
+# --version and unknown subcommands
+"$ARBOR" --version >"$WORK/out" 2>&1 || fail "--version exited $?"
+grep -qE '^arbor [0-9]+\.[0-9]+\.[0-9]+$' "$WORK/out" || fail "--version: no 'arbor VERSION' line: $(cat "$WORK/out")"
+grep -qE 'SIMD kernels: (avx512|avx2|avx|sse|fma)' "$WORK/out" || fail "--version names no SIMD kernel set: $(cat "$WORK/out")"
+expect_status 2 "unknown subcommand 'frobnicate'" "$ARBOR" frobnicate
+grep -q "render" "$WORK/err" && grep -q "trace" "$WORK/err" || fail "unknown subcommand: no list of subcommands: $(cat "$WORK/err")"
 
 if "$ARBOR" render "$WORK/quad.obj" -o "$WORK/quad.exr" --width 16 --height 12 --spp 2 --integrator primary -v \
     --eye 0.5,0.5,3 --look-at 0.5,0.5,0 --fov 30 >"$WORK/out" 2>"$WORK/err"; then

@@ -1,8 +1,8 @@
 #pragma once
-/// Checks of the kd-tree's SIMD paths (accel/kdtree_simd.h): every path is bit-identical to the
+/// Checks of the kd-tree's SIMD paths (accel/kdtree/kdtree_simd.h): every path is bit-identical to the
 /// kd-tree's scalar path (t, prim, u, v), closest and any hit, in several settings (block width,
 /// packet lanes, switch threshold) made from one built tree.
-#include "accel/kdtree_accel.h"
+#include "accel/kdtree/kdtree_accel.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>

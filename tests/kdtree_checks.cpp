@@ -1,6 +1,6 @@
 #include "kdtree_checks.h"
 
-#include "accel/kdtree_clip.h"
+#include "accel/kdtree/kdtree_clip.h"
 #include "engine/procedural.h"
 
 #include <algorithm>

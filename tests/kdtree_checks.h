@@ -1,7 +1,7 @@
 #pragma once
 /// Independent checks of a built kd-tree (tests only): structure, the reference invariant against a
 /// brute-force triangle/box overlap test, and the ropes against point queries.
-#include "accel/kdtree_node.h"
+#include "accel/kdtree/kdtree_node.h"
 #include "engine/mesh.h"
 
 #include <string>

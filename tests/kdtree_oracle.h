@@ -1,7 +1,7 @@
 #pragma once
 /// Oracle comparison for the kd-tree tests: closest and any hit against `brute`.
-#include "accel/brute_accel.h"
-#include "accel/kdtree_accel.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/kdtree/kdtree_accel.h"
 #include "kd_simd_check.h"
 #include "simd/tri_test.h"
 #include "testing.h"

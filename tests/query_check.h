@@ -3,7 +3,7 @@
 /// inside): every structure and layout that answers them, query points of every stiff kind, the
 /// double-precision winding number, and collecting all hits.
 #include "accel/accel.h"
-#include "accel/wide_paths.h"
+#include "accel/wide/wide_paths.h"
 #include "engine/mesh.h"
 #include "testing.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 /// Small scenes for the renderer tests (a few hundred triangles, so brute force is quick even
 /// under the sanitizers) and a one-call render with brute force.
-#include "accel/brute_accel.h"
+#include "accel/brute/brute_accel.h"
 #include "engine/procedural.h"
 #include "engine/renderer.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 /// Inputs that stress the SIMD kernels (rays, boxes, triangles) and a mismatch counter, shared by
 /// the lane-by-lane tests of test_simd.cpp and test_simd_kernels.cpp.
-#include "accel/ray.h"
+#include "accel/core/ray.h"
 #include "simd/simd.h"
 
 #include <doctest/doctest.h>

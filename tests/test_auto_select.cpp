@@ -1,11 +1,11 @@
-// --accel auto (accel/auto_select.h): the pick is the smallest predicted total among the
+// --accel auto (accel/select/auto_select.h): the pick is the smallest predicted total among the
 // structures this build has (up to the tie rule, tested on fixed predictions), the reason is one
 // line, a tiny budget picks the cheapest build without calibrating the others and a huge budget
 // the fastest tracer (by the selector's own predictions), calibration times every SIMD path and keeps the faster,
 // subset calibration builds only the anchor whole until refine() builds the contenders, and the
 // structure handed over traces correctly.
-#include "accel/auto_select.h"
-#include "accel/brute_accel.h"
+#include "accel/select/auto_select.h"
+#include "accel/brute/brute_accel.h"
 #include "engine/procedural.h"
 #include "perf/scenes.h"
 #include "testing.h"

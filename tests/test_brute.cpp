@@ -1,6 +1,6 @@
 // The oracle itself: brute force over the scalar watertight test, checked against an independent
 // double-precision test, for closest and any hit, and for watertightness on closed meshes.
-#include "accel/brute_accel.h"
+#include "accel/brute/brute_accel.h"
 #include "accel/trace.h"
 #include "engine/procedural.h"
 #include "testing.h"

@@ -1,7 +1,7 @@
 // Closest point on the mesh (Accel::closest_points): the double-precision point-triangle kernel
 // against an independent formulation, then every structure and layout against brute force, record
 // for record, on the procedural shapes, every shared model and stiff inputs.
-#include "accel/closest_point.h"
+#include "accel/core/closest_point.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "query_check.h"

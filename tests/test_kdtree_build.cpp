@@ -1,8 +1,8 @@
 // kd-tree builder: structure, the reference invariant against brute-force overlap tests, ropes
 // against point queries, determinism across thread counts and FP modes, statistics.
-#include "accel/kdtree_accel.h"
-#include "accel/kdtree_build.h"
-#include "accel/kdtree_clip.h"
+#include "accel/kdtree/kdtree_accel.h"
+#include "accel/kdtree/kdtree_build.h"
+#include "accel/kdtree/kdtree_clip.h"
 #include "engine/procedural.h"
 #include "kdtree_checks.h"
 #include "testing.h"

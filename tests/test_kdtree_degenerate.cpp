@@ -1,6 +1,6 @@
 // kd-tree on degenerate input: the build never breaks (bounded depth and size) and tracing still
 // agrees with brute.
-#include "accel/kdtree_build.h"
+#include "accel/kdtree/kdtree_build.h"
 #include "engine/procedural.h"
 #include "kdtree_checks.h"
 #include "kdtree_oracle.h"

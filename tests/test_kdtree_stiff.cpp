@@ -1,7 +1,7 @@
 // kd-tree stiff cases against brute: axis-parallel rays with +0/-0 components, rays along the
 // lines of integer-grid meshes (inside split planes, through leaf edges and corners), origins
 // exactly on split planes and on leaf corners, far and tiny scenes.
-#include "accel/kdtree_build.h"
+#include "accel/kdtree/kdtree_build.h"
 #include "engine/procedural.h"
 #include "kdtree_checks.h"
 #include "kdtree_oracle.h"

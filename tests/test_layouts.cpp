@@ -1,8 +1,8 @@
 // BuildConfig::layouts: a structure built with only the scalar layout or only the SIMD layouts
 // says so through has_path, traces a path whose layout is missing on one it has (same answers as
 // brute), and the statistics mode needs the scalar layout.
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

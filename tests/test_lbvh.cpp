@@ -1,10 +1,10 @@
 // lbvh: build invariants, both hierarchy methods giving the same tree, agreement with the brute
 // oracle (closest and any hit; coherent, incoherent and random rays), degenerate inputs,
 // determinism at 1 and 2 threads, and watertightness.
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
-#include "accel/lbvh_build.h"
-#include "accel/morton.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
+#include "accel/lbvh/lbvh_build.h"
+#include "accel/lbvh/morton.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "testing.h"

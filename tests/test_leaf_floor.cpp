@@ -2,10 +2,10 @@
 // width (one leaf block). Every builder keeps the floor exactly (no range of at most leaf_floor
 // triangles is split, no leaf above the larger of floor and max_leaf_size), stays deterministic,
 // and the SIMD-only structure still agrees with brute; --simd-leaf-floor 1 restores the fine tree.
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
-#include "accel/bvh_build.h"
-#include "accel/lbvh_build.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
+#include "accel/bvh/bvh_build.h"
+#include "accel/lbvh/lbvh_build.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

@@ -1,6 +1,6 @@
 // Morton codes: known values, the portable and pdep encoders against a bit-by-bit reference,
 // ordering properties, and the quantizer's degenerate boxes (zero extent, +-FLT_MAX, NaN).
-#include "accel/morton.h"
+#include "accel/lbvh/morton.h"
 
 #include <doctest/doctest.h>
 

@@ -1,6 +1,6 @@
 // prefault / resize_prefaulted: mapping pages ahead of the writes changes no value and no size.
-#include "accel/prefault.h"
-#include "accel/uninit_vector.h"
+#include "accel/util/prefault.h"
+#include "accel/util/uninit_vector.h"
 
 #include <doctest/doctest.h>
 

@@ -1,6 +1,6 @@
 // PrimRefs, the build input of every BVH: boxes and centroids of finite triangles in order,
 // non-finite triangles dropped and counted, the same result with 1 and 2 threads.
-#include "accel/prim_refs.h"
+#include "accel/bvh/prim_refs.h"
 #include "engine/procedural.h"
 
 #include <doctest/doctest.h>

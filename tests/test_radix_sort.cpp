@@ -1,7 +1,7 @@
 // The radix sort against its oracle, std::stable_sort, on the key distributions that break sorts:
 // random, few distinct values, all equal, sorted, reversed, tiny and odd sizes; and the same
 // output at 1 and 2 threads.
-#include "accel/radix_sort.h"
+#include "accel/lbvh/radix_sort.h"
 
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>

@@ -1,12 +1,15 @@
 // Outputs of the renderer: image error metrics, the progress bar text, the run summary, and the
 // EXR layers surviving a write/read round trip.
 #include "engine/error.h"
+#include "engine/file_io.h"
 #include "engine/image_metrics.h"
+#include "engine/image_output.h"
 #include "engine/progress.h"
 #include "render_scenes.h"
 
 #include <doctest/doctest.h>
 
+#include <cstring>
 #include <filesystem>
 
 using namespace arbor;
@@ -58,4 +61,40 @@ TEST_CASE("render: EXR layers round-trip with their names") {
         REQUIRE(k >= 0);
         CHECK(back.planes[std::size_t(k)] == img.planes[c]);
     }
+}
+
+TEST_CASE("render outputs: the format follows the extension and PFM round-trips R, G, B bit for bit") {
+    CHECK(engine::output_format("a/b.exr") == engine::OutputFormat::exr);
+    CHECK(engine::output_format("b.PNG") == engine::OutputFormat::png);
+    CHECK(engine::output_format("b.pfm") == engine::OutputFormat::pfm);
+    CHECK_FALSE(engine::output_format("b.jpg"));
+    CHECK_FALSE(engine::output_format("exr"));
+    const auto dir = std::filesystem::temp_directory_path();
+    CHECK(engine::output_problem((dir / "x.exr").string()).empty());
+    CHECK(engine::output_problem("x.jpg").find("'x.jpg': unknown output format .jpg") == 0);
+    CHECK(engine::output_problem((dir / "no-such-folder/x.png").string()).find("does not exist") != std::string::npos);
+    CHECK(engine::output_problem(dir.string() + "/.png").find("is a folder") == std::string::npos);
+
+    auto set = testing::tiny_settings(engine::IntegratorKind::primary, 7, 5, 1);
+    const auto img = testing::render_brute(testing::small_scene(), set);
+    const auto path = (dir / "arbor_test_rgb.pfm").string();
+    CHECK(engine::write_outputs(path, img) == std::vector<std::string>{path});
+    const auto back = engine::read_pfm(path);
+    std::filesystem::remove(path);
+    REQUIRE(back.width == 7);
+    REQUIRE(back.height == 5);
+    for (int c = 0; c < 3; ++c) CHECK(back.planes[std::size_t(c)] == img.planes[std::size_t(c)]);
+    // A top-left bright pixel stays top-left (PFM stores the bottom row first).
+    engine::Image marker(2, 2, {"R", "G", "B"});
+    marker.at(0, 0, 0) = 5.0f;
+    engine::write_pfm(path, marker);
+    CHECK(engine::read_pfm(path).at(0, 0, 0) == 5.0f);
+    const std::string bytes = engine::read_file(path);
+    const std::string header = "PF\n2 2\n-1.0\n";
+    REQUIRE(bytes.size() == header.size() + 48);
+    CHECK(bytes.compare(0, header.size(), header) == 0);
+    float first_of_second_row = 0.0f;  // the file's second row is the image's top row
+    std::memcpy(&first_of_second_row, bytes.data() + header.size() + 24, 4);
+    CHECK(first_of_second_row == 5.0f);
+    std::filesystem::remove(path);
 }

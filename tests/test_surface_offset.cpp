@@ -1,10 +1,10 @@
-// Rays spawned from surfaces (accel/offset_ray.h) do not re-hit the triangle they leave, also when
+// Rays spawned from surfaces (accel/core/offset_ray.h) do not re-hit the triangle they leave, also when
 // the hit point is near the origin on a huge triangle: the stadium floor (corners at +-1000, hit
 // points at y = 0), whose 2^-16 offset alone re-hit the floor on ~7% of shadow and ~16% of diffuse
 // rays (false hits at t ~ 0 that brute reported and box culling hid: structures then disagreed).
 // Every structure and path agrees with brute on the stadium's shadow and diffuse rays.
-#include "accel/brute_accel.h"
-#include "accel/offset_ray.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/core/offset_ray.h"
 #include "accel/trace.h"
 #include "engine/ray_gen.h"
 #include "perf/scenes.h"

@@ -1,9 +1,9 @@
 // WideLayout<N> collapsed from binary BVHs: every finite triangle exactly once with its original
 // vertices and id, NaN/invalid padding, empty unused child slots, child boxes that contain their
 // subtrees, leaf limits (merged subtrees, chunked big leaves), recorded depth; deterministic.
-#include "accel/bvh_build.h"
-#include "accel/lbvh_build.h"
-#include "accel/wide_layout.h"
+#include "accel/bvh/bvh_build.h"
+#include "accel/lbvh/lbvh_build.h"
+#include "accel/wide/wide_layout.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "testing.h"

@@ -3,9 +3,9 @@
 // octant's diagonal; the AVX-512 push writes what the plain loop writes, entry for entry; and the
 // walk that uses both finds the same closest hits as the scalar path (test_wide_paths.cpp checks
 // every path against brute on every model).
-#include "accel/bvh_build.h"
-#include "accel/wide_order.h"
-#include "accel/wide_push.h"
+#include "accel/bvh/bvh_build.h"
+#include "accel/wide/wide_order.h"
+#include "accel/wide/wide_push.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

@@ -2,10 +2,10 @@
 /// Helpers of the SIMD-path tests: every BVH structure (bvh-median, bvh-sah, lbvh) at every width
 /// this build has, built from one binary tree per structure, and the check of every traversal path
 /// against the scalar path and brute.
-#include "accel/brute_accel.h"
-#include "accel/bvh_accel.h"
-#include "accel/bvh_build.h"
-#include "accel/lbvh_build.h"
+#include "accel/brute/brute_accel.h"
+#include "accel/bvh/bvh_accel.h"
+#include "accel/bvh/bvh_build.h"
+#include "accel/lbvh/lbvh_build.h"
 #include "accel/trace.h"
 #include "bvh_check.h"
 

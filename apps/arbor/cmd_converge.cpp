@@ -2,7 +2,7 @@
 /// (spec/cli.md), plus --integrator NAME[,NAME…]: error against run time. Renders (or reads) a
 /// reference per integrator, then renders at 1, 2, 4, … spp up to --max-spp with every structure
 /// and integrator, timing each, and writes DIR/converge.csv and the plot DIR/converge.png.
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_options.h"
@@ -34,17 +34,6 @@ struct ConvergeCommand {
     accel::BuildConfig build;
 };
 
-std::vector<std::string> split_list(const std::string& s) {
-    std::vector<std::string> out;
-    std::size_t b = 0;
-    while (true) {
-        const std::size_t e = s.find(',', b);
-        out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
-        if (e == std::string::npos) return out;
-        b = e + 1;
-    }
-}
-
 std::string shell_quote(const std::string& s) {
     std::string q = "'";
     for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -75,12 +64,15 @@ int run_converge(ConvergeCommand& o) {
     std::vector<accel::AccelKind> kinds;
     for (const std::string& name : split_list(o.accels)) {
         const auto k = accel::parse_accel_kind(name);
-        if (!k) throw engine::InputError("--accel: unknown structure '" + name + "' (expected one of " + accel::accel_kind_names() + ")");
+        if (!k) throw OptionError("--accel: unknown structure '" + name + "' (expected one of " + accel::accel_kind_names() + ")");
         kinds.push_back(*k);
     }
     std::vector<engine::IntegratorKind> integrators;
     for (const std::string& name : split_list(o.integrators)) integrators.push_back(parse_integrator_option(name));
-    if (o.max_spp < 1) throw engine::InputError("--max-spp: must be at least 1");
+    for (engine::IntegratorKind k : integrators)
+        if (k == engine::IntegratorKind::cost)
+            throw OptionError("--integrator: cost makes no image to converge (use arbor render --integrator cost)");
+    if (o.max_spp < 1) throw OptionError("--max-spp: must be at least 1");
 
     engine::Image given_reference;
     if (!o.reference.empty()) {
@@ -89,14 +81,14 @@ int run_converge(ConvergeCommand& o) {
             throw engine::InputError(o.reference + ": no R, G, B channels");
         if (!o.size_given) o.render.width = given_reference.width, o.render.height = given_reference.height;
         if (given_reference.width != o.render.width || given_reference.height != o.render.height)
-            throw engine::InputError("--reference: " + o.reference + " is " + std::to_string(given_reference.width) + "x" +
+            throw OptionError("--reference: " + o.reference + " is " + std::to_string(given_reference.width) + "x" +
                                      std::to_string(given_reference.height) + " but the renders are " +
                                      std::to_string(o.render.width) + "x" + std::to_string(o.render.height));
     }
     const std::filesystem::path dir(o.out_dir);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) throw engine::InputError("--out: cannot create directory '" + o.out_dir + "'");
+    if (ec || !std::filesystem::is_directory(dir)) throw OptionError("--out: cannot create directory '" + o.out_dir + "'");
 
     const engine::Scene scene = load_scene(o.scene);
     const engine::LightSet lights(scene);
@@ -184,6 +176,10 @@ Run add_converge(CLI::App& cmd) {
         ->capture_default_str();
     add_build_options(cmd, o->build);
     cmd.add_option("--integrator", o->integrators, "integrators to compare, comma-separated: " + engine::integrator_names())
+        ->check(parse_check("--integrator", [](const std::string& v) {
+            for (const std::string& name : split_list(v)) parse_integrator_option(name);
+            return 0;
+        }))
         ->capture_default_str();
     cmd.add_option("--repeat", o->repeat, "render each point K times and keep the median time")
         ->check(CLI::Range(1, 100))->capture_default_str();

@@ -1,7 +1,7 @@
 /// `arbor rays --scene MODEL.obj --kind primary|shadow|diffuse|random --count N -o OUT.rays
 ///  [--seed S] [--order tiles|rows] [--accel NAME] [--threads N] [--json]`: writes the rays of
 /// engine/ray_gen.h to a .rays file (spec/rayfile.md), so any tracer can be fed the same rays.
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "engine/obj_loader.h"

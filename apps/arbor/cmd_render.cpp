@@ -1,12 +1,15 @@
 /// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W]
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
+#include "apps/arbor/render_cost.h"
 #include "apps/arbor/render_options.h"
 #include "apps/arbor/scene_options.h"
-#include "engine/image.h"
+#include "accel/core/memory_estimate.h"
+#include "engine/image_output.h"
+#include "engine/memory_budget.h"
 #include "engine/renderer.h"
 
 #include <cstdio>
@@ -22,18 +25,34 @@ struct RenderCommand {
     accel::BuildConfig build;
     int threads = 0;
     bool no_png = false, verbose = false, quiet = false;
+    float exposure = 0.0f;
 };
 
-std::string png_path_for(const std::string& exr) {
-    const auto dot = exr.find_last_of('.');
-    const auto slash = exr.find_last_of('/');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return exr + ".png";
-    return exr.substr(0, dot) + ".png";
+/// Refuses a job whose image, structure and scene would not fit in --max-memory (or the machine's
+/// memory), before anything is built or rendered.
+void check_render_memory(const RenderCommand& o, const engine::Scene& scene, accel::AccelKind kind,
+                         const accel::BuildConfig& build, const engine::RenderPlan& plan) {
+    const bool png = !o.no_png || engine::output_format(o.out) == engine::OutputFormat::png;
+    const std::uint64_t image = engine::output_image_bytes(o.render.width, o.render.height,
+                                                           engine::channel_names(plan.layers).size(), png);
+    const std::uint64_t structure = accel::build_memory_estimate(kind, scene.mesh.triangle_count(), build);
+    const std::uint64_t budget = engine::memory_budget(build.max_memory);
+    if (image + structure > budget)
+        throw accel::MemoryLimitError("rendering " + std::to_string(o.render.width) + "x" + std::to_string(o.render.height) +
+                                      " needs about " + engine::format_bytes(image + structure) + " (image and layers " +
+                                      engine::format_bytes(image) + ", structure " + engine::format_bytes(structure) +
+                                      "), more than the " + engine::format_bytes(budget) +
+                                      (build.max_memory ? " of --max-memory" : " of memory"));
 }
 
 int run_render(const RenderCommand& o) {
     const auto limit = limit_threads(o.threads);
-    const engine::RenderSettings base = to_settings(o.render, parse_integrator_option(o.render.integrator));
+    const engine::IntegratorKind integrator = parse_integrator_option(o.render.integrator);
+    if (integrator == engine::IntegratorKind::cost)
+        return run_cost_render({o.scene, o.render, o.accel, o.build, o.out, o.no_png, o.verbose, o.quiet});
+    if (o.accel.find(',') != std::string::npos)
+        throw OptionError("--accel: a list of structures needs --integrator cost");
+    const engine::RenderSettings base = to_settings(o.render, integrator);
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
     const engine::Scene scene = load_scene(o.scene);
@@ -51,6 +70,7 @@ int run_render(const RenderCommand& o) {
     if (kind != accel::AccelKind::brute)
         plan.skipped.push_back("the structure's scalar layout (the renderer traces its SIMD paths)");
     if (const std::string floor = leaf_floor_skipped(kind, build); !floor.empty()) plan.skipped.push_back(floor);
+    check_render_memory(o, scene, kind, build, plan);
     const std::string accel_name(accel::to_string(kind));
     std::printf("%s\n", plan.line(accel_name).c_str());
     if (o.verbose) std::printf("%s", plan.skipped_lines().c_str());
@@ -61,17 +81,14 @@ int run_render(const RenderCommand& o) {
     const double build_ms = build_timer.ms();
     engine::RenderStats stats;
     const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats);
-    engine::write_exr(o.out, img);
-    std::string png;
-    if (!o.no_png) {
-        png = png_path_for(o.out);
-        engine::write_png_preview(png, img);
-    }
-    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d threads -> %s%s%s\n",
+    std::string written;
+    for (const std::string& f : engine::write_outputs(o.out, img, {!o.no_png, o.exposure}))
+        written += (written.empty() ? "" : ", ") + f;
+    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s -> %s\n",
                 scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
                 reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, set.width,
                 set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
-                stats.threads, o.out.c_str(), png.empty() ? "" : ", ", png.c_str());
+                stats.threads, stats.threads == 1 ? "" : "s", written.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
     return 0;
 }
@@ -81,11 +98,15 @@ int run_render(const RenderCommand& o) {
 Run add_render(CLI::App& cmd) {
     auto o = std::make_shared<RenderCommand>();
     add_scene_options(cmd, o->scene);
-    cmd.add_option("-o,--output", o->out, "OpenEXR output; a PNG preview is written beside it")->capture_default_str();
-    add_accel_option(cmd, o->accel)->capture_default_str();
+    cmd.add_option("-o,--output", o->out, "output image: .exr (all layers, and a PNG preview beside it), .png or .pfm")
+        ->check(CLI::Validator([](std::string& v) { return engine::output_problem(v); }, "PATH"))
+        ->capture_default_str();
+    add_accel_list_option(cmd, o->accel)->capture_default_str();
     add_build_options(cmd, o->build);
     add_render_options(cmd, o->render, false);
-    cmd.add_flag("--no-png", o->no_png, "do not write the PNG preview");
+    cmd.add_flag("--no-png", o->no_png, "with .exr output: do not write the PNG preview");
+    cmd.add_option("--exposure", o->exposure, "PNG output: radiance x 2^EV before the sRGB curve (float outputs keep radiance)")
+        ->check(CLI::Range(-64.0f, 64.0f));
     cmd.add_flag("-v,--verbose", o->verbose, "also list what the plan skipped and why");
     cmd.add_flag("-q,--quiet", o->quiet, "no progress bar");
     add_threads_option(cmd, o->threads);

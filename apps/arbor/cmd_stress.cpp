@@ -83,9 +83,9 @@ int run_stress(const StressOptions& o) {
     std::vector<accel::AccelKind> kinds = stress::buildable_kinds();
     if (!o.accel.empty()) {
         const auto k = accel::parse_accel_kind(o.accel);
-        if (!k || *k == accel::AccelKind::automatic) throw engine::InputError("--accel: name a structure for stress (not '" + o.accel + "')");
+        if (!k || *k == accel::AccelKind::automatic) throw OptionError("--accel: name a structure for stress (not '" + o.accel + "')");
         if (std::find(kinds.begin(), kinds.end(), *k) == kinds.end())
-            throw engine::InputError("--accel: structure '" + o.accel + "' is not available in this build yet");
+            throw OptionError("--accel: structure '" + o.accel + "' is not available in this build yet");
         kinds = {*k};
     }
     std::vector<stress::StressCase> cases;
@@ -100,7 +100,7 @@ int run_stress(const StressOptions& o) {
     }
     for (auto& c : stress::make_stress_cases(size)) cases.push_back(std::move(c));
     std::erase_if(cases, [&](const stress::StressCase& c) { return !selected(o.only, c.name); });
-    if (cases.empty()) throw engine::InputError("--case: no case matches");
+    if (cases.empty()) throw OptionError("--case: no case matches");
 
     if (!o.json) print_header();
     nlohmann::json rows = nlohmann::json::array();

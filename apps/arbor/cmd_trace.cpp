@@ -1,6 +1,6 @@
 /// `arbor trace --scene MODEL.obj --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
 ///  [--leaf-size N] [--sah-bins N] [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
-#include "accel/timer.h"
+#include "accel/util/timer.h"
 #include "accel/trace.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
@@ -111,9 +111,9 @@ int run_trace(const TraceOptions& o) {
     }
     engine::print_warnings(warnings);
     std::printf("%s: %zu triangles, %zu rays, %zu hits; build %.2f ms, trace %.2f ms (median of %d), "
-                "%.3g Mrays/s, %d threads, path %s (%s)%s%s\n",
+                "%.3g Mrays/s, %d thread%s, path %s (%s)%s%s\n",
                 std::string(j["accel"]).c_str(), mesh.triangle_count(), rays.size(), nhit, build_ms, median_ms,
-                o.repeat, double(j["mrays_per_s"]), int(j["threads"]), std::string(accel::to_string(path)).c_str(),
+                o.repeat, double(j["mrays_per_s"]), int(j["threads"]), int(j["threads"]) == 1 ? "" : "s", std::string(accel::to_string(path)).c_str(),
                 path_reason.c_str(), has_layouts ? "; skipped: " : "", has_layouts ? skipped : "");
     if (!floor_note.empty()) std::printf("also skipped: %s\n", floor_note.c_str());
     return 0;

@@ -1,7 +1,7 @@
 #include "apps/arbor/common.h"
 
-#include "accel/auto_select.h"
-#include "accel/bvh_accel.h"
+#include "accel/select/auto_select.h"
+#include "accel/bvh/bvh_accel.h"
 #include "engine/error.h"
 #include "engine/memory_budget.h"
 
@@ -15,6 +15,27 @@ CLI::Option* add_accel_option(CLI::App& cmd, std::string& name) {
         ->check([](const std::string& v) -> std::string {
             if (accel::parse_accel_kind(v)) return {};
             return "unknown structure '" + v + "' (expected one of " + accel::accel_kind_names() + ")";
+        });
+}
+
+std::vector<std::string> split_list(const std::string& s) {
+    std::vector<std::string> out;
+    std::size_t b = 0;
+    while (true) {
+        const std::size_t e = s.find(',', b);
+        out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+        if (e == std::string::npos) return out;
+        b = e + 1;
+    }
+}
+
+CLI::Option* add_accel_list_option(CLI::App& cmd, std::string& names) {
+    return cmd.add_option("--accel", names, "acceleration structure, or a comma list for --integrator cost: " + accel::accel_kind_names())
+        ->check([](const std::string& v) -> std::string {
+            for (const std::string& n : split_list(v))
+                if (!accel::parse_accel_kind(n))
+                    return "unknown structure '" + n + "' (expected one of " + accel::accel_kind_names() + ")";
+            return {};
         });
 }
 
@@ -61,7 +82,7 @@ int active_threads() {
 accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason,
                                const AutoHints& hints) {
     const auto kind = accel::parse_accel_kind(name);
-    if (!kind) throw engine::InputError("--accel: unknown structure '" + name + "'");
+    if (!kind) throw OptionError("--accel: unknown structure '" + name + "'");
     if (reason) reason->clear();
     if (*kind != accel::AccelKind::automatic) return *kind;
     accel::AutoConfig cfg;

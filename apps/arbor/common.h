@@ -1,6 +1,7 @@
 #pragma once
 /// Helpers shared by the subcommands: option validation, threads, scene loading, JSON output.
 #include "accel/accel.h"
+#include "engine/error.h"
 #include "engine/scene.h"
 
 #include <CLI/CLI.hpp>
@@ -9,13 +10,41 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <tbb/global_control.h>
 
 namespace arbor::app {
 
+/// A bad option value found by arbor's own checks (exit 2, as CLI11's parse errors; spec/cli.md).
+/// Its message starts with the option's name.
+struct OptionError : engine::InputError {
+    using engine::InputError::InputError;
+};
+
+/// A CLI11 check that runs `parse(value)` at parse time, so a bad value exits 2 before any file is
+/// loaded; the OptionError's text (without the "OPTION: " that CLI11 adds itself) is the message.
+template <class Parse> CLI::Validator parse_check(std::string option, Parse parse) {
+    return CLI::Validator(
+        [option, parse](std::string& v) -> std::string {
+            try {
+                (void)parse(v);
+            } catch (const OptionError& e) {
+                const std::string msg = e.what();
+                return msg.rfind(option + ": ", 0) == 0 ? msg.substr(option.size() + 2) : msg;
+            }
+            return {};
+        },
+        "");
+}
+
 /// Adds `--accel NAME` (validated against the structure names) bound to `name`.
 CLI::Option* add_accel_option(CLI::App& cmd, std::string& name);
+/// Adds `--accel NAME[,NAME...]` (each validated) bound to `names` (`arbor render`: a list is for
+/// the cost integrator's side-by-side images).
+CLI::Option* add_accel_list_option(CLI::App& cmd, std::string& names);
+/// The items of a comma-separated list ("a,b" -> {"a", "b"}; "" -> {""}).
+std::vector<std::string> split_list(const std::string& s);
 /// Adds the build settings shared by every command that builds a structure: `--leaf-size N`
 /// (BuildConfig::max_leaf_size; the seed report used 1), `--sah-bins N` (BuildConfig::sah_bins) and
 /// `--bvh-width 4|8|16` (BuildConfig::bvh_width).
@@ -27,7 +56,7 @@ CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 int active_threads();
 
-/// What `--accel auto` knows about the work ahead (accel/auto_select.h).
+/// What `--accel auto` knows about the work ahead (accel/select/auto_select.h).
 struct AutoHints {
     std::span<const accel::Ray> sample;  ///< rays like those to be traced (empty: rays into the bounds)
     bool any_hit = false;

@@ -20,10 +20,12 @@ struct RenderOptions {
 /// --spp and --integrator unless `converge` (which has its own lists).
 void add_render_options(CLI::App& cmd, RenderOptions& o, bool converge);
 
-/// Settings for integrator `integrator` (already validated); InputError naming --layers on a bad list.
+/// Settings for integrator `integrator` (already validated); OptionError naming --layers on a bad list.
 engine::RenderSettings to_settings(const RenderOptions& o, engine::IntegratorKind integrator);
 
-/// Parses --integrator NAME (one-line InputError naming the option otherwise).
+/// Parses --integrator NAME (one-line OptionError naming the option otherwise: exit 2).
 engine::IntegratorKind parse_integrator_option(const std::string& name);
+/// Parses --layers: "none" or a comma list of z, n, a (OptionError otherwise).
+engine::Layers parse_layers(const std::string& list);
 
 }  // namespace arbor::app

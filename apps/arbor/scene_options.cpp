@@ -1,5 +1,7 @@
 #include "apps/arbor/scene_options.h"
 
+#include "apps/arbor/common.h"
+
 #include "engine/builtin_scenes.h"
 #include "engine/error.h"
 #include "engine/log.h"
@@ -21,7 +23,7 @@ std::vector<float> parse_floats(const std::string& option, const std::string& te
         float v = 0.0f;
         const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
         if (part.empty() || ec != std::errc() || end != part.data() + part.size() || !std::isfinite(v))
-            throw engine::InputError(option + ": '" + text + "' is not a list of finite numbers separated by commas");
+            throw OptionError(option + ": '" + text + "' is not a list of finite numbers separated by commas");
         out.push_back(v);
         if (e == std::string::npos) break;
         b = e + 1;
@@ -29,23 +31,48 @@ std::vector<float> parse_floats(const std::string& option, const std::string& te
     return out;
 }
 
+engine::PointLight parse_light(const std::string& l) {
+    const auto v = parse_floats("--light", l);
+    if (v.size() != 3 && v.size() != 4 && v.size() != 6)
+        throw OptionError("--light: expected x,y,z or x,y,z,I or x,y,z,R,G,B, got '" + l + "'");
+    engine::Vec3f intensity{1.0f};
+    if (v.size() == 4) intensity = engine::Vec3f{v[3]};
+    if (v.size() == 6) intensity = {v[3], v[4], v[5]};
+    if (intensity.x < 0.0f || intensity.y < 0.0f || intensity.z < 0.0f)
+        throw OptionError("--light: intensity must not be negative in '" + l + "'");
+    return {{v[0], v[1], v[2]}, intensity};
+}
+
+engine::Vec3f parse_background(const std::string& text) {
+    const auto v = parse_floats("--background", text);
+    if (v.size() != 1 && v.size() != 3) throw OptionError("--background: expected V or R,G,B, got '" + text + "'");
+    const engine::Vec3f c = v.size() == 1 ? engine::Vec3f{v[0]} : engine::Vec3f{v[0], v[1], v[2]};
+    if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) throw OptionError("--background: radiance must not be negative");
+    return c;
+}
+
 }  // namespace
 
 engine::Vec3f parse_vec3(const std::string& option, const std::string& text) {
     const auto v = parse_floats(option, text);
-    if (v.size() != 3) throw engine::InputError(option + ": expected x,y,z (three numbers), got '" + text + "'");
+    if (v.size() != 3) throw OptionError(option + ": expected x,y,z (three numbers), got '" + text + "'");
     return {v[0], v[1], v[2]};
 }
 
 void add_scene_options(CLI::App& cmd, SceneOptions& o) {
     cmd.add_option("SCENE", o.scene, "OBJ file, or " + engine::builtin_scene_names() + " (default: builtin:default)");
-    cmd.add_option("--eye", o.eye, "camera position x,y,z (default: the scene's, or framed on the model)");
-    cmd.add_option("--look-at", o.look_at, "point the camera looks at, x,y,z");
-    cmd.add_option("--up", o.up, "camera up vector x,y,z (default 0,1,0)");
+    auto vec3 = [](const char* option) {
+        return parse_check(option, [option](const std::string& v) { return parse_vec3(option, v); });
+    };
+    cmd.add_option("--eye", o.eye, "camera position x,y,z (default: the scene's, or framed on the model)")->check(vec3("--eye"));
+    cmd.add_option("--look-at", o.look_at, "point the camera looks at, x,y,z")->check(vec3("--look-at"));
+    cmd.add_option("--up", o.up, "camera up vector x,y,z (default 0,1,0)")->check(vec3("--up"));
     cmd.add_option("--fov", o.fov, "vertical field of view in degrees")->check(CLI::Range(0.01f, 179.0f));
-    cmd.add_option("--light", o.lights, "add a point light x,y,z[,I | ,R,G,B] (radiant intensity, W/sr; repeatable)");
+    cmd.add_option("--light", o.lights, "add a point light x,y,z[,I | ,R,G,B] (radiant intensity, W/sr; repeatable)")
+        ->check(parse_check("--light", parse_light));
     cmd.add_flag("--no-point-lights", o.no_point_lights, "remove the scene's point lights (emissive triangles stay)");
-    cmd.add_option("--background", o.background, "radiance of rays that leave the scene: V or R,G,B");
+    cmd.add_option("--background", o.background, "radiance of rays that leave the scene: V or R,G,B")
+        ->check(parse_check("--background", parse_background));
 }
 
 engine::Scene load_scene(const SceneOptions& o, bool print_warnings) {
@@ -65,29 +92,13 @@ engine::Scene load_scene(const SceneOptions& o, bool print_warnings) {
     if (!o.up.empty()) cam.up = parse_vec3("--up", o.up);
     if (o.fov > 0.0f) cam.vfov_degrees = o.fov;
     const engine::Vec3f view = cam.look_at - cam.eye;
-    if (!(simd::dot(view, view) > 0.0f)) throw engine::InputError("--look-at: the camera looks at its own position");
+    if (!(simd::dot(view, view) > 0.0f)) throw OptionError("--look-at: the camera looks at its own position");
     const engine::Vec3f side = simd::cross(view, cam.up);
     if (!(simd::dot(side, side) > 1e-12f * simd::dot(view, view) * simd::dot(cam.up, cam.up)))
-        throw engine::InputError("--up: the up vector is zero or parallel to the viewing direction");
+        throw OptionError("--up: the up vector is zero or parallel to the viewing direction");
     if (o.no_point_lights) scene.lights.clear();
-    for (const std::string& l : o.lights) {
-        const auto v = parse_floats("--light", l);
-        if (v.size() != 3 && v.size() != 4 && v.size() != 6)
-            throw engine::InputError("--light: expected x,y,z or x,y,z,I or x,y,z,R,G,B, got '" + l + "'");
-        engine::Vec3f intensity{1.0f};
-        if (v.size() == 4) intensity = engine::Vec3f{v[3]};
-        if (v.size() == 6) intensity = {v[3], v[4], v[5]};
-        if (intensity.x < 0.0f || intensity.y < 0.0f || intensity.z < 0.0f)
-            throw engine::InputError("--light: intensity must not be negative in '" + l + "'");
-        scene.lights.push_back({{v[0], v[1], v[2]}, intensity});
-    }
-    if (!o.background.empty()) {
-        const auto v = parse_floats("--background", o.background);
-        if (v.size() != 1 && v.size() != 3) throw engine::InputError("--background: expected V or R,G,B, got '" + o.background + "'");
-        scene.background = v.size() == 1 ? engine::Vec3f{v[0]} : engine::Vec3f{v[0], v[1], v[2]};
-        if (scene.background.x < 0.0f || scene.background.y < 0.0f || scene.background.z < 0.0f)
-            throw engine::InputError("--background: radiance must not be negative");
-    }
+    for (const std::string& l : o.lights) scene.lights.push_back(parse_light(l));
+    if (!o.background.empty()) scene.background = parse_background(o.background);
     return scene;
 }
 

@@ -1,0 +1,88 @@
+#include "accel/brute/brute_accel.h"
+
+#include "accel/util/timer.h"
+#include "simd/tri_test.h"
+
+namespace arbor::accel {
+
+BruteAccel::BruteAccel(const TriangleView& view) {
+    const Timer timer;
+    stats_.triangles = view.triangle_count();
+    tris_.reserve(stats_.triangles);
+    for (std::size_t i = 0; i < stats_.triangles; ++i) {
+        if (!view.triangle_is_finite(i)) {
+            ++stats_.dropped_nonfinite;
+            continue;
+        }
+        tris_.push_back({view.corner(i, 0), view.corner(i, 1), view.corner(i, 2), std::uint32_t(i)});
+    }
+    stats_.nodes = 1;
+    stats_.leaves = 1;
+    stats_.sah_cost = double(tris_.size());  // every ray tests every triangle
+    stats_.memory_bytes = tris_.capacity() * sizeof(Tri);
+    stats_.build_ms = timer.ms();
+}
+
+Hit BruteAccel::trace(const Ray& ray, bool any_hit) const { return trace_impl<false>(ray, any_hit, nullptr); }
+
+template <bool Count> Hit BruteAccel::trace_impl(const Ray& ray, bool any_hit, TraceCounters* counters) const {
+    Hit best;
+    if constexpr (Count) ++counters->rays;
+    if (!ray_is_traceable(ray)) return best;
+    if constexpr (Count) ++counters->nodes_visited;
+    const simd::WoopShear shear = simd::woop_shear(ray.dir);
+    float tfar = ray.tfar;
+    for (const Tri& tri : tris_) {
+        if constexpr (Count) ++counters->triangles_tested;
+        const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
+        // Strictly closer only: on a tie the triangle defined first keeps the hit.
+        if (h.hit && (h.t < best.t || !best.is_hit())) {
+            best = {h.t, tri.prim, h.u, h.v};
+            if (any_hit) return best;
+            tfar = h.t;
+        }
+    }
+    return best;
+}
+
+void BruteAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace(rays[i], false);
+}
+
+bool BruteAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
+                               TraceCounters& counters) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_impl<true>(rays[i], any_hit, &counters);
+    return true;
+}
+
+void BruteAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
+    std::vector<Hit> hits;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits.clear();
+        const Ray& ray = rays[i];
+        if (ray_is_traceable(ray)) {
+            const simd::WoopShear shear = simd::woop_shear(ray.dir);
+            for (const Tri& tri : tris_) {
+                const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, ray.tfar, tri.v0, tri.v1, tri.v2);
+                if (h.hit) hits.push_back({h.t, tri.prim, h.u, h.v});
+            }
+            sort_unique_hits(hits);
+        }
+        sink.take(i, hits);
+    }
+}
+
+void BruteAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        PointSearch s(points[i], max_distance);
+        if (s.searchable())
+            for (const Tri& tri : tris_) s.offer(tri.v0, tri.v1, tri.v2, tri.prim);
+        out[i] = s.result();
+    }
+}
+
+void BruteAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace(rays[i], true);
+}
+
+}  // namespace arbor::accel

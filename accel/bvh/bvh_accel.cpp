@@ -1,0 +1,214 @@
+#include "accel/bvh/bvh_accel.h"
+
+#include "accel/bvh/bvh2_queries.h"
+#include "accel/bvh/bvh2_traverse.h"
+#include "accel/select/coherence.h"
+#include "accel/util/timer.h"
+#include "simd/tri_test.h"
+
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <vector>
+
+namespace arbor::accel {
+
+BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
+    : kind_(kind) {
+    const Timer timer;
+    has_scalar_ = cfg.layouts != Layouts::simd;
+    const bool wide = cfg.layouts != Layouts::scalar;
+    if (!bvh.nodes.empty()) diagonal_ = simd::length(bvh.nodes[0].box.extent());
+    WideConfig wide_cfg;
+    wide_cfg.merge_triangles = cfg.wide_merge;
+    wide_cfg.packet_lanes = cfg.packet_lanes;
+    wide_cfg.switch_lanes = cfg.packet_switch;
+    wide_cfg.switch_lanes_mixed = cfg.packet_switch_mixed;
+    BvhTreeStats tree;
+    // The layouts and the statistics only read the binary tree: made side by side.
+    tbb::parallel_invoke([&] { if (has_scalar_) layout_ = make_bvh2_layout(bvh, tris); },
+                         [&] { if (wide) wide_ = make_wide_paths(cfg.bvh_width, bvh, tris, wide_cfg); },
+                         [&] { tree = bvh_tree_stats(bvh, cfg.traversal_cost, cfg.intersection_cost); });
+    stats_.triangles = tris.triangle_count();
+    stats_.dropped_nonfinite = bvh.dropped_nonfinite;
+    stats_.nodes = tree.nodes;
+    stats_.leaves = tree.leaves;
+    stats_.max_depth = tree.max_depth;
+    stats_.mean_leaf_depth = tree.mean_leaf_depth;
+    stats_.sah_cost = tree.sah_cost;
+    // Both layouts: the scalar reference path and the SIMD paths.
+    stats_.memory_bytes = (has_scalar_ ? layout_.memory_bytes() : 0) + (wide_ ? wide_->memory_bytes() : 0);
+    // While converting, the binary tree, the layout and the converter's three words per node live together.
+    const std::size_t binary_bytes = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
+                                     bvh.prim_ids.capacity() * sizeof(std::uint32_t);
+    const std::size_t convert_peak = binary_bytes + stats_.memory_bytes + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+    stats_.build_peak_bytes = std::max(bvh.build_peak_bytes, convert_peak);
+    stats_.build_ms = build_ms + timer.ms();
+}
+
+template <bool AnyHit, bool Count>
+void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits, TraceCounters* counters) const {
+    std::uint64_t nodes = 0, tests = 0;
+    std::array<Bvh2StackEntry, 64> small;
+    std::vector<Bvh2StackEntry> large;
+    std::span<Bvh2StackEntry> stack(small);
+    if (bvh2_stack_size(layout_) > small.size()) {
+        large.resize(bvh2_stack_size(layout_));
+        stack = large;
+    }
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray& ray = rays[i];
+        Hit best;
+        if (ray_is_traceable(ray)) {
+            const simd::WoopShear shear = simd::woop_shear(ray.dir);
+            float tfar = ray.tfar;
+            auto leaf = [&](std::uint32_t first, std::uint32_t count) {
+                if constexpr (Count) ++nodes;
+                bool found = false;
+                for (std::uint32_t s = first; s < first + count; ++s) {
+                    if constexpr (Count) ++tests;
+                    const TriBlock4& b = layout_.blocks[s / tri_block_width];
+                    const std::uint32_t l = s % tri_block_width;
+                    const simd::TriHit<float> h = simd::woop_test(
+                        ray.org, shear, ray.tnear, tfar, {b.v0[0][l], b.v0[1][l], b.v0[2][l]},
+                        {b.v1[0][l], b.v1[1][l], b.v1[2][l]}, {b.v2[0][l], b.v2[1][l], b.v2[2][l]});
+                    // Strictly closer only, as in brute (the spec allows another prim at an equal t).
+                    if (h.hit && (h.t < best.t || !best.is_hit())) {
+                        best = {h.t, layout_.prim_ids[s], h.u, h.v};
+                        tfar = h.t;
+                        found = true;
+                        if constexpr (AnyHit) return true;
+                    }
+                }
+                return found;
+            };
+            if constexpr (Count) traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf, [&] { ++nodes; });
+            else traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf);
+        }
+        hits[i] = best;
+    }
+    if constexpr (Count) {
+        counters->rays += rays.size();
+        counters->nodes_visited += nodes;
+        counters->triangles_tested += tests;
+    }
+}
+
+Hit BvhAccel::trace(const Ray& ray, bool any_hit) const {
+    Hit h;
+    if (any_hit) trace_batch<true>({&ray, 1}, {&h, 1});
+    else trace_batch<false>({&ray, 1}, {&h, 1});
+    return h;
+}
+
+bool BvhAccel::has_path(TracePath path) const {
+    switch (path) {
+    case TracePath::scalar: return has_scalar_;
+    case TracePath::packet:
+    case TracePath::single: return wide_ != nullptr;
+    default: return true;
+    }
+}
+
+TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* reason) const {
+    if (!wide_) {
+        if (reason) *reason = "only the scalar layout was built";
+        return TracePath::scalar;
+    }
+    const std::size_t group = wide_->packet_lanes();
+    // Packets for groups that share an octant and a place (primary, shadow rays) and for groups
+    // that share a place only (diffuse bounces: their packets switch to single rays early, see
+    // WideConfig::switch_lanes_mixed); single rays for scattered origins.
+    const double f = coherent_fraction(rays, group, 0.05f * diagonal_);
+    const bool one_octant = f >= 0.5;
+    const double g = one_octant ? f : coherent_fraction(rays, group, 0.05f * diagonal_, 8, false);
+    const TracePath path = g >= 0.5 ? TracePath::packet : TracePath::single;
+    if (reason) {
+        char buf[200];
+        if (one_octant)
+            std::snprintf(buf, sizeof buf, "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene)",
+                          100.0 * f, group);
+        else
+            std::snprintf(buf, sizeof buf,
+                          "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene), %.0f%% start "
+                          "together (origins within 5%%)",
+                          100.0 * f, group, 100.0 * g);
+        *reason = buf;
+    }
+    return path;
+}
+
+void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, false);
+    if (path == TracePath::scalar) trace_batch<false>(rays, hits);
+    else wide_->trace(rays, hits, path, false);
+}
+
+void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
+    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, true);
+    if (path == TracePath::scalar) trace_batch<true>(rays, hits);
+    else wide_->trace(rays, hits, path, true);
+}
+
+void BvhAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
+    if (wide_) {
+        wide_->trace_all(rays, sink);
+        return;
+    }
+    std::vector<Bvh2StackEntry> stack(bvh2_stack_size(layout_));
+    std::vector<Hit> hits;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits.clear();
+        if (ray_is_traceable(rays[i])) all_hits_bvh2(layout_, rays[i], stack, hits);
+        sort_unique_hits(hits);
+        sink.take(i, hits);
+    }
+}
+
+void BvhAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
+    if (wide_) {
+        wide_->closest_points(points, max_distance, out);
+        return;
+    }
+    std::vector<Bvh2StackEntry> stack;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        PointSearch s(points[i], max_distance);
+        closest_point_bvh2(layout_, s, stack);
+        out[i] = s.result();
+    }
+}
+
+bool BvhAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceCounters& counters) const {
+    if (!has_scalar_) return false;
+    if (any_hit) trace_batch<true, true>(rays, hits, &counters);
+    else trace_batch<false, true>(rays, hits, &counters);
+    return true;
+}
+
+std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,
+                                      const BuildConfig& cfg, double build_ms) {
+    return std::make_unique<BvhAccel>(kind, std::move(bvh), tris, cfg, build_ms);
+}
+
+std::uint32_t bvh_leaf_floor(const BuildConfig& cfg) {
+    if (cfg.layouts != Layouts::simd) return 0;
+    if (cfg.simd_leaf_floor != 0) return cfg.simd_leaf_floor;
+    return wide_width_or_default(cfg.bvh_width);
+}
+
+std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
+                                       BvhBuilder builder) {
+    const Timer timer;
+    BinaryBvh bvh;
+    BuildConfig build_cfg = cfg;
+    build_cfg.leaf_floor = bvh_leaf_floor(cfg);  // the N-wide leaves' blocks: no finer split
+    {
+        const PrimRefs refs = make_prim_refs(tris);  // freed before the conversion
+        bvh = builder(refs, build_cfg);
+    }
+    return make_bvh_accel(kind, std::move(bvh), tris, cfg, timer.ms());
+}
+
+}  // namespace arbor::accel

@@ -1,0 +1,149 @@
+#pragma once
+/// The recursive top-down frame shared by the bvh-median, bvh-sah and full-sweep builders. A builder
+/// only supplies a splitter that decides, for a range of build primitives, "leaf" or where to cut
+/// (after partitioning the range in place). The frame recurses with tbb::parallel_invoke above
+/// cfg.parallel_threshold and stays deterministic: ranges below the threshold are built into their
+/// own node arrays, and one final pass places all of them at offsets computed from subtree sizes,
+/// so node order never depends on scheduling.
+#include "accel/bvh/binary_bvh.h"
+#include "accel/core/build_config.h"
+#include "accel/bvh/prim_refs.h"
+#include "accel/util/prefault.h"
+#include "accel/util/uninit_vector.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace arbor::accel::detail {
+
+/// 32-byte working copy of a PrimRef, partitioned in place by the builders.
+struct alignas(16) BuildPrim {
+    float lo[3];
+    std::uint32_t id;
+    float hi[3];
+    std::uint32_t pad;
+
+    /// The same centroid as PrimRefs (lo/2 + hi/2, bit for bit).
+    float centroid(int axis) const { return lo[axis] * 0.5f + hi[axis] * 0.5f; }
+    Bounds box() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+};
+static_assert(sizeof(BuildPrim) == 32);
+
+/// A range [begin, end) of the build primitives with its box and centroid box.
+struct BuildTask {
+    std::uint32_t begin = 0, end = 0, depth = 0;
+    Bounds box, cbox;
+    std::uint32_t size() const { return end - begin; }
+};
+
+/// Where a range was cut: [begin, mid) and [mid, end), both non-empty, with their bounds.
+struct SplitResult {
+    std::uint32_t mid = 0;
+    Bounds left_box, left_cbox, right_box, right_cbox;
+};
+
+/// Copies the refs into BuildPrims (parallel, into an array that is not zeroed first).
+UninitVector<BuildPrim> make_build_prims(const PrimRefs& refs);
+/// Boxes and centroid boxes of [begin, mid) and [mid, end).
+SplitResult bounds_of_halves(std::span<const BuildPrim> prims, std::uint32_t begin, std::uint32_t mid, std::uint32_t end);
+/// Splits at the middle index without reordering (all centroids equal: no order helps).
+SplitResult index_median_split(std::span<BuildPrim> prims, const BuildTask& t);
+/// Object median along `axis` (std::nth_element on the centroids); deterministic for a given input.
+SplitResult object_median_split(std::span<BuildPrim> prims, const BuildTask& t, int axis);
+/// Axis of the largest centroid-box extent, or -1 when every extent is zero.
+int longest_axis(const Bounds& cbox);
+
+/// The tree of subtrees built by the parallel recursion (see build_top_down).
+struct Subtree {
+    std::vector<BvhBuildNode> nodes;  ///< a chunk: its whole tree, root at 0; a top node: the root only
+    std::unique_ptr<Subtree> child[2];
+    std::size_t total = 0;  ///< nodes in the whole subtree
+    bool is_chunk() const { return !child[0]; }
+};
+/// Places the subtrees into one BinaryBvh node array (parallel, offsets from subtree sizes).
+/// Returns the bytes of the chunk arrays (for the peak-memory estimate).
+std::size_t assemble(const Subtree& root, std::vector<BvhBuildNode>& out);
+
+/// Splitter: `std::optional<SplitResult> operator()(std::span<BuildPrim>, const BuildTask&) const`,
+/// nullopt for a leaf. It must be safe to call concurrently on disjoint ranges, always split a
+/// range larger than cfg.max_leaf_size, and keep the recursion depth bounded.
+template <class Splitter> class TopDownBuilder {
+public:
+    TopDownBuilder(const PrimRefs& refs, const BuildConfig& cfg, const Splitter& split)
+        : refs_(refs), cfg_(cfg), split_(split), prims_(make_build_prims(refs)) {}
+
+    BinaryBvh run() {
+        BinaryBvh bvh;
+        bvh.dropped_nonfinite = refs_.dropped_nonfinite;
+        if (prims_.empty()) return bvh;
+        const BuildTask root{0, std::uint32_t(prims_.size()), 0, refs_.bounds, refs_.centroid_bounds};
+        const std::unique_ptr<Subtree> tree = build(root);
+        const std::size_t chunk_bytes = assemble(*tree, bvh.nodes);
+        resize_prefaulted(bvh.prim_ids, prims_.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prims_.size(), 65536), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) bvh.prim_ids[i] = prims_[i].id;
+        });
+        bvh.build_peak_bytes = refs_.memory_bytes() + prims_.capacity() * sizeof(BuildPrim) + chunk_bytes +
+                               bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
+        return bvh;
+    }
+
+private:
+    std::unique_ptr<Subtree> build(const BuildTask& t) {
+        auto s = std::make_unique<Subtree>();
+        if (t.size() < parallel_threshold()) {
+            s->nodes.reserve(2 * std::size_t(t.size()) - 1);  // a binary tree over n leaves' worth of prims
+            s->nodes.push_back({});
+            build_serial(t, 0, s->nodes);
+            s->total = s->nodes.size();
+            return s;
+        }
+        const std::optional<SplitResult> cut = split_(prims_, t);
+        s->nodes.push_back({t.box, cut ? 0u : t.begin, cut ? 0u : t.size()});
+        if (!cut) {
+            s->total = 1;
+            return s;
+        }
+        const BuildTask left{t.begin, cut->mid, t.depth + 1, cut->left_box, cut->left_cbox};
+        const BuildTask right{cut->mid, t.end, t.depth + 1, cut->right_box, cut->right_cbox};
+        tbb::parallel_invoke([&] { s->child[0] = build(left); }, [&] { s->child[1] = build(right); });
+        s->total = 1 + s->child[0]->total + s->child[1]->total;
+        return s;
+    }
+
+    void build_serial(const BuildTask& t, std::uint32_t node, std::vector<BvhBuildNode>& nodes) {
+        nodes[node].box = t.box;
+        const std::optional<SplitResult> cut = split_(prims_, t);
+        if (!cut) {
+            nodes[node].first = t.begin;
+            nodes[node].count = t.size();
+            return;
+        }
+        const auto first = std::uint32_t(nodes.size());
+        nodes[node].first = first;
+        nodes[node].count = 0;
+        nodes.resize(nodes.size() + 2);
+        build_serial({t.begin, cut->mid, t.depth + 1, cut->left_box, cut->left_cbox}, first, nodes);
+        build_serial({cut->mid, t.end, t.depth + 1, cut->right_box, cut->right_cbox}, first + 1, nodes);
+    }
+
+    std::uint32_t parallel_threshold() const { return std::max<std::uint32_t>(cfg_.parallel_threshold, 2); }
+
+    const PrimRefs& refs_;
+    const BuildConfig& cfg_;
+    const Splitter& split_;
+    UninitVector<BuildPrim> prims_;
+};
+
+/// Runs the frame with `split` over `refs`.
+template <class Splitter> BinaryBvh build_top_down(const PrimRefs& refs, const BuildConfig& cfg, const Splitter& split) {
+    return TopDownBuilder<Splitter>(refs, cfg, split).run();
+}
+
+}  // namespace arbor::accel::detail

@@ -1,0 +1,272 @@
+// The kd-tree's SIMD paths (kdtree_simd.h).
+//
+// single: the scalar rope walk (kd::walk_ropes) with each leaf's triangles tested as SIMD blocks
+// by one WideRay (simd::ray_triangles, the watertight test of tri_test.h on N triangles at once).
+//
+// packet: rays of a packet follow the ropes together (Popov, Günther, Seidel, Slusallek 2007,
+// "Stackless KD-Tree Traversal for High Performance GPU Ray Tracing"). Each lane keeps its own
+// walk state and moves by the scalar walk's own steps (kd::rope_first / kd::rope_next), so it
+// visits exactly the leaves of the scalar walk in the same order; what the packet shares is the
+// triangle test: the lanes waiting at the same leaf are tested together, one triangle against all
+// of them (simd::packet_triangle), after the triangles' boxes are culled against the packet's
+// interval bounds. Lanes that leave a leaf through different faces thus split up, and meet again
+// where their walks reach a common leaf. A leaf reached by few lanes, or whose blocks are cheaper
+// than its triangles one by one, is tested lane by lane with the single path's block test; so are
+// the rare extra leaves of a walk (visit_point near edges and corners, the passes on the other
+// sides of a split plane a ray lies in).
+#include "accel/kdtree/kdtree_simd.h"
+
+#include "accel/kdtree/kdtree_blocks.h"
+#include "accel/kdtree/kdtree_traverse.h"
+#include "simd/packet_bounds.h"
+#include "simd/tri_kernels.h"
+#include "simd/wide_ray.h"
+
+#include <algorithm>
+#include <bit>
+
+namespace arbor::accel {
+namespace {
+
+template <std::size_t N> struct LaneOf;
+#if XSIMD_WITH_AVX2
+template <> struct LaneOf<8> { using type = simd::Float8; };
+#endif
+#if XSIMD_WITH_AVX512F
+template <> struct LaneOf<16> { using type = simd::Float16; };
+#endif
+
+/// Lanes where a < b (signed 32-bit), as a mask of the float lanes.
+template <class A>
+inline xsimd::batch_bool<float, A> int_less(const xsimd::batch<std::int32_t, A>& a, const xsimd::batch<std::int32_t, A>& b) {
+    return xsimd::bool_cast(a < b);
+}
+
+template <std::size_t N> class KdSimdPathsN final : public KdSimdPaths {
+public:
+    using T = typename LaneOf<N>::type;
+
+    KdSimdPathsN(const KdTree& tree, const BuildConfig& cfg) : blocks_(make_kd_blocks<N>(tree)) {
+        packet_lanes_ = cfg.packet_lanes == 8 || cfg.packet_lanes == 16 ? cfg.packet_lanes : (XSIMD_WITH_AVX512F ? 16 : 8);
+        if (!XSIMD_WITH_AVX512F) packet_lanes_ = 8;
+        switch_lanes_ = cfg.packet_switch >= 0 ? cfg.packet_switch : int(packet_lanes_ / 8);
+    }
+
+    std::size_t block_width() const override { return N; }
+    std::size_t packet_lanes() const override { return packet_lanes_; }
+    std::size_t memory_bytes() const override { return blocks_.memory_bytes(); }
+
+    void trace(const KdTree& tree, std::span<const Ray> rays, std::span<Hit> hits, TracePath path,
+               bool any_hit) const override {
+        if (path == TracePath::packet && !tree.empty()) {
+#if XSIMD_WITH_AVX512F
+            if (packet_lanes_ == 16) {
+                if (any_hit) trace_packets<true, simd::Float16>(tree, rays, hits);
+                else trace_packets<false, simd::Float16>(tree, rays, hits);
+                return;
+            }
+#endif
+            if (any_hit) trace_packets<true, simd::Float8>(tree, rays, hits);
+            else trace_packets<false, simd::Float8>(tree, rays, hits);
+            return;
+        }
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            hits[i] = any_hit ? trace_one<true>(tree, rays[i]) : trace_one<false>(tree, rays[i]);
+    }
+
+private:
+    /// The triangles of leaf `li` against ray `r` (r.tfar: the current best distance or the ray's
+    /// tfar), updating `best` by the scalar path's rule. Returns true (any hit) when a hit was found.
+    template <bool AnyHit> bool test_leaf(simd::WideRay<T>& r, std::uint32_t li, Hit& best) const {
+        const KdBlock<N>* b = blocks_.blocks.data() + blocks_.first[li];
+        const KdBlock<N>* end = blocks_.blocks.data() + blocks_.first[li + 1];
+        for (; b != end; ++b) {
+            const simd::TriHit<T> h = simd::ray_triangles<T>(r, &b->tris.v[0][0][0]);
+            const std::uint32_t bits = simd::to_bits(h.hit);
+            if (bits == 0) continue;
+            // Any hit: the first triangle of the leaf that hits; closest: the smallest t, on equal t
+            // the lowest lane, which is the lowest prim (a leaf's triangles are in ascending prim order).
+            const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
+            const float t = simd::lane(h.t, std::size_t(lane));
+            const std::uint32_t prim = b->ids[lane];
+            if (!AnyHit && best.is_hit() && !(t < best.t || (t == best.t && prim < best.prim))) continue;
+            best = {t, prim, simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane))};
+            if constexpr (AnyHit) return true;
+            r.tfar = T(t);
+        }
+        return false;
+    }
+
+    template <bool AnyHit> Hit trace_one(const KdTree& tree, const Ray& ray) const {
+        Hit best;
+        if (tree.empty() || !ray_is_traceable(ray)) return best;
+        simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
+        std::uint64_t visited = 0;
+        kd::walk_ropes<AnyHit>(tree, ray, best.t, [&](std::uint32_t li) { return test_leaf<AnyHit>(r, li, best); }, visited);
+        return best;
+    }
+
+    /// One lane's walk: the state of kd::walk_ropes between two leaves.
+    struct LaneWalk {
+        kd::RopeRay s;
+        double t0, t;
+        std::uint32_t node;
+        std::size_t steps;
+        unsigned touched;
+    };
+
+    template <bool AnyHit, class P>
+    void trace_packets(const KdTree& tree, std::span<const Ray> rays, std::span<Hit> hits) const {
+        constexpr std::size_t K = simd::lanes<P>;
+        using IntP = simd::IntOf<P>;
+        const KdNode* nodes = tree.nodes.data();
+        const std::size_t max_steps = kd::rope_max_steps(tree);
+        LaneWalk walk[K];
+        simd::WideRay<T> wide[K];
+        alignas(64) float best_t[K], best_u[K], best_v[K], tfar[K];
+        alignas(64) std::int32_t best_prim[K];
+        std::uint32_t pending[K];  // the leaf a walking lane tests next
+        std::uint64_t visited = 0;
+        for (std::size_t base = 0; base < rays.size(); base += K) {
+            const auto in = rays.subspan(base, std::min(K, rays.size() - base));
+            simd::RayPacket<P> p = simd::load_packet<P>(in);
+            const simd::PacketBounds bounds = simd::packet_bounds(p, p.active);
+            simd::store_lanes(p.tfar, tfar);
+            for (std::size_t i = 0; i < K; ++i) best_t[i] = INFINITY, best_u[i] = best_v[i] = 0.0f, best_prim[i] = -1;
+            std::uint32_t have_wide = 0;
+            // Lane i alone against leaf li (the single path's block test), in the packet's records.
+            const auto single = [&](int i, std::uint32_t li) {
+                if (!(have_wide >> i & 1u)) {
+                    const Ray& ray = in[std::size_t(i)];
+                    wide[i] = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
+                    have_wide |= 1u << i;
+                }
+                simd::WideRay<T>& r = wide[i];
+                r.tfar = T(tfar[i]);
+                Hit h{best_t[i], std::uint32_t(best_prim[i]), best_u[i], best_v[i]};
+                const bool stop = test_leaf<AnyHit>(r, li, h);
+                best_t[i] = h.t, best_prim[i] = std::int32_t(h.prim), best_u[i] = h.u, best_v[i] = h.v;
+                if (h.is_hit()) tfar[i] = h.t;
+                return stop;
+            };
+            // Leaf li for the lanes `group` at once; returns the lanes that are done (any hit).
+            const auto together = [&](std::uint32_t group, std::uint32_t li) {
+                auto live = simd::from_bits<P>(group);
+                p.tfar = simd::load_lanes<P>(tfar);
+                simd::PacketHit<P> best{simd::load_lanes<P>(best_t), simd::load_lanes<P>(best_u),
+                                        simd::load_lanes<P>(best_v), simd::load_lanes<IntP>(best_prim)};
+                const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
+                const std::uint32_t count = tree.leaves[li].count;
+                std::uint32_t done = 0;
+                for (std::uint32_t b = blocks_.first[li], j = 0; b < blocks_.first[li + 1]; ++b, ++j) {
+                    const KdBlock<N>& blk = blocks_.blocks[b];
+                    const std::uint32_t used = std::min<std::uint32_t>(count - j * N, N);
+                    std::uint32_t maybe = simd::to_bits(simd::bounds_triangles<T>(bounds, tfar_hi, &blk.tris.v[0][0][0]));
+                    maybe &= used >= 32 ? ~0u : (1u << used) - 1u;
+                    for (; maybe != 0; maybe &= maybe - 1) {
+                        const int l = std::countr_zero(maybe);
+                        const auto& v = blk.tris.v;
+                        const simd::TriHit<P> h = simd::packet_triangle(p, Vec3f{v[0][0][l], v[0][1][l], v[0][2][l]},
+                                                                        Vec3f{v[1][0][l], v[1][1][l], v[1][2][l]},
+                                                                        Vec3f{v[2][0][l], v[2][1][l], v[2][2][l]});
+                        const IntP prim(std::int32_t(blk.ids[l]));
+                        auto take = h.hit & live;
+                        if constexpr (!AnyHit)
+                            take = take & ((h.t < best.t) | simd::int_equal(best.prim, IntP(-1)) |
+                                           ((h.t == best.t) & int_less(prim, best.prim)));
+                        const std::uint32_t bits = simd::to_bits(take);
+                        if (bits == 0) continue;
+                        best.t = simd::select(take, h.t, best.t);
+                        best.u = simd::select(take, h.u, best.u);
+                        best.v = simd::select(take, h.v, best.v);
+                        best.prim = simd::iselect(take, prim, best.prim);
+                        p.tfar = simd::select(take, h.t, p.tfar);
+                        if constexpr (AnyHit) {
+                            done |= bits;
+                            live = live & !take;
+                            if (simd::none(live)) break;
+                        }
+                    }
+                    if (AnyHit && simd::none(live)) break;
+                }
+                simd::store_lanes(best.t, best_t);
+                simd::store_lanes(best.u, best_u);
+                simd::store_lanes(best.v, best_v);
+                simd::store_lanes(best.prim, best_prim);
+                simd::store_lanes(p.tfar, tfar);
+                return done;
+            };
+            // Start every lane's walk (kd::walk_ropes up to its first leaf).
+            std::uint32_t walking = 0;
+            for (std::uint32_t l = simd::to_bits(p.active); l != 0; l &= l - 1) {
+                const int i = std::countr_zero(l);
+                const Ray& ray = in[std::size_t(i)];
+                if (!ray_is_traceable(ray)) continue;
+                LaneWalk& w = walk[i];
+                auto leaf_fn = [&](std::uint32_t li) { return single(i, li); };
+                switch (kd::rope_start(tree, ray, w.s, w.t0)) {
+                case kd::RopeStart::none: continue;
+                case kd::RopeStart::point: kd::visit_point<false>(nodes, w.s, w.t0, leaf_fn, visited); continue;
+                case kd::RopeStart::walk: break;
+                }
+                w.t = w.t0, w.steps = 0, w.touched = 0;
+                if (kd::rope_first<false>(tree, w.s, w.t0, w.node, leaf_fn, visited) != kd::RopeStep::leaf) continue;
+                pending[i] = nodes[w.node].index();
+                walking |= 1u << i;
+            }
+            while (walking != 0) {
+                const std::uint32_t li = pending[std::countr_zero(walking)];
+                std::uint32_t group = 0;
+                for (std::uint32_t l = walking; l != 0; l &= l - 1)
+                    if (pending[std::countr_zero(l)] == li) group |= 1u << std::countr_zero(l);
+                // Together: at least switch_lanes + 1 lanes, and fewer triangle tests than the
+                // lanes' block tests would be.
+                const int n = std::popcount(group);
+                const std::uint32_t nblocks = blocks_.first[li + 1] - blocks_.first[li];
+                std::uint32_t done = 0;
+                if (n > switch_lanes_ && std::uint32_t(n) * nblocks * 2 > tree.leaves[li].count) {
+                    done = together(group, li);
+                } else {
+                    for (std::uint32_t l = group; l != 0; l &= l - 1)
+                        if (single(std::countr_zero(l), li)) done |= 1u << std::countr_zero(l);
+                }
+                walking &= ~done;
+                // Each lane of the group takes its next step (kd::walk_pass after leaf_fn).
+                for (std::uint32_t l = group & ~done; l != 0; l &= l - 1) {
+                    const int i = std::countr_zero(l);
+                    LaneWalk& w = walk[i];
+                    auto leaf_fn = [&](std::uint32_t leaf) { return single(i, leaf); };
+                    kd::RopeStep st = kd::rope_next<AnyHit, false>(tree, w.s, w.t, w.node, best_t[i], leaf_fn, w.touched, visited);
+                    if (st == kd::RopeStep::leaf && ++w.steps < max_steps) {
+                        pending[i] = nodes[w.node].index();
+                        continue;
+                    }
+                    walking &= ~(1u << i);
+                    if (st != kd::RopeStep::stop && w.touched != 0)
+                        kd::walk_other_sides<AnyHit, false>(tree, w.s, w.t0, best_t[i], leaf_fn, visited);
+                }
+            }
+            for (std::size_t i = 0; i < in.size(); ++i)
+                hits[base + i] = {best_t[i], std::uint32_t(best_prim[i]), best_u[i], best_v[i]};
+        }
+    }
+
+    KdBlocks<N> blocks_;
+    std::uint32_t packet_lanes_ = 8;
+    int switch_lanes_ = 1;
+};
+
+}  // namespace
+
+std::uint32_t default_kd_block_width() { return 8; }
+
+std::unique_ptr<KdSimdPaths> make_kd_simd_paths(const KdTree& tree, const BuildConfig& cfg) {
+    const std::uint32_t width = cfg.kd_block_width ? cfg.kd_block_width : default_kd_block_width();
+#if XSIMD_WITH_AVX512F
+    if (width == 16) return std::make_unique<KdSimdPathsN<16>>(tree, cfg);
+#endif
+    (void)width;
+    return std::make_unique<KdSimdPathsN<8>>(tree, cfg);
+}
+
+}  // namespace arbor::accel

@@ -1,0 +1,261 @@
+#pragma once
+/// Stackless kd-tree traversal along the leaves' ropes (Popov, Günther, Seidel, Slusallek 2007):
+/// one walk for closest and any hit (template<bool AnyHit>), the leaf work passed in.
+///
+/// How it stays exact where kd-trees usually leak:
+/// - Plane crossings t = (p - o) / d are computed in double: p - o is exact for floats, so every
+///   crossing has about one double rounding. The walk follows these crossings exactly (a crossing
+///   at exactly t goes to the side the ray moves into), so it is a partition of the ray into leaf
+///   intervals; no leaf is skipped for being thinner than a float ulp of t.
+/// - A hit is accepted wherever it lies (t in [tnear, current tfar]); a closest-hit walk stops
+///   after a leaf only when its best hit is not beyond that leaf's exit. So a triangle spanning
+///   several leaves is never lost at a leaf face, and the closest hit is the true closest.
+/// - The watertight triangle test decides in the ray's sheared float frame, i.e. for triangles
+///   moved by a few float ulps of their distance to the origin; a ray aimed at a vertex may be
+///   "hit" by a triangle whose leaves it passes a hair away from. So wherever the walk crosses a
+///   face within `point_tolerance` (relative to the distance travelled) of another plane of the
+///   leaf arrangement (near an edge or corner; also an origin on a split plane), every leaf within
+///   that tolerance of the crossing point is tested too (visit_point). The walk itself goes on.
+/// - Zero direction components (box_test.h's rule: 1/+-0 = +-inf, the sign bit picks the side): the
+///   ray never crosses planes of that axis. A ray lying exactly in a split plane walks the side its
+///   sign bit picks; if a visited leaf has a face in the ray's plane, the walk is repeated with the
+///   other side(s), so triangles touching the plane from either side are found. (On such an axis
+///   the triangle test is exact in sign, so no tolerance is needed there.)
+#include "accel/kdtree/kdtree_node.h"
+#include "accel/core/ray.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace arbor::accel::kd {
+
+/// A crossing point closer than this times the distance travelled (|t| * max|d|) to another plane
+/// counts as lying on it. The sheared watertight test moves corners by at most ~6 float ulps of
+/// that distance (2^-21.4); this is 8 times more.
+inline constexpr double point_tolerance = 0x1p-18;
+
+/// Per-ray constants of the walk.
+struct RopeRay {
+    double o[3];
+    double rcp[3];        ///< 1 / d in double; +-inf for d = +-0
+    double tol[3];        ///< point_tolerance * max|d| / |d[k]|: the tolerance in t, per unit of t
+    bool up[3];           ///< sign bit of d clear: moving towards larger coordinates
+    bool flat[3];         ///< d == +-0: the ray never crosses planes of this axis
+    bool tie_right[3];    ///< flat axes: the side walked when the ray lies in a split plane
+    double t_end;         ///< min(tfar, scene exit)
+};
+
+inline double cross_t(const RopeRay& s, int k, float p) { return (double(p) - s.o[k]) * s.rcp[k]; }
+/// Whether the ray at distance t is within the point tolerance of the plane it crosses at tp.
+inline bool near_plane(const RopeRay& s, int k, double tp, double t) { return std::fabs(tp - t) <= s.tol[k] * std::fabs(t); }
+
+/// From `node` down to the leaf the ray is in just after distance t: a crossing at exactly t goes
+/// to the side the ray moves into, flat axes compare the origin (tie: tie_right). Sets `near` when
+/// the point at t is within the tolerance of a split plane on the way. Count: adds the interior
+/// nodes passed to `visited`.
+template <bool Count = false>
+inline std::uint32_t descend(const KdNode* nodes, const RopeRay& s, std::uint32_t node, double t, bool& near,
+                             std::uint64_t& visited) {
+    for (;;) {
+        const KdNode n = nodes[node];
+        if (n.is_leaf()) return node;
+        if constexpr (Count) ++visited;
+        const int k = n.axis();
+        bool right;
+        if (s.flat[k]) {
+            right = s.o[k] > n.split || (s.o[k] == n.split && s.tie_right[k]);
+        } else {
+            const double tp = cross_t(s, k, n.split);
+            near |= near_plane(s, k, tp, t);
+            right = tp == t ? s.up[k] : (t > tp) == s.up[k];
+        }
+        node = right ? n.index() : node + 1;
+    }
+}
+
+/// Calls leaf_fn for every leaf whose closed box, grown by the point tolerance, holds the ray's
+/// point at distance t. Returns true when leaf_fn asks to stop.
+template <bool Count, class LeafFn>
+bool visit_point(const KdNode* nodes, const RopeRay& s, double t, LeafFn& leaf_fn, std::uint64_t& visited) {
+    std::uint32_t stack[kd_max_depth + 2];
+    int sp = 0;
+    std::uint32_t node = 0;
+    for (;;) {
+        const KdNode n = nodes[node];
+        if (n.is_leaf()) {
+            if (leaf_fn(n.index())) return true;
+            if (sp == 0) return false;
+            node = stack[--sp];
+            continue;
+        }
+        if constexpr (Count) ++visited;
+        const int k = n.axis();
+        bool left, right;
+        if (s.flat[k]) {
+            left = s.o[k] <= n.split;
+            right = s.o[k] >= n.split;
+        } else {
+            const double tp = cross_t(s, k, n.split);
+            const bool both = near_plane(s, k, tp, t);
+            right = both || (t > tp) == s.up[k];
+            left = both || !right;
+        }
+        if (left && right) stack[sp++] = n.index();
+        node = left ? node + 1 : n.index();
+    }
+}
+
+/// What a step of the walk ended with.
+enum class RopeStep { end, leaf, stop };  ///< the pass is over; `node` is the next leaf; leaf_fn stopped it
+
+/// The first leaf of a pass from distance t0: `node` is set to it (RopeStep::leaf), unless a
+/// visit_point around the start stopped the walk (RopeStep::stop).
+template <bool Count, class LeafFn>
+RopeStep rope_first(const KdTree& tree, const RopeRay& s, double t0, std::uint32_t& node, LeafFn& leaf_fn,
+                    std::uint64_t& visited) {
+    bool near = false;
+    node = descend<Count>(tree.nodes.data(), s, 0, t0, near, visited);
+    if (near && visit_point<Count>(tree.nodes.data(), s, t0, leaf_fn, visited)) return RopeStep::stop;
+    return RopeStep::leaf;
+}
+
+/// After the leaf at `node` (at distance t) has been tested: moves `node` and t to the next leaf
+/// along the ray, testing the leaves around an edge or corner passed near (visit_point). `touched`
+/// gets bit k when this leaf has a face (not on the scene box) in the plane of a flat axis k, i.e.
+/// leaves on the other side of that plane touch the ray too.
+template <bool AnyHit, bool Count, class LeafFn>
+RopeStep rope_next(const KdTree& tree, const RopeRay& s, double& t, std::uint32_t& node, const float& best_t,
+                   LeafFn& leaf_fn, unsigned& touched, std::uint64_t& visited) {
+    const KdNode* nodes = tree.nodes.data();
+    const KdLeaf& leaf = tree.leaves[nodes[node].index()];
+    double t_exit = INFINITY, t_far[3] = {0, 0, 0}, t_near[3] = {0, 0, 0};
+    int axis = -1;
+    for (int k = 0; k < 3; ++k) {
+        if (s.flat[k]) {
+            const bool on_lo = s.o[k] == leaf.box.lo[k] && leaf.box.lo[k] != tree.box.lo[k];
+            const bool on_hi = s.o[k] == leaf.box.hi[k] && leaf.box.hi[k] != tree.box.hi[k];
+            if (on_lo || on_hi) touched |= 1u << k;
+            continue;
+        }
+        t_far[k] = cross_t(s, k, s.up[k] ? leaf.box.hi[k] : leaf.box.lo[k]);
+        t_near[k] = cross_t(s, k, s.up[k] ? leaf.box.lo[k] : leaf.box.hi[k]);
+        if (t_far[k] < t_exit) t_exit = t_far[k], axis = k;
+    }
+    if (axis < 0) return RopeStep::end;
+    if (!AnyHit && double(best_t) <= t_exit) return RopeStep::end;  // nothing further on can be closer
+    if (t_exit > s.t_end + s.tol[axis] * std::fabs(s.t_end)) return RopeStep::end;
+    // Leaving near an edge or corner of this leaf (or exactly through one)?
+    bool corner = false, near_exit = false;
+    for (int k = 0; k < 3; ++k) {
+        if (s.flat[k]) continue;
+        corner |= k != axis && t_far[k] == t_exit;
+        near_exit |= (k != axis && near_plane(s, k, t_far[k], t_exit)) || near_plane(s, k, t_near[k], t_exit);
+    }
+    t = t_exit;
+    const std::uint32_t rope = leaf.rope[kd_face(axis, s.up[axis])];
+    if (rope == kd_no_rope)
+        return near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited) ? RopeStep::stop : RopeStep::end;
+    // Leaving exactly through an edge or corner, the next leaf is not across the exit face.
+    node = descend<Count>(nodes, s, corner ? 0u : rope, t, near_exit, visited);
+    if (near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited)) return RopeStep::stop;
+    return RopeStep::leaf;
+}
+
+/// Every step moves t forward (see the header comment); this bound on the leaves of one pass is
+/// only a safety net.
+inline std::size_t rope_max_steps(const KdTree& tree) { return 2 * tree.leaves.size() + 64; }
+
+/// One walk from distance t0 with the current tie sides. Returns true when leaf_fn stopped it.
+/// `touched`: see rope_next.
+template <bool AnyHit, bool Count, class LeafFn>
+bool walk_pass(const KdTree& tree, const RopeRay& s, double t0, const float& best_t, LeafFn& leaf_fn,
+               unsigned& touched, std::uint64_t& visited) {
+    double t = t0;
+    std::uint32_t node = 0;
+    RopeStep st = rope_first<Count>(tree, s, t0, node, leaf_fn, visited);
+    const std::size_t max_steps = rope_max_steps(tree);
+    for (std::size_t step = 0; step < max_steps; ++step) {
+        if (st != RopeStep::leaf) return st == RopeStep::stop;
+        if (leaf_fn(tree.nodes[node].index())) return true;
+        st = rope_next<AnyHit, Count>(tree, s, t, node, best_t, leaf_fn, touched, visited);
+    }
+    return false;
+}
+
+/// How the walk of a ray begins (rope_start).
+enum class RopeStart { none, walk, point };  ///< nothing to visit; walk from t0; only visit_point at t0
+
+/// The per-ray constants of ray `r` (traceable) and its entry distance t0 into the scene box.
+/// RopeStart::point: the ray passes by the scene box, but within the point tolerance of it (exactly
+/// through an edge or corner of the box, up to the double rounding of the entry and exit, or a hair
+/// outside), where the sheared triangle test may still hit: the leaves at t0 are to be tested
+/// (visit_point; found by arbor's fuzzer).
+inline RopeStart rope_start(const KdTree& tree, const Ray& r, RopeRay& s, double& t0) {
+    t0 = r.tnear;
+    double t1 = r.tfar;
+    const double dmax = std::max({std::fabs(double(r.dir.x)), std::fabs(double(r.dir.y)), std::fabs(double(r.dir.z))});
+    for (int k = 0; k < 3; ++k) {
+        s.o[k] = r.org[k];
+        s.flat[k] = r.dir[k] == 0.0f;
+        s.up[k] = !std::signbit(r.dir[k]);
+        s.tie_right[k] = s.up[k];
+        s.rcp[k] = 1.0 / double(r.dir[k]);
+        s.tol[k] = point_tolerance * dmax * std::fabs(s.rcp[k]);
+        const float lo = tree.box.lo[k], hi = tree.box.hi[k];
+        if (s.flat[k]) {
+            if (s.o[k] < lo || s.o[k] > hi) return RopeStart::none;
+            continue;
+        }
+        const double a = cross_t(s, k, lo), b = cross_t(s, k, hi);
+        t0 = std::max(t0, s.up[k] ? a : b);
+        t1 = std::min(t1, s.up[k] ? b : a);
+    }
+    s.t_end = t1;
+    if (t0 <= t1) return RopeStart::walk;
+    double tol = 0.0;
+    for (int k = 0; k < 3; ++k)
+        if (!s.flat[k]) tol = std::max(tol, s.tol[k]);
+    return t0 - t1 <= tol * std::max(std::fabs(t0), std::fabs(t1)) ? RopeStart::point : RopeStart::none;
+}
+
+/// The walks after a first pass that found the ray lying in leaf faces of flat axes (`touched`):
+/// one more pass per other combination of tie sides of the flat axes. Returns true when leaf_fn
+/// stopped the walk.
+template <bool AnyHit, bool Count, class LeafFn>
+bool walk_other_sides(const KdTree& tree, const RopeRay& s, double t0, const float& best_t, LeafFn& leaf_fn,
+                      std::uint64_t& visited) {
+    int flat_axes[3], nf = 0;
+    for (int k = 0; k < 3; ++k)
+        if (s.flat[k]) flat_axes[nf++] = k;
+    for (unsigned combo = 1; combo < (1u << nf); ++combo) {
+        RopeRay other = s;
+        for (int i = 0; i < nf; ++i)
+            if (combo & (1u << i)) other.tie_right[flat_axes[i]] = !s.tie_right[flat_axes[i]];
+        unsigned unused = 0;
+        if (walk_pass<AnyHit, Count>(tree, other, t0, best_t, leaf_fn, unused, visited)) return true;
+    }
+    return false;
+}
+
+/// Walks the leaves ray `r` passes, in order, calling leaf_fn(leaf index) -> bool (true: stop, for
+/// any hit). For closest hit, `best_t` is the distance of the best hit so far (+inf while none),
+/// updated by leaf_fn; the walk ends after the leaf whose exit is not before it. Untraceable rays
+/// (ray_is_traceable) and an empty tree visit nothing. Leaves may be visited more than once.
+/// Count: adds the interior nodes whose split plane the walk tested to `visited`.
+template <bool AnyHit, bool Count = false, class LeafFn>
+void walk_ropes(const KdTree& tree, const Ray& r, const float& best_t, LeafFn&& leaf_fn, std::uint64_t& visited) {
+    if (tree.empty() || !ray_is_traceable(r)) return;
+    RopeRay s;
+    double t0 = 0.0;
+    switch (rope_start(tree, r, s, t0)) {
+    case RopeStart::none: return;
+    case RopeStart::point: visit_point<Count>(tree.nodes.data(), s, t0, leaf_fn, visited); return;
+    case RopeStart::walk: break;
+    }
+    unsigned touched = 0;
+    if (walk_pass<AnyHit, Count>(tree, s, t0, best_t, leaf_fn, touched, visited) || touched == 0) return;
+    // The ray lies in a leaf face plane of a flat axis: walk the other sides too.
+    walk_other_sides<AnyHit, Count>(tree, s, t0, best_t, leaf_fn, visited);
+}
+
+}  // namespace arbor::accel::kd

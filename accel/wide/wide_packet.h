@@ -1,0 +1,115 @@
+#pragma once
+/// The packet traversal of WideLayout<N> (TracePath::packet) for coherent rays: a RayPacket of
+/// lanes<P> rays (8 or 16) walks the tree together. At a node every child box is tested against
+/// all lanes still interested in the node (simd::packet_box, the same conservative slab test and
+/// zero-direction rule as every other path); hit children are visited nearest first by the
+/// smallest entry distance over the lanes, deferred ones on a stack that keeps each lane's entry
+/// distance, so a lane drops out of a subtree once its hit is closer. When few lanes remain at a
+/// node, each continues alone with the single-ray traversal from that node (`single`): the packet
+/// would test boxes for lanes that are not there. Before the per-lane box tests, one N-wide test of
+/// the packet's interval bounds against all children (simd/packet_bounds.h, exactly conservative)
+/// drops the children that no lane can hit. Any hit: a lane that found a hit is done, and the
+/// walk ends as soon as every lane is done. See Wald et al., "Interactive Rendering with Coherent
+/// Ray Tracing", EG 2001 (packets), and Benthin et al., "Combining Single and Packet-Ray Tracing
+/// for Arbitrary Ray Distributions on the Intel MIC Architecture", TVCG 2012 (switching to single rays).
+#include "accel/wide/wide_layout.h"
+#include "accel/wide/wide_traverse.h"
+#include "simd/box_kernels.h"
+#include "simd/lane_order.h"
+#include "simd/packet_bounds.h"
+
+#include <bit>
+
+namespace arbor::accel {
+
+/// A deferred child of the packet walk: its reference and each lane's entry distance (NaN in lanes
+/// that missed it, so that no comparison brings them back).
+template <class P> struct PacketStackEntry {
+    P t;
+    std::uint32_t child, count;
+};
+
+/// Walks `layout` from the root with packet `p`, whose active lanes `bounds` bounds
+/// (simd::packet_bounds). `leaf(first_block, count, lanes)` tests a leaf
+/// for the lanes in the bit mask `lanes` and lowers p.tfar where it finds closer hits; it returns
+/// the lanes that found a hit. `single(lane, child, count)` traces one lane alone through the
+/// subtree (child, count) (lowering p.tfar in that lane on a hit) and returns whether it hit.
+/// With AnyHit a lane that hit is done (removed from p.active, p.tfar = -inf). `switch_lanes`: at
+/// a node reached by at most this many lanes they go on alone. `stack` holds layout.stack_size()
+/// entries.
+template <bool AnyHit, std::size_t N, class P, class LeafFn, class SingleFn>
+inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, const simd::PacketBounds& bounds,
+                            PacketStackEntry<P>* stack, int switch_lanes, LeafFn&& leaf, SingleFn&& single) {
+    std::uint32_t lanes = simd::to_bits(p.active);
+    if (lanes == 0 || layout.empty()) return;
+    const WideNode<N>* nodes = layout.nodes.data();
+    const P inf(INFINITY), nan(NAN);
+    std::size_t sp = 0;
+    std::uint32_t child = 0, count = 0;
+    // Lanes that are finished (any hit) leave `lanes` at once; the others as their tfar drops.
+    const auto finish = [&](std::uint32_t done) {
+        if constexpr (AnyHit) {
+            const auto m = simd::from_bits<P>(done);
+            p.active = p.active & !m;
+            p.tfar = simd::select(m, P(-INFINITY), p.tfar);
+        }
+        return done;
+    };
+    for (;;) {
+        if (std::popcount(lanes) <= switch_lanes) {
+            std::uint32_t done = 0;
+            for (std::uint32_t l = lanes; l != 0; l &= l - 1) {
+                const int i = std::countr_zero(l);
+                if (single(i, child, count)) done |= 1u << i;
+            }
+            finish(done);
+            if (AnyHit && simd::to_bits(p.active) == 0) return;
+        } else if (count == 0) {
+            const WideNode<N>& n = nodes[child];
+            const auto live = simd::from_bits<P>(lanes);
+            alignas(64) float tmin[N];
+            P tc[N];
+            std::uint32_t lanes_of[N];
+            std::uint32_t hit_children = 0;
+            const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, inf));
+            std::uint32_t maybe = simd::to_bits(simd::bounds_boxes<WideLane<N>>(bounds, tfar_hi, &n.boxes.b[0][0][0]));
+            maybe &= (1u << n.children) - 1u;
+            for (; maybe != 0; maybe &= maybe - 1) {
+                const int c = std::countr_zero(maybe);
+                const Vec3f lo{n.boxes.b[0][0][c], n.boxes.b[0][1][c], n.boxes.b[0][2][c]};
+                const Vec3f hi{n.boxes.b[1][0][c], n.boxes.b[1][1][c], n.boxes.b[1][2][c]};
+                P t;
+                const auto m = (p.plain ? simd::packet_box_plain(p, lo, hi, t) : simd::packet_box(p, lo, hi, t)) & live;
+                lanes_of[c] = simd::to_bits(m);
+                if (lanes_of[c] == 0) continue;
+                tc[c] = simd::select(m, t, nan);
+                tmin[c] = simd::hmin(simd::select(m, t, inf));
+                hit_children |= 1u << c;
+            }
+            if (hit_children != 0) {
+                std::uint8_t order[N];
+                const int k = simd::order_hits(hit_children, static_cast<const float*>(tmin), order);
+                for (int j = k - 1; j > 0; --j) stack[sp++] = {tc[order[j]], n.child[order[j]], n.count[order[j]]};
+                const std::size_t c = order[0];
+                lanes = lanes_of[c];
+                child = n.child[c], count = n.count[c];
+                continue;
+            }
+        } else {
+            const std::uint32_t done = finish(leaf(child, count, lanes));
+            if (AnyHit && done != 0 && simd::to_bits(p.active) == 0) return;
+        }
+        // Pop the nearest deferred child that some lane can still use.
+        for (;;) {
+            if (sp == 0) return;
+            const PacketStackEntry<P>& e = stack[--sp];
+            lanes = simd::to_bits((e.t <= p.tfar) & p.active);
+            if (lanes != 0) {
+                child = e.child, count = e.count;
+                break;
+            }
+        }
+    }
+}
+
+}  // namespace arbor::accel
