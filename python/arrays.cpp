@@ -76,8 +76,10 @@ PerRay per_ray(py::handle obj, const char* what, std::size_t n) {
     PerRay r;
     const bool is_array = py::isinstance<py::array>(obj) || py::isinstance<py::list>(obj) || py::isinstance<py::tuple>(obj);
     if (!is_array || (py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).ndim() == 0)) {
-        if (py::isinstance<py::array>(obj)) obj = py::reinterpret_borrow<py::array>(obj).attr("item")();
-        r.value = number(obj, what);
+        // (A 0-d array's item() is a new object: held here, not in the borrowed handle.)
+        const py::object scalar = py::isinstance<py::array>(obj) ? py::reinterpret_borrow<py::array>(obj).attr("item")()
+                                                                 : py::reinterpret_borrow<py::object>(obj);
+        r.value = number(scalar, what);
         return r;
     }
     constexpr const char* expected = "a number or a float32 array of shape (N,)";

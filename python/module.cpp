@@ -178,7 +178,7 @@ PYBIND11_MODULE(_arbor, m) {
             "intersect",
             [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar) {
                 const Rays r = rays(origins, directions, tnear, tfar);
-                py::array out(arbor::python::hit_dtype(), {py::ssize_t(r.view.count)});
+                py::array out(arbor::python::hit_dtype(), std::vector<py::ssize_t>{py::ssize_t(r.view.count)});
                 auto* hits = static_cast<arbor::Hit*>(out.mutable_data());
                 run<false>(s, [&] { s.scene.intersect(r.view, hits); });
                 return out;
@@ -202,7 +202,7 @@ PYBIND11_MODULE(_arbor, m) {
                 if (max_hits < 0) throw py::value_error("max_hits: expected a number >= 0, got " + std::to_string(max_hits));
                 const Rays r = rays(origins, directions, tnear, tfar);
                 const auto n = py::ssize_t(r.view.count);
-                py::array hits(arbor::python::hit_dtype(), {n, max_hits});
+                py::array hits(arbor::python::hit_dtype(), std::vector<py::ssize_t>{n, max_hits});
                 py::array_t<std::int32_t> counts(n);
                 auto* h = static_cast<arbor::Hit*>(hits.mutable_data());
                 std::int32_t* c = counts.mutable_data();
@@ -217,7 +217,7 @@ PYBIND11_MODULE(_arbor, m) {
                 const Rows3 p = arbor::python::rows3(points, "points");
                 const float reach = arbor::python::number(max_distance, "max_distance");
                 if (!(reach >= 0.0f)) throw py::value_error("max_distance: expected a number >= 0 (inf: no limit)");
-                py::array out(arbor::python::point_dtype(), {py::ssize_t(p.count)});
+                py::array out(arbor::python::point_dtype(), std::vector<py::ssize_t>{py::ssize_t(p.count)});
                 auto* res = static_cast<arbor::ClosestPoint*>(out.mutable_data());
                 run<false>(s, [&] { s.scene.closest_point(points_of(p), reach, res); });
                 return out;

@@ -9,7 +9,7 @@ STRUCTURES = ["bvh-median", "bvh-sah", "lbvh", "kdtree"]
 
 
 def test_result_dtypes_follow_the_contract(box_scene):
-    o = np.array([[0, 0, -5], [9, 9, -5]], np.float32)
+    o = np.array([[0.1, 0.2, -5], [9, 9, -5]], np.float32)  # (0, 0) would cross the faces' diagonals
     d = np.array([[0, 0, 1], [0, 0, 1]], np.float32)
     h = box_scene.intersect(o, d)
     assert h.dtype == arbor.hit_dtype and h.shape == (2,)
@@ -95,10 +95,11 @@ def test_closest_point_on_the_surface_and_at_vertices(spot):
 def test_nan_and_degenerate_rays_miss(box_scene):
     o = np.array([[np.nan, 0, -5], [0, 0, -5], [0, 0, -5], [0, 0, -5], [np.inf, 0, -5]], np.float32)
     d = np.array([[0, 0, 1], [0, 0, 0], [0, np.nan, 1], [0, 0, 1], [0, 0, 1]], np.float32)
-    h = box_scene.intersect(o, d, tnear=np.array([0, 0, 0, 5, 0], np.float32), tfar=np.array([9, 9, 9, 4, 9], np.float32))
+    tn, tf = np.array([0, 0, 0, 5, 0], np.float32), np.array([9, 9, 9, 4, 9], np.float32)  # ray 3: tfar < tnear
+    h = box_scene.intersect(o, d, tnear=tn, tfar=tf)
     assert np.all(np.isinf(h["t"])) and np.all(h["prim"] == arbor.MISS)
-    assert not box_scene.occluded(o, d).any()
-    assert np.all(box_scene.intersect_all(o, d)[1][[0, 1, 2, 4]] == 0)
+    assert not box_scene.occluded(o, d, tn, tf).any()
+    assert np.all(box_scene.intersect_all(o, d, tn, tf)[1] == 0)
     res = box_scene.closest_point(np.array([[np.nan, 0, 0], [0, np.inf, 0]], np.float32))
     assert np.all(np.isinf(res["distance"])) and np.all(res["prim"] == arbor.MISS)
     assert not box_scene.inside(np.array([[np.nan, 0, 0]], np.float32)).any()

@@ -34,7 +34,7 @@ def test_meshes_get_geometry_ids_and_numbering():
     h = s.intersect(o, d)
     assert list(h["geom"]) == [0, 1, 2, arbor.MISS]
     assert np.all(h["prim"][:3] < 12) and h["prim"][3] == arbor.MISS
-    np.testing.assert_allclose(h["t"][:3], [4.0, 4.0, 4.5], rtol=1e-6)
+    np.testing.assert_allclose(h["t"][:3], [4.0, 9.0, 14.5], rtol=1e-6)
 
 
 def test_empty_scene_and_lazy_build():
