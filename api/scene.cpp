@@ -37,15 +37,6 @@ void rethrow_as_error() {
     }
 }
 
-RayArrays RayArrays::of(const Ray* rays, std::size_t n) {
-    RayArrays r;
-    r.count = n;
-    if (n == 0) return r;
-    r.origins = rays->org, r.directions = rays->dir, r.tnear = &rays->tnear, r.tfar = &rays->tfar;
-    r.origin_stride = r.direction_stride = r.tnear_stride = r.tfar_stride = sizeof(Ray);
-    return r;
-}
-
 Scene::Scene() : impl_(std::make_unique<Impl>()) {}
 Scene::~Scene() = default;
 Scene::Scene(Scene&&) noexcept = default;
@@ -144,7 +135,7 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
     if (o.threads < 0) throw Error(Kind::invalid_argument, "build: threads must be >= 0 (0 = all cores), got " + std::to_string(o.threads));
     ready = false;
     accel.reset();
-    arena = std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
+    arena = std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : int(tbb::task_arena::automatic));
     accel::BuildConfig cfg;
     cfg.max_memory = o.max_memory;
     cfg.layouts = accel::Layouts::simd;  // the layouts of the SIMD paths, as `arbor trace` builds them

@@ -37,7 +37,7 @@ std::uint32_t add_strided(arbor::Scene& scene, const arbor::engine::Mesh& m) {
 std::vector<arbor::Ray> to_public(const std::vector<accel_ray>& rays) {
     std::vector<arbor::Ray> out(rays.size());
     static_assert(sizeof(arbor::Ray) == sizeof(accel_ray));
-    std::memcpy(out.data(), rays.data(), rays.size() * sizeof(accel_ray));
+    std::memcpy(static_cast<void*>(out.data()), rays.data(), rays.size() * sizeof(accel_ray));
     return out;
 }
 
@@ -206,7 +206,7 @@ TEST_CASE("api: Scene::load, and errors as arbor::Error with their kind and a me
             f();
         } catch (const Error& e) {
             CHECK(std::string(e.what()).find('\n') == std::string::npos);
-            MESSAGE(e.what());
+            MESSAGE(std::string(e.what()));
             return int(e.kind());
         }
         return -1;

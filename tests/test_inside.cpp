@@ -92,7 +92,7 @@ TEST_CASE("inside: procedural closed meshes at every width, nested surfaces by p
     check_inside(m, points, expect, true);
 }
 
-TEST_CASE("inside: rays grazing edges take another direction; points on the surface and non-finite points") {
+TEST_CASE("inside: rays grazing edges take another direction, and points on the surface or non-finite") {
     // Points placed so that the first direction's ray passes within float rounding of an edge of a
     // closed box (where an exact zero edge function would count both faces): the band sends them
     // to the second direction, and every answer matches the winding number.

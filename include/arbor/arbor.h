@@ -103,7 +103,14 @@ struct RayArrays {
     float tfar_value = std::numeric_limits<float>::infinity();
 
     /// The view of `n` Ray records.
-    static RayArrays of(const Ray* rays, std::size_t n);
+    static RayArrays of(const Ray* rays, std::size_t n) {
+        RayArrays r;
+        r.count = n;
+        if (n == 0) return r;
+        r.origins = rays->org, r.directions = rays->dir, r.tnear = &rays->tnear, r.tfar = &rays->tfar;
+        r.origin_stride = r.direction_stride = r.tnear_stride = r.tfar_stride = sizeof(Ray);
+        return r;
+    }
 };
 
 /// The rays of a .rays file (the exchange format of `arbor trace`, 32-byte records). Throws
@@ -183,8 +190,9 @@ public:
     void inside(const PointArrays& points, bool* inside) const;
     std::vector<bool> inside(const std::vector<float>& xyz) const;
 
+    struct Impl;  ///< opaque: the library's own
+
 private:
-    struct Impl;
     std::unique_ptr<Impl> impl_;
 };
 
