@@ -53,7 +53,7 @@ float coordinate_scale(const Bounds& b) {
 
 void inside_points(const Accel& accel, const Bounds& scene, std::span<const Vec3f> points, std::span<std::uint8_t> out,
                    const InsideConfig& cfg) {
-    const std::span<const Vec3f> dirs = inside_directions();
+    const std::span<const Vec3f> dirs = cfg.directions.empty() ? inside_directions() : cfg.directions;
     const int tries = std::max(1, std::min(cfg.max_directions, int(dirs.size())));
     const float scale = coordinate_scale(scene);
     // Points still undecided, with their votes so far (parities of the rays in the band).

@@ -25,6 +25,9 @@ struct InsideConfig {
     /// A hit at a distance at most this times the scene's coordinate scale (the largest |coordinate|
     /// or extent of the scene box and the point) is in the band: the point lies on the surface.
     float band_t = 0x1p-18f;
+    /// The unit directions tried in turn; empty: inside_directions(). (Tests pass axis-parallel
+    /// ones, whose exact arithmetic meets edges exactly.)
+    std::span<const Vec3f> directions;
 };
 
 /// The unit directions tried in turn (none parallel to an axis or a diagonal; fixed, so answers

@@ -94,8 +94,8 @@ TEST_CASE("inside: procedural closed meshes at every width, nested surfaces by p
 
 TEST_CASE("inside: rays grazing edges take another direction, and points on the surface or non-finite") {
     // Points placed so that the first direction's ray passes within float rounding of an edge of a
-    // closed box (where an exact zero edge function would count both faces): the band sends them
-    // to the second direction, and every answer matches the winding number.
+    // closed box: the watertight test still counts one face there, and every answer matches the
+    // winding number.
     const engine::Mesh box = engine::make_box({-1, -1, -1}, {1, 1, 1});
     const Vec3f d0 = accel::inside_directions()[0];
     std::vector<Vec3f> points;
@@ -113,6 +113,23 @@ TEST_CASE("inside: rays grazing edges take another direction, and points on the 
     }
     REQUIRE(points.size() > 100);
     check_inside(box, points, expect, true);
+
+    // Exactly through an edge: a ray along +z from (x, y, z) with x == y crosses the top face on
+    // the diagonal both its triangles share; both count (edge functions of exactly 0), the parity
+    // is wrong, and the band must send the point to the next direction.
+    const std::vector<Vec3f> axis_first = {{0, 0, 1}, accel::inside_directions()[1]};
+    accel::InsideConfig cfg;
+    cfg.directions = axis_first;
+    std::vector<Vec3f> diagonal;
+    for (int i = 0; i < 20; ++i) diagonal.push_back({-0.9f + 0.09f * float(i), -0.9f + 0.09f * float(i), 0.25f - 0.05f * float(i)});
+    for (const auto& s : testing::query_structures(box.view(), true)) {
+        CAPTURE(s.name);
+        const auto lists = testing::all_hits(*s.accel, {{diagonal[3], 0.0f, axis_first[0], INFINITY}});
+        CHECK(lists[0].size() == 2);  // the double count the band is there for
+        std::vector<std::uint8_t> got(diagonal.size(), 7);
+        accel::inside_points(*s.accel, box.bounds, diagonal, got, cfg);
+        for (std::uint8_t g : got) CHECK(g == 1);
+    }
 
     // On the surface (vertices, edges, faces) any answer is right, but it is an answer; outside
     // far away, non-finite: outside.
