@@ -9,7 +9,7 @@ from hypothesis.extra import numpy as hnp
 import arbor
 from conftest import box_mesh
 
-SETTINGS = settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+SETTINGS = settings(max_examples=80, deadline=None, database=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 floats = st.floats(allow_nan=True, allow_infinity=True, width=32)
 dtypes = st.sampled_from([np.float32, np.float64, np.float16, np.int32, np.uint8, np.bool_, np.complex64, ">f4"])
