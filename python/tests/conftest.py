@@ -11,7 +11,7 @@ import arbor
 def shared_models():
     """The shared test models; the suite fails (not skips) without them."""
     root = os.environ.get("ARBOR_SHARED_SCENES") or str(pathlib.Path(__file__).resolve().parents[2] / ".." / "shared" / "scenes")
-    models = sorted(pathlib.Path(root, "models").glob("*.obj"))
+    models = sorted(pathlib.Path(root, "models").resolve().glob("*.obj"))
     assert len(models) >= 10, f"the shared models are needed: {root}/models holds {len(models)} .obj files"
     return models
 
