@@ -36,6 +36,8 @@ def main():
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--out", help="Markdown report")
+    ap.add_argument("--queries", type=int, default=0,
+                    help="also time every query on every structure with this many rays / points (0: skip)")
     a = ap.parse_args()
 
     scene = arbor.Scene.load(a.model)
@@ -78,6 +80,8 @@ def main():
     for k, c, p, r, lo, hi, same, n, path, thr in rows:
         lines.append(f"| {k} | {c:.2f} | {p:.2f} | **{r:.3f}** ({lo:.3f}-{hi:.3f}) | {same}/{n} | {path} | {thr} |")
     table = "\n".join(lines)
+    if a.queries:
+        table += "\n\n" + queries_table(a)
     print(table)
     if a.out:
         cmd = " ".join([os.path.relpath(sys.argv[0], root)] + sys.argv[1:])
@@ -86,6 +90,51 @@ def main():
             f"{a.rays} rays per kind, structure `{a.accel}`, {a.rounds} interleaved rounds, each a median of "
             f"{a.repeat}; arbor {arbor.__version__}, kernels {arbor.kernel_set()}.\n\n```sh\nPYTHONPATH=build/release/python "
             f"python3 {cmd}\n```\n\n{table}\n")
+
+
+def timed(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def queries_table(a):
+    """Every query on every structure: million queries per second (median of --repeat, the whole
+    call), and the share of a 1,000-query subset whose answer equals brute force's bit for bit."""
+    scene = arbor.Scene.load(a.model)
+    lo, hi = scene.bounds
+    rng = np.random.default_rng(1)
+    n = a.queries
+    c, r = (lo + hi) / 2, np.linalg.norm(hi - lo)
+    d = rng.normal(size=(n, 3))
+    o = (c + r * d / np.linalg.norm(d, axis=1, keepdims=True)).astype(np.float32)
+    dirs = (lo + rng.random((n, 3)) * (hi - lo) - o).astype(np.float32)
+    pts = (lo - 0.1 * (hi - lo) + rng.random((n, 3)) * 1.2 * (hi - lo)).astype(np.float32)
+    k = 1000
+    scene.build("brute", threads=a.threads)
+    ref = {"intersect_all": scene.intersect_all(o[:k], dirs[:k])[0].tobytes(),
+           "closest_point": scene.closest_point(pts[:k]), "inside": scene.inside(pts[:k])}
+    rows = [f"Every query on every structure, {n} random rays into the box / points in the box grown by 10%, "
+            f"{a.threads or 'all'} threads; M/s of the whole call (median of {a.repeat}); 'same' = answers equal to "
+            "brute force's, bit for bit, on the first 1,000.", "",
+            "| structure | intersect M rays/s | intersect_all (16) M rays/s, same | closest_point M points/s, same | "
+            "inside M points/s, same |", "|---|---:|---:|---:|---:|"]
+    for name in ["bvh-sah", "bvh-median", "lbvh", "kdtree"]:
+        scene.build(name, threads=a.threads)
+        ti, _ = timed(lambda: scene.intersect(o, dirs), a.repeat)
+        ta, (hits, _) = timed(lambda: scene.intersect_all(o, dirs), a.repeat)
+        tc, cp = timed(lambda: scene.closest_point(pts), a.repeat)
+        tn, ins = timed(lambda: scene.inside(pts), a.repeat)
+        same_a = sum(hits[i].tobytes() == ref["intersect_all"][i * 320:(i + 1) * 320] for i in range(k))
+        same_c = sum(cp[i:i + 1].tobytes() == ref["closest_point"][i:i + 1].tobytes() for i in range(k))
+        same_n = int(np.count_nonzero(ins[:k] == ref["inside"]))
+        rows.append(f"| {name} | {n / ti / 1e6:.2f} | {n / ta / 1e6:.2f}, {same_a}/{k} | {n / tc / 1e6:.3f}, {same_c}/{k} | "
+                    f"{n / tn / 1e6:.2f}, {same_n}/{k} |")
+        print(rows[-1], flush=True)
+    return "\n".join(rows)
 
 
 if __name__ == "__main__":

@@ -33,8 +33,10 @@ inline void closest_point_bvh2(const Bvh2Layout& layout, PointSearch& s, std::ve
     stack.resize(std::size_t(layout.max_depth) + 2);
     const Vec3f p = s.pf;
     const auto leaf = [&](std::uint32_t first, std::uint32_t count) {
-        for (std::uint32_t i = first; i < first + count; ++i)
-            s.offer(layout.vertex(i, 0), layout.vertex(i, 1), layout.vertex(i, 2), layout.prim_ids[i]);
+        for (std::uint32_t i = first; i < first + count; ++i) {
+            const Vec3f a = layout.vertex(i, 0), b = layout.vertex(i, 1), c = layout.vertex(i, 2);
+            if (triangle_box_dist2(p, a, b, c) <= s.prune_bound()) s.offer(a, b, c, layout.prim_ids[i]);
+        }
     };
     if (layout.root_count != 0) {
         leaf(layout.root_child, layout.root_count);

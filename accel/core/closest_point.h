@@ -213,4 +213,11 @@ inline T point_box_dist2(const T& px, const T& py, const T& pz, const T& lox, co
     return dx * dx + dy * dy + dz * dz;
 }
 
+/// The float squared distance from p to the box of triangle (a, b, c), as point_box_dist2: a
+/// triangle whose box is beyond PointSearch::prune_bound cannot be kept, so its exact test is skipped.
+inline float triangle_box_dist2(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+    const Vec3f lo = simd::vmin(simd::vmin(a, b), c), hi = simd::vmax(simd::vmax(a, b), c);
+    return point_box_dist2<float>(p.x, p.y, p.z, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+}
+
 }  // namespace arbor::accel

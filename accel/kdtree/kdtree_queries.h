@@ -67,7 +67,7 @@ inline void closest_point_kdtree(const KdTree& tree, PointSearch& s) {
             const KdLeaf& leaf = tree.leaves[n.index()];
             for (std::uint32_t i = leaf.first, end = leaf.first + leaf.count; i < end; ++i) {
                 const KdTriangle& tri = tree.tris[tree.refs[i]];
-                s.offer(tri.v0, tri.v1, tri.v2, tri.prim);
+                if (triangle_box_dist2(p, tri.v0, tri.v1, tri.v2) <= s.prune_bound()) s.offer(tri.v0, tri.v1, tri.v2, tri.prim);
             }
             continue;
         }

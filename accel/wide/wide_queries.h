@@ -75,10 +75,23 @@ void closest_point_wide(const WideLayout<N>& layout, PointSearch& s, std::vector
             const std::uint32_t end = e.child + wide_blocks<N>(e.count);
             for (std::uint32_t b = e.child; b < end; ++b) {
                 const simd::TrisSoA<N>& t = blocks[b].tris;
+                // The N triangles' boxes against the bound first (the same rule as the node boxes):
+                // the exact double-precision test runs only for triangles that may be closer.
+                T box[2][3];
+                for (int k = 0; k < 3; ++k) {
+                    const T a = simd::load_lanes<T>(t.v[0][k]), b1 = simd::load_lanes<T>(t.v[1][k]),
+                            c = simd::load_lanes<T>(t.v[2][k]);
+                    box[0][k] = simd::rmin(simd::rmin(a, b1), c);
+                    box[1][k] = simd::rmax(simd::rmax(a, b1), c);
+                }
+                const T d2 = point_box_dist2<T>(px, py, pz, box[0][0], box[0][1], box[0][2], box[1][0], box[1][1], box[1][2]);
                 const std::uint32_t used = std::min<std::uint32_t>(e.count - (b - e.child) * N, N);
-                for (std::uint32_t l = 0; l < used; ++l)
+                const std::uint32_t lanes = used >= 32 ? ~0u : (1u << used) - 1u;  // not the NaN padding
+                for (std::uint32_t bits = simd::to_bits(d2 <= T(s.prune_bound())) & lanes; bits != 0; bits &= bits - 1) {
+                    const auto l = std::size_t(std::countr_zero(bits));
                     s.offer({t.v[0][0][l], t.v[0][1][l], t.v[0][2][l]}, {t.v[1][0][l], t.v[1][1][l], t.v[1][2][l]},
                             {t.v[2][0][l], t.v[2][1][l], t.v[2][2][l]}, blocks[b].ids[l]);
+                }
             }
             continue;
         }
