@@ -42,6 +42,13 @@ std::string_view to_string(TracePath p) {
     return "?";
 }
 
+std::string_view to_string(Query q) { return q == Query::any ? "any" : "closest"; }
+
+void Accel::check_counts() const {
+    if (!offer_.counts)
+        throw std::logic_error(std::string(to_string(kind_)) + ": the counted mode needs the scalar layout (built without it)");
+}
+
 std::optional<AccelKind> parse_accel_kind(std::string_view s) {
     for (const auto& [kind, name] : kind_names)
         if (name == s) return kind;
@@ -70,7 +77,7 @@ std::unique_ptr<Accel> build(AccelKind kind, const TriangleView& tris, const Bui
     case AccelKind::bvh_median: return build_bvh_accel(kind, tris, cfg, build_bvh_median);
     case AccelKind::bvh_sah: return build_bvh_accel(kind, tris, cfg, build_bvh_sah);
     case AccelKind::lbvh: return build_bvh_accel(kind, tris, cfg, build_lbvh);
-    case AccelKind::kdtree: return std::make_unique<KdTreeAccel>(tris, cfg);
+    case AccelKind::kdtree: return make_kdtree_accel(tris, cfg);
     case AccelKind::automatic: throw std::invalid_argument("make_accel: resolve 'auto' before building");
     default: break;
     }

@@ -106,7 +106,7 @@ void Scene::intersect(const RayArrays& rays, Hit* hits) const {
             const auto in = load_rays(rays, b, e);
             thread_local std::vector<accel::Hit> out;
             out.resize(in.size());
-            a.intersect(in, out, impl_->path);
+            a.trace(in, out, {accel::Query::closest, accel::TracePath::best, accel::RayHint::unknown, impl_->path});
             for (std::size_t i = b; i < e; ++i) hits[i] = impl_->to_public(out[i - b]);
         });
     });
@@ -120,7 +120,7 @@ void Scene::occluded(const RayArrays& rays, bool* occluded) const {
             const auto in = load_rays(rays, b, e);
             thread_local std::vector<accel::Hit> out;
             out.resize(in.size());
-            a.occluded(in, out, impl_->path);
+            a.trace(in, out, {accel::Query::any, accel::TracePath::best, accel::RayHint::unknown, impl_->path});
             for (std::size_t i = b; i < e; ++i) occluded[i] = out[i - b].is_hit();
         });
     });

@@ -140,30 +140,21 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
     cfg.max_memory = o.max_memory;
     cfg.layouts = accel::Layouts::simd;  // the layouts of the SIMD paths, as `arbor trace` builds them
     const accel::TriangleView view = mesh.view();
-    std::string reason;
-    accel::AccelKind pick = *kind;
-    accel::TracePath picked_path = accel::TracePath::best;
+    accel::AccelPick pick;
     arena->execute([&] {
-        if (*kind == accel::AccelKind::automatic) {
-            if (mesh.triangle_count() == 0) {
-                pick = accel::AccelKind::bvh_sah;
-                reason = "the scene is empty";
-            } else {
-                // The command line's decision (accel/auto_select.h) for rays like those into the
-                // scene's bounds and its default budget.
-                accel::AutoConfig auto_cfg;
-                auto_cfg.build = cfg;
-                accel::AutoSelector selector(view, auto_cfg);
-                const accel::AutoChoice choice = selector.choose({}, false, double(1 << 20));
-                pick = choice.kind, reason = choice.reason, picked_path = choice.path;
-                accel = selector.take_built(pick);
-            }
+        if (*kind == accel::AccelKind::automatic && mesh.triangle_count() == 0) {
+            pick.kind = accel::AccelKind::bvh_sah;
+            pick.reason = "the scene is empty";
+        } else {
+            // The command line's decision (accel::pick_accel, as `arbor trace --accel auto`) for
+            // closest hits of 2^20 rays like those into the scene's bounds.
+            pick = accel::pick_accel(*kind, view, {{}, accel::Query::closest, double(1 << 20), cfg});
         }
-        if (!accel) accel = accel::make_accel(pick, view, cfg);
+        accel = pick.built ? std::move(pick.built) : accel::make_accel(pick.kind, view, cfg);
     });
-    accel_name = std::string(accel::to_string(pick));
-    accel_reason = reason;
-    path = picked_path;
+    accel_name = std::string(accel::to_string(pick.kind));
+    accel_reason = pick.reason;
+    path = pick.path;
     options = o;
     ready = true;
 }

@@ -25,7 +25,8 @@ struct Scene::Impl {
     BuildOptions options;                   ///< of the last build (a lazy build uses the defaults)
     std::unique_ptr<accel::Accel> accel;
     std::string accel_name, accel_reason;
-    accel::TracePath path = accel::TracePath::best;  ///< auto's pick, else `best` (per batch)
+    /// auto's calibrated path (TraceRequest::calibrated), else `best`: the path policy decides per batch.
+    accel::TracePath path = accel::TracePath::best;
     std::unique_ptr<tbb::task_arena> arena;
     std::atomic<bool> ready{false};
     std::mutex build_mutex;

@@ -1,7 +1,7 @@
 /// The cost integrator: what each camera ray costs the structure. Every camera batch is traced
 /// twice: once on the renderer's normal path (timed as primary rays, so the summary's Mrays/s is
 /// the structure's real speed on these rays) and once on the structure's counting loop, the
-/// statistics mode of the benchmarks (Accel::trace_counted, its own instantiation: the timed paths
+/// counted mode of the benchmarks (TraceRequest::counters, its own instantiation: the timed paths
 /// carry no counter). The film's first two sums hold the nodes visited and the triangles tested;
 /// the renderer writes their per-pixel means as the layers `nodes` and `tris`.
 ///

@@ -1,8 +1,9 @@
 #pragma once
 /// Tracer: the renderer's one door to the acceleration structure. Integrators hand it whole
-/// batches of rays of one kind (a tile's camera rays, its shadow rays, its bounce rays); it picks
-/// the trace path for the kind (packets for coherent kinds, single-ray SIMD for incoherent ones,
-/// when the structure has them), and counts rays and time per kind. One Tracer per thread.
+/// batches of rays of one kind (a tile's camera rays, its shadow rays, its bounce rays); it tells
+/// the structure how coherent the kind is (the path policy then takes packets for coherent kinds
+/// and single-ray SIMD for incoherent ones, when the structure has them and they pay), and counts
+/// rays and time per kind. One Tracer per thread.
 #include "accel/accel.h"
 #include "accel/util/timer.h"
 #include "engine/render_settings.h"
@@ -11,14 +12,10 @@
 
 namespace arbor::engine {
 
-/// Coherent kinds (camera rays, shadow rays of a tile) go to packets; the others to single rays.
-inline bool is_coherent(RenderRayKind k) { return k == RenderRayKind::primary || k == RenderRayKind::shadow; }
-
-/// The trace path for rays of kind `k` on `accel`: packet or single when the structure has its
-/// own implementation, otherwise `best`.
-inline accel::TracePath trace_path_for(const accel::Accel& a, RenderRayKind k) {
-    const accel::TracePath want = is_coherent(k) ? accel::TracePath::packet : accel::TracePath::single;
-    return a.has_path(want) ? want : accel::TracePath::best;
+/// What the renderer knows of a batch's rays: camera rays and shadow rays of a tile are coherent,
+/// bounces are not. The path policy (accel/select/path_policy.h) turns that into a path.
+inline accel::RayHint ray_hint(RenderRayKind k) {
+    return k == RenderRayKind::primary || k == RenderRayKind::shadow ? accel::RayHint::coherent : accel::RayHint::incoherent;
 }
 
 class Tracer {
@@ -29,25 +26,26 @@ public:
     void closest(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, RenderRayKind k) {
         if (rays.empty()) return;
         const accel::Timer t;
-        accel_.intersect(rays, hits, trace_path_for(accel_, k));
+        accel_.trace(rays, hits, {accel::Query::closest, accel::TracePath::best, ray_hint(k)});
         add(k, rays.size(), t.seconds());
     }
     /// Any-hit (occlusion) queries of `rays` into `hits`.
     void any(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, RenderRayKind k) {
         if (rays.empty()) return;
         const accel::Timer t;
-        accel_.occluded(rays, hits, trace_path_for(accel_, k));
+        accel_.trace(rays, hits, {accel::Query::any, accel::TracePath::best, ray_hint(k)});
         add(k, rays.size(), t.seconds());
     }
 
-    /// Statistics mode (accel.h, TraceCounters): the closest hit of each ray on the structure's
-    /// counting loop, and what that ray alone cost it in `per_ray`. Neither counted nor timed as a
-    /// ray kind (the cost integrator times the same rays on the normal path). False when the
-    /// structure cannot count (a BVH built without its scalar layout).
+    /// The counted mode (accel/core/query.h, TraceRequest::counters): the closest hit of each ray
+    /// on the structure's counting loop, and what that ray alone cost it in `per_ray`. Neither
+    /// counted nor timed as a ray kind (the cost integrator times the same rays on the normal
+    /// path). False when the structure cannot count (a BVH built without its scalar layout).
     bool counted(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, std::span<accel::TraceCounters> per_ray) {
+        if (!accel_.offer().counts) return false;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             per_ray[i] = {};
-            if (!accel_.trace_counted(rays.subspan(i, 1), hits.subspan(i, 1), false, per_ray[i])) return false;
+            accel_.trace(rays.subspan(i, 1), hits.subspan(i, 1), {accel::Query::closest, accel::TracePath::scalar, {}, {}, &per_ray[i]});
         }
         return true;
     }

@@ -32,7 +32,7 @@ std::string describe(const accel::Ray& r, const accel::Hit& ref, const accel::Hi
 void check_structures(const accel::TriangleView& tris, const std::vector<accel::Ray>& rays) {
     const accel::BruteAccel brute(tris);
     std::vector<accel::Hit> ref(rays.size()), got(rays.size()), any(rays.size());
-    brute.intersect(rays, ref, accel::TracePath::scalar);
+    brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
     for (std::size_t i = 0; i < rays.size(); ++i)
         require(accel::ray_is_traceable(rays[i]) || !ref[i].is_hit(), "brute: an untraceable ray hit");
     static const std::vector<accel::AccelKind> kinds = stress::buildable_kinds();
@@ -42,8 +42,8 @@ void check_structures(const accel::TriangleView& tris, const std::vector<accel::
         require(a->stats().dropped_nonfinite == brute.stats().dropped_nonfinite,
                 std::string(accel::to_string(kind)) + ": dropped a different number of triangles");
         for (accel::TracePath path : stress::paths_of(*a)) {
-            a->intersect(rays, got, path);
-            a->occluded(rays, any, path);
+            a->trace(rays, got, {accel::Query::closest, path});
+            a->trace(rays, any, {accel::Query::any, path});
             const std::string where = std::string(accel::to_string(kind)) + "/" + std::string(accel::to_string(path));
             for (std::size_t i = 0; i < rays.size(); ++i) {
                 require(accel::hits_agree(ref[i], got[i]), where + ": closest hit differs from brute on " + describe(rays[i], ref[i], got[i]));

@@ -125,7 +125,7 @@ std::vector<TraceConfig> trace_configs(const std::vector<Built>& built) {
     for (const Built& b : built) {
         if (b.accel) {
             for (const accel::TracePath p : {accel::TracePath::scalar, accel::TracePath::packet, accel::TracePath::single}) {
-                if (p != accel::TracePath::scalar && !b.accel->has_path(p)) continue;
+                if (p != accel::TracePath::scalar && !b.accel->offer().has(p)) continue;
                 out.push_back({&b, std::string(accel::to_string(p)), p, 0});
             }
             continue;

@@ -60,7 +60,7 @@ std::vector<Built> build_structures(const accel::TriangleView& tris, const Bench
                                     const std::vector<int>& threads, int repeats, std::vector<std::string>& notes,
                                     BuildHistory& history);
 
-/// The configurations to trace: every path each arbor structure has (has_path: scalar first),
+/// The configurations to trace: every path each arbor structure has (Accel::offer: scalar first),
 /// and for Embree the default mode with every call, the other modes with rtcIntersect1 and 1M.
 std::vector<TraceConfig> trace_configs(const std::vector<Built>& built);
 

@@ -145,8 +145,8 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                     built.push_back(accel::make_accel(*kind, view, cfg));
                     if (const auto* bvh = dynamic_cast<const accel::BvhAccel*>(built.back().get())) {
                         const double tris = double(std::max<std::size_t>(view.triangle_count(), 1));
-                        layouts.push_back({scene, s, view.triangle_count(), bvh->wide().width(), bvh->wide().nodes(),
-                                           bvh->wide().leaves(), double(bvh->wide().memory_bytes()) / tris,
+                        layouts.push_back({scene, s, view.triangle_count(), bvh->wide_shape().width, bvh->wide_shape().nodes,
+                                           bvh->wide_shape().leaves, double(bvh->wide_shape().memory_bytes) / tris,
                                            bvh->stats().bytes_per_triangle(), bvh->stats().build_ms});
                     }
                     std::string name = s;
@@ -176,7 +176,7 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                 // The scalar path (once per structure: it does not depend on the width) on the
                 // scalar-only build, every other path on the SIMD-only ones.
                 if ((path == accel::TracePath::scalar) != reference[b]) continue;
-                if (path != accel::TracePath::scalar && path != accel::TracePath::best && !built[b]->has_path(path)) continue;
+                if (path != accel::TracePath::scalar && path != accel::TracePath::best && !built[b]->offer().has(path)) continue;
                 const accel::Accel* a = built[b].get();
                 configs.push_back({names[b], p, [a, q, path](auto r, auto h) { accel::trace_parallel(*a, r, h, q, path); }, false, {}, -1});
             }

@@ -113,7 +113,7 @@ void run(const Options& o, const engine::Mesh& mesh, const char* label) {
     std::vector<double> kd_ms, em_ms;
     std::unique_ptr<accel::KdTreeAccel> kd;
     for (int r = 0; r < o.repeat; ++r) {
-        kd = std::make_unique<accel::KdTreeAccel>(mesh.view(), cfg);
+        kd = accel::make_kdtree_accel(mesh.view(), cfg);
         kd_ms.push_back(kd->stats().build_ms);
 #ifdef ARBOR_HAVE_EMBREE
         if (o.embree) em_ms.push_back(perf::EmbreePeer(mesh.view()).build_ms());

@@ -71,8 +71,8 @@ int main(int argc, char** argv) {
             cfg.layouts = *path == accel::TracePath::scalar ? accel::Layouts::scalar : accel::Layouts::simd;
             const auto built = accel::make_accel(*kind, mesh.view(), cfg);
             trace_once_run([&] {
-                if (any) built->occluded(rays, hits, *path);
-                else built->intersect(rays, hits, *path);
+                if (any) built->trace(rays, hits, {accel::Query::any, *path});
+                else built->trace(rays, hits, {accel::Query::closest, *path});
             });
         }
         std::size_t hit = 0;

@@ -46,14 +46,18 @@ static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 4 && offsetof(Hit, u) 
 /// overflows on every axis, so neither the box test nor the triangle test (which divides by the
 /// largest component) could follow it.
 template <class T> inline Mask<T> traceable(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar) {
-    const auto finite = [](const T& x) {
-        if constexpr (std::is_same_v<T, float>) return bool(std::isfinite(x));
-        else return xsimd::isfinite(x);
-    };
     const T min_normal(std::numeric_limits<float>::min());
-    return finite(org.x) & finite(org.y) & finite(org.z) & finite(dir.x) & finite(dir.y) & finite(dir.z) &
-           ((vabs(dir.x) >= min_normal) | (vabs(dir.y) >= min_normal) | (vabs(dir.z) >= min_normal)) &
-           (tnear <= tfar);  // NaN tnear/tfar fail the comparison
+    if constexpr (std::is_same_v<T, float>) {
+        // The same rule spelled with && and || (a bool is no lane mask).
+        return std::isfinite(org.x) && std::isfinite(org.y) && std::isfinite(org.z) && std::isfinite(dir.x) &&
+               std::isfinite(dir.y) && std::isfinite(dir.z) &&
+               (std::fabs(dir.x) >= min_normal || std::fabs(dir.y) >= min_normal || std::fabs(dir.z) >= min_normal) &&
+               tnear <= tfar;  // NaN tnear/tfar fail the comparison
+    } else {
+        using xsimd::isfinite;
+        return isfinite(org.x) & isfinite(org.y) & isfinite(org.z) & isfinite(dir.x) & isfinite(dir.y) & isfinite(dir.z) &
+               ((vabs(dir.x) >= min_normal) | (vabs(dir.y) >= min_normal) | (vabs(dir.z) >= min_normal)) & (tnear <= tfar);
+    }
 }
 
 /// The rule for one Ray.

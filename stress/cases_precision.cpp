@@ -106,7 +106,7 @@ void add_surface(std::vector<StressCase>& out, bool full, double scale) {
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3f target = place({9.5f + 4.5f * u(rng), 6.0f + 2.5f * u(rng), -7.0f + 4.5f * u(rng)}, scale, 0.0);
         const accel::Ray primary{eye, 0.0f, target - eye, inf};
-        const accel::Hit h = brute.trace(primary, false);
+        const accel::Hit h = brute.trace_one(primary, accel::Query::closest);
         if (!h.is_hit()) continue;
         const auto view = c.mesh.view();
         const Vec3f v0 = view.corner(h.prim, 0), v1 = view.corner(h.prim, 1), v2 = view.corner(h.prim, 2);

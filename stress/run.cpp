@@ -17,7 +17,7 @@ double time_per_ray(const accel::Accel& a, std::span<const Ray> rays, accel::Tra
     double best = 0.0, spent = 0.0;
     for (int pass = 0; pass < 5 && spent < 40.0; ++pass) {
         const accel::Timer t;
-        a.intersect(rays, hits, path);
+        a.trace(rays, hits, {accel::Query::closest, path});
         const double ms = t.ms();
         best = pass == 0 ? ms : std::min(best, ms);
         spent += ms;
@@ -56,7 +56,7 @@ std::vector<accel::AccelKind> buildable_kinds() {
 std::vector<accel::TracePath> paths_of(const accel::Accel& a) {
     std::vector<accel::TracePath> out{accel::TracePath::scalar};
     for (auto p : {accel::TracePath::single, accel::TracePath::packet})
-        if (a.has_path(p)) out.push_back(p);
+        if (a.offer().has(p)) out.push_back(p);
     return out;
 }
 
@@ -78,7 +78,8 @@ std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, co
     // Statistics mode: work per ray, and none at all for untraceable rays.
     std::vector<Hit> counted_hits(c.rays.size());
     accel::TraceCounters counters;
-    if (structure->trace_counted(c.rays, counted_hits, false, counters)) {
+    if (structure->offer().counts) {
+        structure->trace(c.rays, counted_hits, {accel::Query::closest, accel::TracePath::scalar, {}, {}, &counters});
         base.counted = true;
         const double n = double(std::max<std::size_t>(c.rays.size(), 1));
         base.nodes_per_ray = double(counters.nodes_visited) / n;
@@ -88,7 +89,8 @@ std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, co
             if (!accel::ray_is_traceable(r)) untraceable.push_back(r);
         std::vector<Hit> h(untraceable.size());
         accel::TraceCounters bad;
-        for (bool any : {false, true}) structure->trace_counted(untraceable, h, any, bad);
+        for (const auto q : {accel::Query::closest, accel::Query::any})
+            structure->trace(untraceable, h, {q, accel::TracePath::scalar, {}, {}, &bad});
         if (bad.nodes_visited + bad.triangles_tested != 0) {
             if (!base.problem.empty()) base.problem += "; ";
             base.problem += std::to_string(untraceable.size()) + " untraceable rays visited " +

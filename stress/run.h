@@ -17,7 +17,7 @@ struct StressRow {
     Tally tally;
     double build_ms = 0.0;
     double ns_per_ray = 0.0;  ///< closest-hit queries on one thread (fastest of a few passes)
-    /// From Accel::trace_counted (closest hit, scalar loop) when the structure implements it.
+    /// From the counted mode (closest hit, scalar loop) when the structure offers it.
     bool counted = false;
     double nodes_per_ray = 0.0, triangles_per_ray = 0.0;
     std::int64_t dropped = 0;  ///< stats().dropped_nonfinite
@@ -36,11 +36,11 @@ PreparedCase prepare(const StressCase& c);
 
 /// Every structure make_accel can build in this binary (`auto` excluded), in AccelKind order.
 std::vector<accel::AccelKind> buildable_kinds();
-/// `scalar`, then `single` and `packet` when `a` implements them (Accel::has_path).
+/// `scalar`, then `single` and `packet` when `a` implements them (Accel::offer).
 std::vector<accel::TracePath> paths_of(const accel::Accel& a);
 
 /// Builds `kind` over the case's mesh and judges every path (closest and any hit). Also checks
-/// the dropped-triangle count (when the case sets one) and, through trace_counted when the
+/// the dropped-triangle count (when the case sets one) and, through the counted mode when the
 /// structure implements it, that untraceable rays visit no node and no triangle.
 std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, const accel::BuildConfig& cfg = {});
 

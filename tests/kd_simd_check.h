@@ -35,14 +35,15 @@ inline std::vector<accel::BuildConfig> kd_simd_configs() {
     return out;
 }
 
-/// The rays through `paths` in chunks of `chunk` rays (chunk boundaries make partial packets).
-inline std::vector<Hit> kd_simd_trace(const accel::KdSimdPaths& paths, const accel::KdTree& tree,
-                                      const std::vector<Ray>& rays, accel::TracePath path, bool any_hit,
-                                      std::size_t chunk) {
+/// The rays through `kd` on `path` in chunks of `chunk` rays (chunk boundaries make partial packets).
+inline std::vector<Hit> kd_simd_trace(const accel::KdTreeAccel& kd, const std::vector<Ray>& rays, accel::TracePath path,
+                                      bool any_hit, std::size_t chunk) {
+    REQUIRE(kd.offer().has(path));
     std::vector<Hit> hits(rays.size());
     for (std::size_t base = 0; base < rays.size(); base += chunk) {
         const std::size_t n = std::min(chunk, rays.size() - base);
-        paths.trace(tree, std::span(rays).subspan(base, n), std::span(hits).subspan(base, n), path, any_hit);
+        kd.trace(std::span(rays).subspan(base, n), std::span(hits).subspan(base, n),
+                 {any_hit ? accel::Query::any : accel::Query::closest, path});
     }
     return hits;
 }
@@ -52,8 +53,8 @@ inline std::vector<Hit> kd_simd_trace(const accel::KdSimdPaths& paths, const acc
 inline std::size_t check_kd_simd(const accel::KdTreeAccel& kd, const std::vector<Ray>& rays,
                                  std::vector<std::size_t> chunks = {1024}) {
     std::vector<Hit> closest(rays.size()), any(rays.size());
-    kd.intersect(rays, closest, accel::TracePath::scalar);
-    kd.occluded(rays, any, accel::TracePath::scalar);
+    kd.trace(rays, closest, {accel::Query::closest, accel::TracePath::scalar});
+    kd.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
     std::size_t runs = 0;
     const auto compare = [&](const std::vector<Hit>& got, bool any_hit, const std::string& what) {
         const std::vector<Hit>& ref = any_hit ? any : closest;
@@ -70,21 +71,21 @@ inline std::size_t check_kd_simd(const accel::KdTreeAccel& kd, const std::vector
     // As built, through the Accel interface (best included).
     for (const auto path : {accel::TracePath::single, accel::TracePath::packet, accel::TracePath::best}) {
         std::vector<Hit> got(rays.size());
-        kd.intersect(rays, got, path);
+        kd.trace(rays, got, {accel::Query::closest, path});
         compare(got, false, "accel closest " + std::string(accel::to_string(path)));
-        kd.occluded(rays, got, path);
+        kd.trace(rays, got, {accel::Query::any, path});
         compare(got, true, "accel any " + std::string(accel::to_string(path)));
     }
     for (const accel::BuildConfig& cfg : kd_simd_configs()) {
-        const auto paths = accel::make_kd_simd_paths(kd.tree(), cfg);
+        const auto paths = accel::make_kdtree_accel(kd.tree(), cfg);  // a copy of the tree, other settings
         for (const std::size_t chunk : chunks)
             for (const auto path : {accel::TracePath::single, accel::TracePath::packet})
                 for (const bool any_hit : {false, true}) {
                     const std::string what = std::string(accel::to_string(path)) + (any_hit ? " any" : " closest") +
-                                             " block " + std::to_string(paths->block_width()) + " lanes " +
-                                             std::to_string(paths->packet_lanes()) + " switch " +
+                                             " block " + std::to_string(paths->simd_block_width()) + " lanes " +
+                                             std::to_string(paths->offer().packet_lanes) + " switch " +
                                              std::to_string(cfg.packet_switch) + " chunk " + std::to_string(chunk);
-                    compare(kd_simd_trace(*paths, kd.tree(), rays, path, any_hit, chunk), any_hit, what);
+                    compare(kd_simd_trace(*paths, rays, path, any_hit, chunk), any_hit, what);
                 }
     }
     return runs;

@@ -23,9 +23,9 @@ inline OracleResult compare_with_brute(const accel::KdTreeAccel& kd, const accel
     OracleResult r;
     r.rays = rays.size();
     std::vector<Hit> a(rays.size()), b(rays.size()), any(rays.size());
-    kd.intersect(rays, a, accel::TracePath::scalar);
-    brute.intersect(rays, b, accel::TracePath::scalar);
-    kd.occluded(rays, any, accel::TracePath::scalar);
+    kd.trace(rays, a, {accel::Query::closest, accel::TracePath::scalar});
+    brute.trace(rays, b, {accel::Query::closest, accel::TracePath::scalar});
+    kd.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
     for (std::size_t i = 0; i < rays.size(); ++i) {
         r.hits += b[i].is_hit();
         r.closest_bad += !accel::hits_agree(a[i], b[i]);
@@ -46,7 +46,8 @@ inline OracleResult compare_with_brute(const accel::KdTreeAccel& kd, const accel
 /// paths must give the scalar path's answers bit for bit (kd_simd_check.h).
 inline void require_agreement(const engine::Mesh& mesh, const std::vector<Ray>& rays,
                               const accel::BuildConfig& cfg = {}) {
-    const accel::KdTreeAccel kd(mesh.view(), cfg);
+    const auto kd_built = accel::make_kdtree_accel(mesh.view(), cfg);
+    const accel::KdTreeAccel& kd = *kd_built;
     const accel::BruteAccel brute(mesh.view());
     const OracleResult r = compare_with_brute(kd, brute, mesh.view(), rays);
     CAPTURE(r.rays);

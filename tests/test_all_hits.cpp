@@ -36,7 +36,7 @@ void check_against_brute(const engine::Mesh& mesh, const std::vector<Ray>& rays,
     REQUIRE(structures[0].name == "brute");
     const auto ref = testing::all_hits(*structures[0].accel, rays);
     std::vector<Hit> closest(rays.size());
-    structures[0].accel->intersect(rays, closest, accel::TracePath::scalar);
+    structures[0].accel->trace(rays, closest, {accel::Query::closest, accel::TracePath::scalar});
     std::size_t crossings = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         check_list_rules(rays[i], ref[i]);

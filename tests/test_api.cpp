@@ -82,8 +82,8 @@ TEST_CASE("api: meshes from strided arrays, geometry ids, and every query agains
     const accel::BruteAccel brute(m.both.view());
     const std::vector<accel_ray> rays = testing::three_kinds(m.both.bounds, 300, 3);
     std::vector<accel::Hit> closest(rays.size()), any(rays.size());
-    brute.intersect(rays, closest, accel::TracePath::scalar);
-    brute.occluded(rays, any, accel::TracePath::scalar);
+    brute.trace(rays, closest, {accel::Query::closest, accel::TracePath::scalar});
+    brute.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
     const auto lists = testing::all_hits(brute, rays);
     const auto points = testing::query_points(m.both, 30, 4);
     std::vector<accel::PointHit> near(points.size());

@@ -62,8 +62,8 @@ TEST_CASE("auto: whole-scene calibration picks the smallest predicted total") {
     CHECK_FALSE(sel.take_built(c.kind));
     accel::BruteAccel brute(view);
     std::vector<accel::Hit> a(rays.size()), b(rays.size());
-    built->intersect(rays, a, accel::TracePath::best);
-    brute.intersect(rays, b, accel::TracePath::scalar);
+    built->trace(rays, a, {accel::Query::closest, accel::TracePath::best});
+    brute.trace(rays, b, {accel::Query::closest, accel::TracePath::scalar});
     CHECK(testing::count_disagreements(a, b) == 0);
 }
 
@@ -79,11 +79,11 @@ TEST_CASE("auto: calibration times each structure on its SIMD paths and keeps th
             INFO(accel::to_string(p.kind));
             auto built = sel.take_built(p.kind);
             REQUIRE(built);
-            CHECK(built->has_path(p.path));
-            if (built->has_path(accel::TracePath::single))  // a SIMD structure runs a SIMD path
+            CHECK(built->offer().has(p.path));
+            if (built->offer().has(accel::TracePath::single))  // a SIMD structure runs a SIMD path
                 CHECK((p.path == accel::TracePath::packet || p.path == accel::TracePath::single));
             else
-                CHECK(p.path == built->resolve_path(*rays, false));
+                CHECK(p.path == accel::choose_path(built->offer(), *rays, {}).path);
             CHECK(std::isfinite(p.ns_per_ray));
             CHECK(p.ns_per_ray > 0.0);
         }
@@ -180,7 +180,10 @@ TEST_CASE("auto: subset calibration builds only the anchor whole and extrapolate
     for (const std::size_t n : {std::size_t(1), std::size_t(100), std::size_t(600), rays.size()}) {
         const auto c2 = sel.choose(std::span(rays).first(n), false, 1e6);
         const std::size_t expect = n <= 500 ? n : 512;  // 2 runs of 256
-        CHECK(c2.reason.find(", " + std::to_string(expect) + " rays") != std::string::npos);
+        // (", N rays" after a pick; "; N rays" when the tiny-budget shortcut took lbvh, which a
+        // loaded machine's slow build can make happen.)
+        CAPTURE(c2.reason);
+        CHECK(c2.reason.find(" " + std::to_string(expect) + " rays, ") != std::string::npos);
     }
 }
 
@@ -193,5 +196,5 @@ TEST_CASE("auto: brute is a candidate for tiny scenes only") {
     const auto rays = accel::rays_into_bounds(box.bounds, 64, 9);
     REQUIRE(rays.size() == 64);
     accel::BruteAccel brute(box.view());
-    for (const auto& r : rays) CHECK(brute.trace(r, false).is_hit());  // aimed into the box
+    for (const auto& r : rays) CHECK(brute.trace_one(r, accel::Query::closest).is_hit());  // aimed into the box
 }

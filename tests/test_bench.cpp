@@ -8,12 +8,14 @@
 #include "perf/bench_plan.h"
 #include "perf/bench_report.h"
 #include "perf/bench_run.h"
+#include "perf/bench_wire.h"
 #include "perf/scenes.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
@@ -29,15 +31,16 @@ TEST_CASE("trace counters: brute counts one node and every triangle per traceabl
     rays.push_back({{0, 0, 0}, 0.0f, {0, 0, 0}, INFINITY});  // untraceable: counted as a ray only
     std::vector<accel::Hit> counted(rays.size()), plain(rays.size());
     accel::TraceCounters c;
-    REQUIRE(brute.trace_counted(rays, counted, false, c));
-    brute.intersect(rays, plain, accel::TracePath::scalar);
+    REQUIRE(brute.offer().counts);
+    brute.trace(rays, counted, {accel::Query::closest, accel::TracePath::scalar, {}, {}, &c});
+    brute.trace(rays, plain, {accel::Query::closest, accel::TracePath::scalar});
     CHECK(testing::count_disagreements(counted, plain) == 0);
     CHECK(c.rays == rays.size());
     CHECK(c.nodes_visited == rays.size() - 1);
     CHECK(c.triangles_tested == (rays.size() - 1) * view.triangle_count());
     // Any hit stops at the first hit: fewer tests, never more.
     accel::TraceCounters any;
-    REQUIRE(brute.trace_counted(rays, counted, true, any));
+    brute.trace(rays, counted, {accel::Query::any, accel::TracePath::scalar, {}, {}, &any});
     CHECK(any.triangles_tested < c.triangles_tested);
     CHECK(any.rays == c.rays);
 }
@@ -179,7 +182,7 @@ TEST_CASE("bench: a tiny run validates every row against brute and writes consis
         const auto kind = *accel::parse_accel_kind(std::get<0>(key));
         const auto acc = accel::make_accel(kind, s_view_for_paths());
         for (const auto p : {accel::TracePath::packet, accel::TracePath::single})
-            CHECK(e.second.count(std::string(accel::to_string(p))) == (acc->has_path(p) ? 1u : 0u));
+            CHECK(e.second.count(std::string(accel::to_string(p))) == (acc->offer().has(p) ? 1u : 0u));
     }
     // auto on every (kind, threads, budget), judged against the best (structure, path) row.
     CHECK(r.autos.size() == 4 * 2 * o.budgets.size());
@@ -205,4 +208,48 @@ TEST_CASE("bench: a tiny run validates every row against brute and writes consis
     const std::string md = perf::to_markdown(r);
     CHECK(md.find("## Headline") != std::string::npos);
     CHECK(md.find("| tiny |") != std::string::npos);
+
+    // What `mpirun arbor bench` sends from rank to rank (rows, auto rows, notes; rank 0 writes the
+    // run's own meta data): every field back, NaN kept.
+    const perf::BenchResult back = perf::from_wire(perf::to_wire(r));
+    perf::BenchResult same_meta = r;
+    same_meta.rows = back.rows, same_meta.autos = back.autos, same_meta.notes = back.notes;
+    CHECK(perf::to_json(same_meta) == perf::to_json(r));
+    REQUIRE(back.rows.size() == r.rows.size());
+    for (std::size_t i = 0; i < r.rows.size(); ++i) {
+        CHECK(std::isnan(back.rows[i].ratio_embree) == std::isnan(r.rows[i].ratio_embree));
+        CHECK(back.rows[i].trace_samples == r.rows[i].trace_samples);
+    }
+    CHECK_THROWS_AS(perf::from_wire("not cbor"), std::runtime_error);
+}
+
+TEST_CASE("bench: a scene share runs each scene where it says and the report keeps plan order") {
+    perf::BenchOptions o;
+    o.scenes = {"replicated-1e3", "tiny"};
+    o.kinds = {"primary"};
+    o.structures = {"lbvh"};
+    o.threads = {1};
+    o.rays = 256;
+    o.repeats = 1;
+    o.build_repeats = 1;
+    o.embree = false;
+    o.evaluate_auto = false;
+    o.verbose = false;
+    std::vector<std::size_t> ran;
+    // As on rank 0 of two: scene 1 here, scene 0 "elsewhere" (run here too, sent through the wire).
+    const perf::SceneShare share = [&](std::size_t count, const std::function<perf::BenchResult(std::size_t)>& job) {
+        std::vector<perf::BenchResult> parts(count);
+        for (std::size_t i = count; i-- > 0;) {
+            ran.push_back(i);
+            parts[i] = i == 0 ? perf::from_wire(perf::to_wire(job(i))) : job(i);
+        }
+        return parts;
+    };
+    const perf::BenchResult r = perf::run_bench(o, share);
+    CHECK(ran == std::vector<std::size_t>{1, 0});
+    REQUIRE(r.rows.size() >= 2);
+    CHECK(r.rows.front().scene == "replicated-1e3");
+    CHECK(r.rows.back().scene == "tiny");
+    const perf::BenchResult none = perf::run_bench(o, [](std::size_t, const auto&) { return std::vector<perf::BenchResult>{}; });
+    CHECK(none.rows.empty());  // a rank that does not write the report
 }

@@ -56,7 +56,7 @@ TEST_CASE("brute: closest hit agrees with a double-precision reference away from
     accel::BruteAccel brute(mesh.view());
     const auto rays = testing::random_rays_into(mesh.bounds, 2000, 11);
     std::vector<Hit> hits(rays.size());
-    brute.intersect(rays, hits, accel::TracePath::scalar);
+    brute.trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
     std::size_t checked = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const DHit ref = closest_double(mesh, rays[i]);
@@ -78,8 +78,8 @@ TEST_CASE("brute: any-hit reports a real hit exactly when closest-hit does") {
     accel::BruteAccel brute(mesh.view());
     auto rays = testing::random_rays_into(mesh.bounds, 3000, 5);
     std::vector<Hit> closest(rays.size()), any(rays.size());
-    brute.intersect(rays, closest, accel::TracePath::scalar);
-    brute.occluded(rays, any, accel::TracePath::scalar);
+    brute.trace(rays, closest, {accel::Query::closest, accel::TracePath::scalar});
+    brute.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
     CHECK(testing::count_occlusion_disagreements(any, closest) == 0);
     for (std::size_t i = 0; i < rays.size(); ++i)
         if (any[i].is_hit()) {
@@ -105,7 +105,7 @@ TEST_CASE("brute: untraceable rays miss (NaN, Inf, zero direction, inactive)") {
         {{0, 0, 5}, 10, {0, 0, -1}, 1},      // inactive: tfar < tnear
     };
     std::vector<Hit> hits(rays.size());
-    brute.intersect(rays, hits, accel::TracePath::scalar);
+    brute.trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
     CHECK(hits[0].is_hit());
     for (std::size_t i = 1; i < rays.size(); ++i) {
         CAPTURE(i);
@@ -139,8 +139,8 @@ TEST_CASE("brute: watertight closed mesh: every ray from inside hits, aimed at v
             }
         }
         std::vector<Hit> hits(rays.size()), any(rays.size());
-        brute.intersect(rays, hits, accel::TracePath::scalar);
-        brute.occluded(rays, any, accel::TracePath::scalar);
+        brute.trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
+        brute.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
         std::size_t leaks = 0, any_leaks = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             leaks += !hits[i].is_hit();
@@ -164,7 +164,7 @@ TEST_CASE("brute: parallel tracing gives the same answers as one thread") {
     accel::BruteAccel brute(mesh.view());
     const auto rays = testing::random_rays_into(mesh.bounds, 5000, 3);
     std::vector<Hit> serial(rays.size()), parallel(rays.size());
-    brute.intersect(rays, serial, accel::TracePath::scalar);
+    brute.trace(rays, serial, {accel::Query::closest, accel::TracePath::scalar});
     accel::trace_parallel(brute, rays, parallel, accel::Query::closest, accel::TracePath::best, 64);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         CHECK(serial[i].prim == parallel[i].prim);

@@ -136,8 +136,8 @@ TEST_CASE("bvh build: statistics of the accel") {
         CHECK(L.nodes.size() == s.leaves - 1);
         CHECK(L.blocks.size() == (mesh.triangle_count() + 3) / 4);
         CHECK(s.memory_bytes ==
-              L.nodes.capacity() * 64 + L.blocks.capacity() * 160 + sizeof(accel::Bvh2Layout) + bvh->wide().memory_bytes());
-        CHECK(bvh->wide().memory_bytes() > bvh->wide().nodes() * 128);
+              L.nodes.capacity() * 64 + L.blocks.capacity() * 160 + sizeof(accel::Bvh2Layout) + bvh->wide_shape().memory_bytes);
+        CHECK(bvh->wide_shape().memory_bytes > bvh->wide_shape().nodes * 128);
         CHECK(s.build_peak_bytes >= s.memory_bytes);
         CHECK(s.bytes_per_triangle() > 0.0);
     }

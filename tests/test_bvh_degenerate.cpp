@@ -69,11 +69,11 @@ TEST_CASE("bvh degenerate: 100k copies of one triangle: index-median splits, no 
             CHECK(s.max_leaf_size <= leaf);
             CHECK(s.max_depth <= 18);  // ceil(log2(100000)) = 17
             const auto a = accel::make_accel(k.kind, mesh.view(), cfg);
-            const accel::Hit h = dynamic_cast<const accel::BvhAccel&>(*a).trace({{0.2f, 0.2f, 1}, 0, {0, 0, -1}, INFINITY}, false);
+            const accel::Hit h = dynamic_cast<const accel::BvhAccel&>(*a).trace_one({{0.2f, 0.2f, 1}, 0, {0, 0, -1}, INFINITY}, accel::Query::closest);
             CHECK(h.is_hit());
             CHECK(h.t == 1.0f);
             CHECK(h.prim < 100000);
-            CHECK_FALSE(dynamic_cast<const accel::BvhAccel&>(*a).trace({{2, 2, 1}, 0, {0, 0, -1}, INFINITY}, false).is_hit());
+            CHECK_FALSE(dynamic_cast<const accel::BvhAccel&>(*a).trace_one({{2, 2, 1}, 0, {0, 0, -1}, INFINITY}, accel::Query::closest).is_hit());
         }
     // Rays through it against brute (few: brute tests all 100k copies per ray).
     const engine::Mesh small = copies_of_one_triangle(5000);

@@ -47,10 +47,10 @@ BinaryBvh index_split_tree(const accel::TriangleView& v, std::uint32_t leaf) {
 void check_against_brute(const engine::Mesh& mesh, const accel::BvhAccel& bvh, const std::vector<Ray>& rays) {
     accel::BruteAccel brute(mesh.view());
     std::vector<Hit> ref(rays.size()), got(rays.size()), ref_any(rays.size()), got_any(rays.size());
-    brute.intersect(rays, ref, accel::TracePath::scalar);
-    bvh.intersect(rays, got, accel::TracePath::scalar);
-    brute.occluded(rays, ref_any, accel::TracePath::scalar);
-    bvh.occluded(rays, got_any, accel::TracePath::scalar);
+    brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
+    bvh.trace(rays, got, {accel::Query::closest, accel::TracePath::scalar});
+    brute.trace(rays, ref_any, {accel::Query::any, accel::TracePath::scalar});
+    bvh.trace(rays, got_any, {accel::Query::any, accel::TracePath::scalar});
     CHECK(testing::count_disagreements(ref, got) == 0);
     CHECK(testing::count_occlusion_disagreements(got_any, ref) == 0);
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -133,7 +133,7 @@ TEST_CASE("bvh accel: a root that is a leaf, an empty scene, untraceable rays") 
 
     const engine::Mesh none;
     accel::BvhAccel empty(accel::AccelKind::bvh_sah, index_split_tree(none.view(), 4), none.view(), {}, 0.0);
-    CHECK_FALSE(empty.trace({{0, 0, 0}, 0, {1, 0, 0}, INFINITY}, false).is_hit());
+    CHECK_FALSE(empty.trace_one({{0, 0, 0}, 0, {1, 0, 0}, INFINITY}, accel::Query::closest).is_hit());
     CHECK(empty.stats().nodes == 0);
 
     accel::BvhAccel bvh(accel::AccelKind::bvh_sah, index_split_tree(box.view(), 1), box.view(), {}, 0.0);
@@ -144,10 +144,10 @@ TEST_CASE("bvh accel: a root that is a leaf, an empty scene, untraceable rays") 
         {{0, 0, 5}, 0, {0, 0, 0}, inf},    {{0, 0, 5}, 10, {0, 0, -1}, 1},
     };
     for (bool any : {false, true}) {
-        CHECK(bvh.trace(rays[0], any).is_hit());
+        CHECK(bvh.trace_one(rays[0], any ? accel::Query::any : accel::Query::closest).is_hit());
         for (std::size_t i = 1; i < rays.size(); ++i) {
             CAPTURE(i);
-            const Hit h = bvh.trace(rays[i], any);
+            const Hit h = bvh.trace_one(rays[i], any ? accel::Query::any : accel::Query::closest);
             CHECK_FALSE(h.is_hit());
             CHECK(std::isinf(h.t));
         }
@@ -162,8 +162,9 @@ TEST_CASE("bvh accel: statistics mode gives the same answers and counts nodes an
     accel::BvhAccel leaf(accel::AccelKind::bvh_sah, index_split_tree(box.view(), 16), box.view(), {}, 0.0);
     std::vector<Hit> counted(rays.size()), plain(rays.size());
     accel::TraceCounters c;
-    REQUIRE(leaf.trace_counted(rays, counted, false, c));
-    leaf.intersect(rays, plain, accel::TracePath::scalar);
+    REQUIRE(leaf.offer().counts);
+    leaf.trace(rays, counted, {accel::Query::closest, accel::TracePath::scalar, {}, {}, &c});
+    leaf.trace(rays, plain, {accel::Query::closest, accel::TracePath::scalar});
     CHECK(testing::count_disagreements(counted, plain) == 0);
     CHECK(c.rays == rays.size());
     CHECK(c.nodes_visited == rays.size() - 1);
@@ -174,9 +175,9 @@ TEST_CASE("bvh accel: statistics mode gives the same answers and counts nodes an
     const auto many = testing::random_rays_into(mesh.bounds, 500, 9);
     std::vector<Hit> closest(many.size()), any(many.size()), ref(many.size());
     accel::TraceCounters cc, ca;
-    REQUIRE(tree.trace_counted(many, closest, false, cc));
-    REQUIRE(tree.trace_counted(many, any, true, ca));
-    tree.intersect(many, ref, accel::TracePath::scalar);
+    tree.trace(many, closest, {accel::Query::closest, accel::TracePath::scalar, {}, {}, &cc});
+    tree.trace(many, any, {accel::Query::any, accel::TracePath::scalar, {}, {}, &ca});
+    tree.trace(many, ref, {accel::Query::closest, accel::TracePath::scalar});
     CHECK(testing::count_disagreements(closest, ref) == 0);
     CHECK(testing::count_occlusion_disagreements(any, ref) == 0);
     CHECK(cc.nodes_visited > many.size());                                  // the tree is walked

@@ -69,8 +69,8 @@ TEST_CASE("bvh oracle: watertight jittered icospheres, rays aimed at vertices an
                 cfg.max_leaf_size = leaf;
                 const auto bvh = accel::make_accel(k.kind, v, cfg);
                 std::vector<accel::Hit> hits(rays.size()), any(rays.size());
-                bvh->intersect(rays, hits, accel::TracePath::scalar);
-                bvh->occluded(rays, any, accel::TracePath::scalar);
+                bvh->trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
+                bvh->trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
                 std::size_t leaks = 0, any_leaks = 0, off = 0;
                 for (std::size_t i = 0; i < rays.size(); ++i) leaks += !hits[i].is_hit(), any_leaks += !any[i].is_hit();
                 for (std::size_t i = 0; i < rays.size() / 3; ++i) off += std::fabs(hits[i].t - 1.0f) > 1e-4f;

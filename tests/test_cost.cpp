@@ -89,7 +89,8 @@ TEST_CASE("cost: the BVHs count the root's box test, the leaf entered and its tr
 
 TEST_CASE("cost: the kd-tree counts split planes passed and leaves entered, by hand") {
     const auto s = two_triangles();
-    const accel::KdTreeAccel kd(s.mesh.view(), fine_build());
+    const auto kd_built = accel::make_kdtree_accel(s.mesh.view(), fine_build());
+    const accel::KdTreeAccel& kd = *kd_built;
     // The tree: x < -4 holds A; else x < 4 is an empty leaf, x >= 4 holds B.
     const auto& n = kd.tree().nodes;
     REQUIRE(n.size() == 5);

@@ -48,8 +48,8 @@ TEST_CASE("embree peer: agrees with brute on closest and any hit, every call and
     const auto rays = mixed_rays(mesh.bounds);
     accel::BruteAccel brute(mesh.view());
     std::vector<accel::Hit> ref(rays.size()), ref_any(rays.size());
-    brute.intersect(rays, ref, accel::TracePath::scalar);
-    brute.occluded(rays, ref_any, accel::TracePath::scalar);
+    brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
+    brute.trace(rays, ref_any, {accel::Query::any, accel::TracePath::scalar});
     std::size_t ref_hits = 0;
     for (const auto& h : ref) ref_hits += h.is_hit();
     REQUIRE(ref_hits > rays.size() / 3);
@@ -120,7 +120,7 @@ TEST_CASE("embree peer: rays through shared edges and vertices of a grid (watert
             }
     accel::BruteAccel brute(grid.view());
     std::vector<accel::Hit> ref(rays.size());
-    brute.intersect(rays, ref, accel::TracePath::scalar);
+    brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
     for (const auto& h : ref) REQUIRE(h.is_hit());
     for (const bool robust : {false, true}) {
         const perf::EmbreePeer peer(grid.view(), {false, robust, false});

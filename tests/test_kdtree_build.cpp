@@ -163,7 +163,8 @@ TEST_CASE("kdtree build: FTZ/DAZ mode of the caller does not change the tree") {
 TEST_CASE("kdtree build: statistics") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
     mesh.x[5] = std::numeric_limits<float>::quiet_NaN();
-    const accel::KdTreeAccel kd(mesh.view());
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
     const accel::BuildStats& st = kd.stats();
     const KdTree& tree = kd.tree();
     std::size_t dropped = 0;
@@ -179,7 +180,7 @@ TEST_CASE("kdtree build: statistics") {
     CHECK(st.mean_leaf_depth > 1.0);
     CHECK(st.mean_leaf_depth <= st.max_depth);
     // The traversal structure plus the SIMD paths' triangle blocks (40 bytes per slot: 9 floats and an id).
-    const std::size_t n = kd.simd_paths().block_width();
+    const std::size_t n = kd.simd_block_width();
     std::size_t slots = 0;
     for (const accel::KdLeaf& leaf : tree.leaves) slots += (leaf.count + n - 1) / n * n;
     CHECK(st.memory_bytes == tree.nodes.size() * 8 + tree.leaves.size() * 56 + tree.refs.size() * 4 + tree.tris.size() * 40 +
@@ -191,7 +192,8 @@ TEST_CASE("kdtree build: statistics") {
     CHECK(st.sah_cost < 0.25 * double(tree.tris.size()));
     BuildConfig leaf_only;
     leaf_only.kd_traversal_cost = 1e9f;
-    const accel::KdTreeAccel root_leaf(mesh.view(), leaf_only);
+    const auto root_leaf_built = accel::make_kdtree_accel(mesh.view(), leaf_only);
+    const accel::KdTreeAccel& root_leaf = *root_leaf_built;
     CHECK(root_leaf.stats().leaves == 1);
     CHECK(root_leaf.stats().sah_cost == doctest::Approx(double(tree.tris.size())));
 }

@@ -57,7 +57,8 @@ std::vector<std::size_t> spread(std::size_t n, std::size_t s) {
 /// SIMD paths vs scalar (bitwise) and vs brute (on `brute_rays` of the rays) on `mesh`.
 void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::size_t brute_rays,
                 std::vector<std::size_t> chunks = {1024}, accel::BuildConfig cfg = {}) {
-    const accel::KdTreeAccel kd(mesh.view(), cfg);
+    const auto kd_built = accel::make_kdtree_accel(mesh.view(), cfg);
+    const accel::KdTreeAccel& kd = *kd_built;
     CHECK(testing::check_kd_simd(kd, rays, chunks) > 0);
     const accel::BruteAccel brute(mesh.view());
     const auto sample = spread(rays.size(), brute_rays);
@@ -84,7 +85,8 @@ TEST_CASE("kdtree simd: every shared model, primary/shadow/diffuse/random rays, 
 TEST_CASE("kdtree simd: the blocks hold each leaf's triangles in order, NaN-padded") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2, 0.1f, 3);
     mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 24, 8));
-    const accel::KdTreeAccel kd(mesh.view());
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
     const accel::KdTree& tree = kd.tree();
     const auto check = [&tree](const auto& blocks, std::size_t n) {
         REQUIRE(blocks.first.size() == tree.leaves.size() + 1);
@@ -176,22 +178,24 @@ TEST_CASE("kdtree simd: NaN, Inf, zero and inactive rays miss, partial and mixed
         if (i % 11 == 0) rays.push_back({{-5.0f * s, x, y}, 0.0f, {s, 0.0f, -0.0f}, INFINITY});
         if (i % 5 == 0) rays.push_back({{x, y, -5.0f}, 4.0f, {0.0f, 0.0f, 1.0f}, 4.5f});  // a short interval
     }
-    const accel::KdTreeAccel kd(mesh.view());
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
     for (const auto& cfg : testing::kd_simd_configs()) {
-        const auto paths = accel::make_kd_simd_paths(kd.tree(), cfg);
+        const auto paths = accel::make_kdtree_accel(kd.tree(), cfg);
         for (const auto path : {accel::TracePath::single, accel::TracePath::packet})
             for (const bool any_hit : {false, true}) {
-                const auto hits = testing::kd_simd_trace(*paths, kd.tree(), bad, path, any_hit, 16);
+                const auto hits = testing::kd_simd_trace(*paths, bad, path, any_hit, 16);
                 for (const Hit& h : hits) CHECK(!h.is_hit());
             }
     }
     check_mesh(mesh, rays, rays.size(), {1, 3, 16, 17, 64, 1024});
     // An empty scene: every path misses.
     const engine::Mesh empty;
-    const accel::KdTreeAccel none(empty.view());
+    const auto none_built = accel::make_kdtree_accel(empty.view());
+    const accel::KdTreeAccel& none = *none_built;
     for (const auto path : {accel::TracePath::single, accel::TracePath::packet, accel::TracePath::best}) {
         std::vector<Hit> hits(rays.size());
-        none.intersect(rays, hits, path);
+        none.trace(rays, hits, {accel::Query::closest, path});
         for (const Hit& h : hits) CHECK(!h.is_hit());
     }
 }
@@ -201,7 +205,8 @@ TEST_CASE("kdtree simd: identical answers with 1 and 2 threads") {
     auto rays = testing::random_rays_into(mesh.bounds, 2000, 8);
     const auto cam = testing::camera_rays(mesh.bounds, 48, 48);
     rays.insert(rays.end(), cam.begin(), cam.end());
-    const accel::KdTreeAccel kd(mesh.view());
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
     for (const auto path : {accel::TracePath::single, accel::TracePath::packet, accel::TracePath::best})
         for (const auto q : {accel::Query::closest, accel::Query::any}) {
             std::vector<Hit> one(rays.size()), two(rays.size());
@@ -219,11 +224,17 @@ TEST_CASE("kdtree simd: identical answers with 1 and 2 threads") {
 
 TEST_CASE("kdtree simd: best takes the single path (the packet path measured slower on every kind)") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
-    const accel::KdTreeAccel kd(mesh.view());
-    CHECK(kd.has_path(accel::TracePath::single));
-    CHECK(kd.has_path(accel::TracePath::packet));
-    std::string reason;
-    CHECK(kd.resolve_path(testing::camera_rays(mesh.bounds, 64, 16), false, &reason) == accel::TracePath::single);
-    CHECK(!reason.empty());
-    CHECK(kd.resolve_path(testing::random_rays_inside(mesh.bounds, 1024, 3), true) == accel::TracePath::single);
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
+    CHECK(kd.offer().has(accel::TracePath::single));
+    CHECK(kd.offer().has(accel::TracePath::packet));
+    const auto camera = testing::camera_rays(mesh.bounds, 64, 16);
+    const accel::PathChoice c = accel::choose_path(kd.offer(), camera, {});
+    CHECK(c.path == accel::TracePath::single);
+    CHECK(!accel::path_reason(c).empty());
+    CHECK(accel::choose_path(kd.offer(), testing::random_rays_inside(mesh.bounds, 1024, 3), {accel::Query::any}).path ==
+          accel::TracePath::single);
+    // A coherent hint does not change that: the renderer's camera rays take the single path too.
+    CHECK(accel::choose_path(kd.offer(), camera, {accel::Query::closest, accel::TracePath::best, accel::RayHint::coherent}).path ==
+          accel::TracePath::single);
 }

@@ -64,7 +64,8 @@ TEST_CASE("kdtree trace: watertight closed mesh through the kd-tree (rays at ver
     for (int seed = 1; seed <= 2; ++seed) {
         const Vec3f center{1000.0f * float(seed - 1), 3.0f, -7.0f};
         const engine::Mesh mesh = engine::make_icosphere(center, 2.0f, 3, 0.2f, std::uint32_t(seed));
-        const accel::KdTreeAccel kd(mesh.view());
+        const auto kd_built = accel::make_kdtree_accel(mesh.view());
+        const accel::KdTreeAccel& kd = *kd_built;
         std::vector<Ray> rays;
         const auto v = mesh.view();
         for (const Vec3f& o : {center, center + Vec3f{0.31f, -0.17f, 0.05f}}) {
@@ -75,8 +76,8 @@ TEST_CASE("kdtree trace: watertight closed mesh through the kd-tree (rays at ver
             }
         }
         std::vector<Hit> hits(rays.size()), any(rays.size());
-        kd.intersect(rays, hits, accel::TracePath::scalar);
-        kd.occluded(rays, any, accel::TracePath::scalar);
+        kd.trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
+        kd.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
         std::size_t leaks = 0, any_leaks = 0, off = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             leaks += !hits[i].is_hit();
@@ -92,7 +93,8 @@ TEST_CASE("kdtree trace: watertight closed mesh through the kd-tree (rays at ver
 
 TEST_CASE("kdtree trace: untraceable rays miss, empty and one-triangle scenes") {
     const engine::Mesh mesh = engine::make_box({-1, -1, -1}, {1, 1, 1});
-    const accel::KdTreeAccel kd(mesh.view());
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     const std::vector<Ray> rays = {
         {{0, 0, 5}, 0, {0, 0, -1}, inf},  {{nan, 0, 5}, 0, {0, 0, -1}, inf}, {{0, 0, 5}, 0, {0, nan, -1}, inf},
@@ -100,8 +102,8 @@ TEST_CASE("kdtree trace: untraceable rays miss, empty and one-triangle scenes") 
         {{0, 0, 5}, 0, {0, 0, -inf}, inf}, {{0, 0, 5}, 0, {0, 0, 0}, inf},   {{0, 0, 5}, 10, {0, 0, -1}, 1},
     };
     std::vector<Hit> hits(rays.size()), any(rays.size());
-    kd.intersect(rays, hits, accel::TracePath::scalar);
-    kd.occluded(rays, any, accel::TracePath::scalar);
+    kd.trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
+    kd.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
     CHECK(hits[0].is_hit());
     CHECK(hits[0].t == doctest::Approx(4.0f));
     for (std::size_t i = 1; i < rays.size(); ++i) {
@@ -113,10 +115,11 @@ TEST_CASE("kdtree trace: untraceable rays miss, empty and one-triangle scenes") 
     // No triangles at all (every one non-finite): everything misses.
     engine::Mesh bad = mesh;
     for (float& x : bad.x) x = nan;
-    const accel::KdTreeAccel empty(bad.view());
+    const auto empty_built = accel::make_kdtree_accel(bad.view());
+    const accel::KdTreeAccel& empty = *empty_built;
     CHECK(empty.stats().dropped_nonfinite == 12);
     std::vector<Hit> h(1);
-    empty.intersect(std::span(rays).first(1), h, accel::TracePath::scalar);
+    empty.trace(std::span(rays).first(1), h, {accel::Query::closest, accel::TracePath::scalar});
     CHECK_FALSE(h[0].is_hit());
     // One triangle.
     engine::Mesh one;
@@ -128,10 +131,11 @@ TEST_CASE("kdtree trace: untraceable rays miss, empty and one-triangle scenes") 
 
 TEST_CASE("kdtree trace: tracing in parallel gives the same answers as one thread") {
     const engine::Mesh mesh = engine::make_torus({0, 0, 0}, 1.0f, 0.4f, 48, 24);
-    const accel::KdTreeAccel kd(mesh.view());
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
     const auto rays = testing::random_rays_inside(mesh.bounds, 4000, 8);
     std::vector<Hit> serial(rays.size()), parallel(rays.size());
-    kd.intersect(rays, serial, accel::TracePath::scalar);
+    kd.trace(rays, serial, {accel::Query::closest, accel::TracePath::scalar});
     {
         tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
         accel::trace_parallel(kd, rays, parallel, accel::Query::closest, accel::TracePath::best, 64);
@@ -144,14 +148,16 @@ TEST_CASE("kdtree trace: tracing in parallel gives the same answers as one threa
 
 TEST_CASE("kdtree trace: the counted walk gives the same answers and plausible counts") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
-    const accel::KdTreeAccel kd(mesh.view());
+    const auto kd_built = accel::make_kdtree_accel(mesh.view());
+    const accel::KdTreeAccel& kd = *kd_built;
     const auto rays = testing::random_rays_into(mesh.bounds, 500, 12);
     for (const bool any : {false, true}) {
         std::vector<Hit> plain(rays.size()), counted(rays.size());
-        if (any) kd.occluded(rays, plain, accel::TracePath::scalar);
-        else kd.intersect(rays, plain, accel::TracePath::scalar);
+        if (any) kd.trace(rays, plain, {accel::Query::any, accel::TracePath::scalar});
+        else kd.trace(rays, plain, {accel::Query::closest, accel::TracePath::scalar});
         accel::TraceCounters c;
-        REQUIRE(kd.trace_counted(rays, counted, any, c));
+        REQUIRE(kd.offer().counts);
+        kd.trace(rays, counted, {any ? accel::Query::any : accel::Query::closest, accel::TracePath::scalar, {}, {}, &c});
         for (std::size_t i = 0; i < rays.size(); ++i) {
             CHECK(plain[i].prim == counted[i].prim);
             CHECK(plain[i].t == counted[i].t);

@@ -1,5 +1,5 @@
 // BuildConfig::layouts: a structure built with only the scalar layout or only the SIMD layouts
-// says so through has_path, traces a path whose layout is missing on one it has (same answers as
+// says so through offer(), traces a path whose layout is missing on one it has (same answers as
 // brute), and the statistics mode needs the scalar layout.
 #include "accel/brute/brute_accel.h"
 #include "accel/bvh/bvh_accel.h"
@@ -18,7 +18,7 @@ TEST_CASE("layouts: only the asked-for traversal layouts are built, every path s
     const accel::BruteAccel brute(view);
     const auto rays = testing::random_rays_into(mesh.bounds, 600, 5);
     std::vector<accel::Hit> ref(rays.size()), ref_any(rays.size());
-    brute.intersect(rays, ref, TracePath::scalar);
+    brute.trace(rays, ref, {accel::Query::closest, TracePath::scalar});
     for (const auto kind : {accel::AccelKind::bvh_median, accel::AccelKind::bvh_sah, accel::AccelKind::lbvh, accel::AccelKind::kdtree}) {
         accel::BuildConfig all_cfg;
         const auto all = accel::make_accel(kind, view, all_cfg);
@@ -29,29 +29,32 @@ TEST_CASE("layouts: only the asked-for traversal layouts are built, every path s
             cfg.layouts = layouts;
             const auto a = accel::make_accel(kind, view, cfg);
             const bool simd = layouts == Layouts::simd;
-            CHECK(a->has_path(TracePath::best));
-            CHECK(a->has_path(TracePath::packet) == simd);
-            CHECK(a->has_path(TracePath::single) == simd);
+            CHECK(a->offer().has(TracePath::packet) == simd);
+            CHECK(a->offer().has(TracePath::single) == simd);
             // The kd-tree's scalar walk reads the tree every path shares; a BVH's reads its own layout.
-            CHECK(a->has_path(TracePath::scalar) == (!simd || kind == accel::AccelKind::kdtree));
+            CHECK(a->offer().has(TracePath::scalar) == (!simd || kind == accel::AccelKind::kdtree));
             if (simd && kind == accel::AccelKind::kdtree) CHECK(a->stats().memory_bytes == all->stats().memory_bytes);
             else CHECK(a->stats().memory_bytes < all->stats().memory_bytes);
             // A SIMD-only BVH build stops at leaves of the layout's width (test_leaf_floor.cpp).
             if (!simd || kind == accel::AccelKind::kdtree) CHECK(a->stats().sah_cost == all->stats().sah_cost);
             else CHECK(a->stats().nodes < all->stats().nodes);
-            CHECK(a->resolve_path(rays, false) != TracePath::best);
-            if (!simd) CHECK(a->resolve_path(rays, false) == TracePath::scalar);
+            const TracePath best = accel::choose_path(a->offer(), rays, {}).path;
+            CHECK(a->offer().has(best));
+            if (!simd) CHECK(best == TracePath::scalar);
             for (const TracePath p : {TracePath::best, TracePath::scalar, TracePath::packet, TracePath::single}) {
                 CAPTURE(accel::to_string(p));
                 std::vector<accel::Hit> got(rays.size()), any(rays.size());
-                a->intersect(rays, got, p);
-                a->occluded(rays, any, p);
+                a->trace(rays, got, {accel::Query::closest, p});
+                a->trace(rays, any, {accel::Query::any, p});
                 CHECK(testing::count_disagreements(got, ref) == 0);
                 CHECK(testing::count_occlusion_disagreements(any, ref) == 0);
             }
             std::vector<accel::Hit> counted(rays.size());
             accel::TraceCounters counters;
-            CHECK(a->trace_counted(rays, counted, false, counters) == a->has_path(TracePath::scalar));
+            // The counted mode needs the scalar layout: offered with it, refused (logic_error) without.
+            CHECK(a->offer().counts == a->offer().has(TracePath::scalar));
+            if (a->offer().counts) CHECK_NOTHROW(a->trace(rays, counted, {accel::Query::closest, TracePath::best, {}, {}, &counters}));
+            else CHECK_THROWS_AS(a->trace(rays, counted, {accel::Query::closest, TracePath::best, {}, {}, &counters}), std::logic_error);
         }
     }
 }

@@ -102,9 +102,9 @@ std::unique_ptr<accel::Accel> make_lbvh(const engine::Mesh& mesh, const accel::B
 void check_oracle(const engine::Mesh& mesh, const accel::Accel& accel, const std::vector<Ray>& rays) {
     accel::BruteAccel brute(mesh.view());
     std::vector<Hit> ref(rays.size()), got(rays.size()), any(rays.size());
-    brute.intersect(rays, ref, accel::TracePath::scalar);
-    accel.intersect(rays, got, accel::TracePath::scalar);
-    accel.occluded(rays, any, accel::TracePath::scalar);
+    brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
+    accel.trace(rays, got, {accel::Query::closest, accel::TracePath::scalar});
+    accel.trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
     CHECK(testing::count_disagreements(ref, got) == 0);
     CHECK(testing::count_occlusion_disagreements(any, ref) == 0);
     for (std::size_t i = 0; i < rays.size(); ++i)
@@ -297,8 +297,8 @@ TEST_CASE("lbvh: coordinates near +-FLT_MAX") {
     for (float s : {-1.0f, 1.0f}) {
         const Ray far{{s * 2e38f, 0, 0}, 0, {s, 0.0f, -0.0f}, INFINITY};
         Hit ref, got;
-        brute.intersect({&far, 1}, {&ref, 1}, accel::TracePath::scalar);
-        lbvh->intersect({&far, 1}, {&got, 1}, accel::TracePath::scalar);
+        brute.trace({&far, 1}, {&ref, 1}, {accel::Query::closest, accel::TracePath::scalar});
+        lbvh->trace({&far, 1}, {&got, 1}, {accel::Query::closest, accel::TracePath::scalar});
         CHECK(got.is_hit() == ref.is_hit());
         CHECK(got.prim == ref.prim);
     }
@@ -330,7 +330,7 @@ TEST_CASE("lbvh: non-finite triangles are dropped and counted") {
     const BinaryBvh empty = accel::build_lbvh(accel::make_prim_refs(bad.view()), {});
     CHECK(empty.nodes.empty());
     CHECK(empty.dropped_nonfinite == 1);
-    CHECK_FALSE(static_cast<const accel::BvhAccel&>(*make_lbvh(bad)).trace({{0, 0, 1}, 0, {0, 0, -1}, INFINITY}, false).is_hit());
+    CHECK_FALSE(static_cast<const accel::BvhAccel&>(*make_lbvh(bad)).trace_one({{0, 0, 1}, 0, {0, 0, -1}, INFINITY}, accel::Query::closest).is_hit());
 }
 
 TEST_CASE("lbvh: bit-identical tree with 1 and 2 threads") {
@@ -371,8 +371,8 @@ TEST_CASE("lbvh: watertight closed mesh: every ray from inside hits, aimed at ve
                     rays.push_back({o, 0.0f, target - o, std::numeric_limits<float>::infinity()});
             }
         std::vector<Hit> hits(rays.size()), any(rays.size());
-        lbvh->intersect(rays, hits, accel::TracePath::scalar);
-        lbvh->occluded(rays, any, accel::TracePath::scalar);
+        lbvh->trace(rays, hits, {accel::Query::closest, accel::TracePath::scalar});
+        lbvh->trace(rays, any, {accel::Query::any, accel::TracePath::scalar});
         std::size_t leaks = 0, any_leaks = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) leaks += !hits[i].is_hit(), any_leaks += !any[i].is_hit();
         CAPTURE(seed);

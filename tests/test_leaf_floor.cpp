@@ -6,6 +6,7 @@
 #include "accel/bvh/bvh_accel.h"
 #include "accel/bvh/bvh_build.h"
 #include "accel/lbvh/lbvh_build.h"
+#include "accel/wide/wide_paths.h"
 #include "engine/procedural.h"
 #include "testing.h"
 
@@ -75,7 +76,7 @@ TEST_CASE("leaf floor: SIMD-only BVH builds use the layout's width, agree with b
     const accel::BruteAccel brute(v);
     const auto rays = testing::random_rays_into(mesh.bounds, 800, 21);
     std::vector<accel::Hit> ref(rays.size());
-    brute.intersect(rays, ref, accel::TracePath::scalar);
+    brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
     for (const auto kind : {accel::AccelKind::bvh_median, accel::AccelKind::bvh_sah, accel::AccelKind::lbvh}) {
         for (std::uint32_t width : {4u, 8u, 16u}) {
             if (!accel::wide_width_supported(width)) continue;
@@ -95,8 +96,8 @@ TEST_CASE("leaf floor: SIMD-only BVH builds use the layout's width, agree with b
             if (width > cfg.max_leaf_size) CHECK(coarse->stats().nodes < fine->stats().nodes);
             for (const auto path : {accel::TracePath::single, accel::TracePath::packet}) {
                 std::vector<accel::Hit> got(rays.size()), any(rays.size());
-                coarse->intersect(rays, got, path);
-                coarse->occluded(rays, any, path);
+                coarse->trace(rays, got, {accel::Query::closest, path});
+                coarse->trace(rays, any, {accel::Query::any, path});
                 CHECK(testing::count_disagreements(got, ref) == 0);
                 CHECK(testing::count_occlusion_disagreements(any, ref) == 0);
             }

@@ -25,11 +25,9 @@ template <std::size_t N> void check_forms(const accel::TriangleView& view, const
         cfg.layouts = accel::Layouts::simd;
         cfg.bvh_width = N;
         const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, view, cfg);
-        const auto* bvh = dynamic_cast<const accel::BvhAccel*>(acc.get());
-        REQUIRE(bvh != nullptr);
-        const auto* w = dynamic_cast<const accel::WidePathsN<N>*>(&bvh->wide());
+        const auto* w = dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get());
         REQUIRE(w != nullptr);
-        accel::WideStack stack(w->layout().stack_size());
+        accel::WideStack stack(w->wide_layout().stack_size());
         std::size_t plain = 0, hits = 0, differ = 0;
         for (const Ray& ray : rays) {
             for (const bool any : {false, true}) {

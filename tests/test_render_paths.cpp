@@ -33,21 +33,27 @@ engine::Scene lit_scene() {
 
 TEST_CASE("tracer: camera and shadow rays take the packet path, bounces the single-ray path, on the BVHs") {
     const auto s = lit_scene();
+    // The path the policy gives a renderer batch of kind k (no rays needed: the hint decides).
+    const auto path_for = [](const accel::Accel& a, RenderRayKind k) {
+        return accel::choose_path(a.offer(), {}, {accel::Query::closest, accel::TracePath::best, engine::ray_hint(k)}).path;
+    };
     for (accel::AccelKind k : {accel::AccelKind::bvh_sah, accel::AccelKind::bvh_median, accel::AccelKind::lbvh}) {
         const auto a = accel::make_accel(k, s.mesh.view());
         CAPTURE(accel::to_string(k));
-        REQUIRE(a->has_path(accel::TracePath::packet));
-        REQUIRE(a->has_path(accel::TracePath::single));
-        CHECK(engine::trace_path_for(*a, RenderRayKind::primary) == accel::TracePath::packet);
-        CHECK(engine::trace_path_for(*a, RenderRayKind::shadow) == accel::TracePath::packet);
-        CHECK(engine::trace_path_for(*a, RenderRayKind::mirror) == accel::TracePath::single);
-        CHECK(engine::trace_path_for(*a, RenderRayKind::diffuse) == accel::TracePath::single);
-        CHECK(engine::trace_path_for(*a, RenderRayKind::ao) == accel::TracePath::single);
+        REQUIRE(a->offer().has(accel::TracePath::packet));
+        REQUIRE(a->offer().has(accel::TracePath::single));
+        CHECK(path_for(*a, RenderRayKind::primary) == accel::TracePath::packet);
+        CHECK(path_for(*a, RenderRayKind::shadow) == accel::TracePath::packet);
+        CHECK(path_for(*a, RenderRayKind::mirror) == accel::TracePath::single);
+        CHECK(path_for(*a, RenderRayKind::diffuse) == accel::TracePath::single);
+        CHECK(path_for(*a, RenderRayKind::ao) == accel::TracePath::single);
     }
-    // A structure without its own packet or single path falls back to its best one.
+    // The kd-tree's packets do not pay (measured): every kind takes its single path. Brute force
+    // has only the scalar path.
+    const auto kd = accel::make_accel(accel::AccelKind::kdtree, s.mesh.view());
+    CHECK(path_for(*kd, RenderRayKind::primary) == accel::TracePath::single);
     const auto brute = accel::make_accel(accel::AccelKind::brute, s.mesh.view());
-    if (!brute->has_path(accel::TracePath::packet))
-        CHECK(engine::trace_path_for(*brute, RenderRayKind::primary) == accel::TracePath::best);
+    CHECK(path_for(*brute, RenderRayKind::primary) == accel::TracePath::scalar);
 }
 
 TEST_CASE("render on the BVH fast paths: same image as brute force, same with 1 and 2 threads") {

@@ -57,7 +57,7 @@ const StressCase& find(const std::vector<StressCase>& cases, const std::string& 
 std::vector<Hit> brute_closest(const StressCase& c) {
     const accel::BruteAccel brute(c.mesh.view());
     std::vector<Hit> h(c.rays.size());
-    brute.intersect(c.rays, h, accel::TracePath::scalar);
+    brute.trace(c.rays, h, {accel::Query::closest, accel::TracePath::scalar});
     return h;
 }
 
@@ -204,7 +204,7 @@ TEST_CASE("stress judge: catches leaks, invented hits, wrong t, self-intersectio
         } else if (h[i].is_hit() && pp.answers[i].certain_hit() && !pp.answers[i].band) {
             Ray past = r;
             past.tnear = h[i].t * 1.01f;
-            const Hit second = brute.trace(past, false);
+            const Hit second = brute.trace_one(past, accel::Query::closest);
             if (second.is_hit() && behind < 2) h[i] = second, ++behind;
             else if (wrong_t < 2) h[i].t *= 1.01f, ++wrong_t;
         }

@@ -171,9 +171,9 @@ TEST_CASE("wide paths: NaN, Inf, zero and inactive rays miss, partial and mixed-
     for (const auto& b : testing::all_wide_bvhs(mesh.view()))
         for (const auto path : testing::simd_paths(*b.accel)) {
             std::vector<Hit> hits(bad.size());
-            b.accel->intersect(bad, hits, path);
+            b.accel->trace(bad, hits, {accel::Query::closest, path});
             for (const Hit& h : hits) CHECK(!h.is_hit());
-            b.accel->occluded(bad, hits, path);
+            b.accel->trace(bad, hits, {accel::Query::any, path});
             for (const Hit& h : hits) CHECK(!h.is_hit());
         }
     for (const std::size_t chunk : {1u, 3u, 16u, 17u, 64u, 1024u}) {
@@ -246,9 +246,9 @@ TEST_CASE("best path: packets for rays that start together (one octant or not), 
         for (int i = 0; i < 16; ++i)
             bounces.push_back({at + 0.005f * ext * Vec3f{u(rng), u(rng), u(rng)}, 0.0f, Vec3f{s(rng), s(rng), s(rng)}, INFINITY});
     }
-    std::string reason;
-    CHECK(acc->resolve_path(bounces, false, &reason) == accel::TracePath::packet);
-    CHECK(reason.find("start together") != std::string::npos);
-    CHECK(acc->resolve_path(testing::camera_rays(b, 64, 16), false) == accel::TracePath::packet);
-    CHECK(acc->resolve_path(testing::random_rays_inside(b, 1024, 5), false) == accel::TracePath::single);
+    const accel::PathChoice c = accel::choose_path(acc->offer(), bounces, {});
+    CHECK(c.path == accel::TracePath::packet);
+    CHECK(accel::path_reason(c).find("start together") != std::string::npos);
+    CHECK(accel::choose_path(acc->offer(), testing::camera_rays(b, 64, 16), {}).path == accel::TracePath::packet);
+    CHECK(accel::choose_path(acc->offer(), testing::random_rays_inside(b, 1024, 5), {}).path == accel::TracePath::single);
 }

@@ -5,7 +5,7 @@
 
 namespace arbor::accel {
 
-BruteAccel::BruteAccel(const TriangleView& view) {
+BruteAccel::BruteAccel(const TriangleView& view) : Accel(AccelKind::brute) {
     const Timer timer;
     stats_.triangles = view.triangle_count();
     tris_.reserve(stats_.triangles);
@@ -21,9 +21,13 @@ BruteAccel::BruteAccel(const TriangleView& view) {
     stats_.sah_cost = double(tris_.size());  // every ray tests every triangle
     stats_.memory_bytes = tris_.capacity() * sizeof(Tri);
     stats_.build_ms = timer.ms();
+    offer_.add(TracePath::scalar);
+    offer_.counts = true;
 }
 
-Hit BruteAccel::trace(const Ray& ray, bool any_hit) const { return trace_impl<false>(ray, any_hit, nullptr); }
+Hit BruteAccel::trace_one(const Ray& ray, Query query) const {
+    return trace_impl<false>(ray, query == Query::any, nullptr);
+}
 
 template <bool Count> Hit BruteAccel::trace_impl(const Ray& ray, bool any_hit, TraceCounters* counters) const {
     Hit best;
@@ -45,14 +49,14 @@ template <bool Count> Hit BruteAccel::trace_impl(const Ray& ray, bool any_hit, T
     return best;
 }
 
-void BruteAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace(rays[i], false);
-}
-
-bool BruteAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
-                               TraceCounters& counters) const {
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_impl<true>(rays[i], any_hit, &counters);
-    return true;
+void BruteAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath,
+                     TraceCounters* counters) const {
+    const bool any_hit = query == Query::any;
+    if (counters) {
+        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_impl<true>(rays[i], any_hit, counters);
+        return;
+    }
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_impl<false>(rays[i], any_hit, nullptr);
 }
 
 void BruteAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
@@ -79,10 +83,6 @@ void BruteAccel::closest_points(std::span<const Vec3f> points, float max_distanc
             for (const Tri& tri : tris_) s.offer(tri.v0, tri.v1, tri.v2, tri.prim);
         out[i] = s.result();
     }
-}
-
-void BruteAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath) const {
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace(rays[i], true);
 }
 
 }  // namespace arbor::accel

@@ -11,22 +11,18 @@ public:
     /// Copies the corners of every finite triangle (non-finite ones are dropped and counted).
     explicit BruteAccel(const TriangleView& tris);
 
-    AccelKind kind() const override { return AccelKind::brute; }
-    const BuildStats& stats() const override { return stats_; }
-    void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
-    void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    /// One ray, the plain loop: closest hit or the first hit found.
+    Hit trace_one(const Ray& ray, Query query) const;
     /// Every triangle tested, every hit kept.
     void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
     /// Every triangle's exact distance.
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
-    /// One node (the whole list) per traceable ray; every triangle tested until the answer.
-    bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
-                       TraceCounters& counters) const override;
-
-    /// One ray, the plain loop: closest hit (any_hit = false) or the first hit found.
-    Hit trace(const Ray& ray, bool any_hit) const;
 
 private:
+    /// One path (scalar), and the counted mode: one node (the whole list) per traceable ray, every
+    /// triangle tested until the answer.
+    void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
+             TraceCounters* counters) const override;
     template <bool Count> Hit trace_impl(const Ray& ray, bool any_hit, TraceCounters* counters) const;
 
     struct Tri {
@@ -34,7 +30,6 @@ private:
         std::uint32_t prim;
     };
     std::vector<Tri> tris_;
-    BuildStats stats_;
 };
 
 }  // namespace arbor::accel

@@ -2,34 +2,31 @@
 
 #include "accel/bvh/bvh2_queries.h"
 #include "accel/bvh/bvh2_traverse.h"
-#include "accel/select/coherence.h"
 #include "accel/util/timer.h"
+#include "accel/wide/wide_paths.h"
 #include "simd/tri_test.h"
 
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <vector>
 
 namespace arbor::accel {
 
-BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
-    : kind_(kind) {
+BvhAccel::BvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
+    : Accel(kind) {
+    init(bvh, tris, cfg, build_ms, {});
+}
+
+void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms,
+                    const std::function<WideShape()>& make_wide) {
     const Timer timer;
-    has_scalar_ = cfg.layouts != Layouts::simd;
-    const bool wide = cfg.layouts != Layouts::scalar;
-    if (!bvh.nodes.empty()) diagonal_ = simd::length(bvh.nodes[0].box.extent());
-    WideConfig wide_cfg;
-    wide_cfg.merge_triangles = cfg.wide_merge;
-    wide_cfg.packet_lanes = cfg.packet_lanes;
-    wide_cfg.switch_lanes = cfg.packet_switch;
-    wide_cfg.switch_lanes_mixed = cfg.packet_switch_mixed;
+    const bool scalar = cfg.layouts != Layouts::simd;
     BvhTreeStats tree;
     // The layouts and the statistics only read the binary tree: made side by side.
-    tbb::parallel_invoke([&] { if (has_scalar_) layout_ = make_bvh2_layout(bvh, tris); },
-                         [&] { if (wide) wide_ = make_wide_paths(cfg.bvh_width, bvh, tris, wide_cfg); },
+    tbb::parallel_invoke([&] { if (scalar) layout_ = make_bvh2_layout(bvh, tris); },
+                         [&] { if (make_wide) wide_ = make_wide(); },
                          [&] { tree = bvh_tree_stats(bvh, cfg.traversal_cost, cfg.intersection_cost); });
     stats_.triangles = tris.triangle_count();
     stats_.dropped_nonfinite = bvh.dropped_nonfinite;
@@ -39,13 +36,17 @@ BvhAccel::BvhAccel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris, co
     stats_.mean_leaf_depth = tree.mean_leaf_depth;
     stats_.sah_cost = tree.sah_cost;
     // Both layouts: the scalar reference path and the SIMD paths.
-    stats_.memory_bytes = (has_scalar_ ? layout_.memory_bytes() : 0) + (wide_ ? wide_->memory_bytes() : 0);
+    stats_.memory_bytes = (scalar ? layout_.memory_bytes() : 0) + wide_.memory_bytes;
     // While converting, the binary tree, the layout and the converter's three words per node live together.
     const std::size_t binary_bytes = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
                                      bvh.prim_ids.capacity() * sizeof(std::uint32_t);
     const std::size_t convert_peak = binary_bytes + stats_.memory_bytes + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
     stats_.build_peak_bytes = std::max(bvh.build_peak_bytes, convert_peak);
     stats_.build_ms = build_ms + timer.ms();
+    if (scalar) offer_.add(TracePath::scalar);
+    offer_.counts = scalar;
+    offer_.simd_skipped = !make_wide;
+    if (!bvh.nodes.empty()) offer_.scene_diagonal = simd::length(bvh.nodes[0].box.extent());
 }
 
 template <bool AnyHit, bool Count>
@@ -96,67 +97,17 @@ void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits, Trace
     }
 }
 
-Hit BvhAccel::trace(const Ray& ray, bool any_hit) const {
+Hit BvhAccel::trace_one(const Ray& ray, Query query) const {
     Hit h;
-    if (any_hit) trace_batch<true>({&ray, 1}, {&h, 1});
-    else trace_batch<false>({&ray, 1}, {&h, 1});
+    run_scalar({&ray, 1}, {&h, 1}, query, nullptr);
     return h;
 }
 
-bool BvhAccel::has_path(TracePath path) const {
-    switch (path) {
-    case TracePath::scalar: return has_scalar_;
-    case TracePath::packet:
-    case TracePath::single: return wide_ != nullptr;
-    default: return true;
-    }
-}
-
-TracePath BvhAccel::resolve_path(std::span<const Ray> rays, bool, std::string* reason) const {
-    if (!wide_) {
-        if (reason) *reason = "only the scalar layout was built";
-        return TracePath::scalar;
-    }
-    const std::size_t group = wide_->packet_lanes();
-    // Packets for groups that share an octant and a place (primary, shadow rays) and for groups
-    // that share a place only (diffuse bounces: their packets switch to single rays early, see
-    // WideConfig::switch_lanes_mixed); single rays for scattered origins.
-    const double f = coherent_fraction(rays, group, 0.05f * diagonal_);
-    const bool one_octant = f >= 0.5;
-    const double g = one_octant ? f : coherent_fraction(rays, group, 0.05f * diagonal_, 8, false);
-    const TracePath path = g >= 0.5 ? TracePath::packet : TracePath::single;
-    if (reason) {
-        char buf[200];
-        if (one_octant)
-            std::snprintf(buf, sizeof buf, "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene)",
-                          100.0 * f, group);
-        else
-            std::snprintf(buf, sizeof buf,
-                          "%.0f%% of the %zu-ray groups are coherent (one octant, origins within 5%% of the scene), %.0f%% start "
-                          "together (origins within 5%%)",
-                          100.0 * f, group, 100.0 * g);
-        *reason = buf;
-    }
-    return path;
-}
-
-void BvhAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, false);
-    if (path == TracePath::scalar) trace_batch<false>(rays, hits);
-    else wide_->trace(rays, hits, path, false);
-}
-
-void BvhAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, true);
-    if (path == TracePath::scalar) trace_batch<true>(rays, hits);
-    else wide_->trace(rays, hits, path, true);
+void BvhAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath, TraceCounters* counters) const {
+    run_scalar(rays, hits, query, counters);
 }
 
 void BvhAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
-    if (wide_) {
-        wide_->trace_all(rays, sink);
-        return;
-    }
     std::vector<Bvh2StackEntry> stack(bvh2_stack_size(layout_));
     std::vector<Hit> hits;
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -168,10 +119,6 @@ void BvhAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
 }
 
 void BvhAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
-    if (wide_) {
-        wide_->closest_points(points, max_distance, out);
-        return;
-    }
     std::vector<Bvh2StackEntry> stack;
     for (std::size_t i = 0; i < points.size(); ++i) {
         PointSearch s(points[i], max_distance);
@@ -180,16 +127,22 @@ void BvhAccel::closest_points(std::span<const Vec3f> points, float max_distance,
     }
 }
 
-bool BvhAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceCounters& counters) const {
-    if (!has_scalar_) return false;
-    if (any_hit) trace_batch<true, true>(rays, hits, &counters);
-    else trace_batch<false, true>(rays, hits, &counters);
-    return true;
+void BvhAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query query, TraceCounters* counters) const {
+    const bool any_hit = query == Query::any;
+    if (counters) {
+        if (any_hit) trace_batch<true, true>(rays, hits, counters);
+        else trace_batch<false, true>(rays, hits, counters);
+    } else if (any_hit) {
+        trace_batch<true>(rays, hits);
+    } else {
+        trace_batch<false>(rays, hits);
+    }
 }
 
 std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,
                                       const BuildConfig& cfg, double build_ms) {
-    return std::make_unique<BvhAccel>(kind, std::move(bvh), tris, cfg, build_ms);
+    if (cfg.layouts == Layouts::scalar) return std::make_unique<BvhAccel>(kind, bvh, tris, cfg, build_ms);
+    return make_wide_bvh_accel(kind, bvh, tris, cfg, build_ms);
 }
 
 std::uint32_t bvh_leaf_floor(const BuildConfig& cfg) {

@@ -8,7 +8,7 @@ namespace arbor::accel {
 /// Which traversal layouts a structure builds: `all` (every path can be traced: tests, benchmarks),
 /// `scalar` (only the reference path's layout) or `simd` (only the layouts of the SIMD paths
 /// `single` and `packet`, which `best` takes). A path whose layout was not built is traced on one
-/// that was (Accel::has_path says which exist; every path gives the same answers).
+/// that was (Accel::offer says which exist; every path gives the same answers).
 enum class Layouts : std::uint8_t { all, scalar, simd };
 
 struct BuildConfig {
@@ -77,8 +77,5 @@ struct BuildConfig {
     /// reads.
     Layouts layouts = Layouts::all;
 };
-
-/// The layouts a trace on `path` reads (scalar: the reference layout; anything else: the SIMD ones).
-inline Layouts layouts_for(bool scalar_path) { return scalar_path ? Layouts::scalar : Layouts::simd; }
 
 }  // namespace arbor::accel

@@ -2,30 +2,32 @@
 
 #include "accel/kdtree/kdtree_build.h"
 #include "accel/kdtree/kdtree_queries.h"
+#include "accel/kdtree/kdtree_simd.h"
 #include "accel/kdtree/kdtree_traverse.h"
 #include "accel/util/timer.h"
 #include "simd/tri_test.h"
 
 namespace arbor::accel {
 
-KdTreeAccel::KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg) {
-    const Timer timer;
-    tree_ = build_kdtree(tris, cfg);
-    if (cfg.layouts != Layouts::scalar) simd_ = make_kd_simd_paths(tree_, cfg);
-    stats_.build_ms = timer.ms();
+KdTreeAccel::KdTreeAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms) : Accel(AccelKind::kdtree), tree_(std::move(tree)) {
+    stats_.build_ms = build_ms;
     const KdTreeStats st = kd_tree_stats(tree_, cfg.traversal_cost, cfg.intersection_cost);
-    stats_.triangles = tris.triangle_count();
+    stats_.triangles = tree_.tris.size() + tree_.dropped_nonfinite;  // the view's count
     stats_.dropped_nonfinite = tree_.dropped_nonfinite;
     stats_.nodes = st.nodes;
     stats_.leaves = st.leaves;
     stats_.max_depth = st.max_depth;
     stats_.mean_leaf_depth = st.mean_leaf_depth;
     stats_.sah_cost = st.sah_cost;
-    stats_.memory_bytes = tree_.memory_bytes() + (simd_ ? simd_->memory_bytes() : 0);
+    stats_.memory_bytes = tree_.memory_bytes();
     stats_.build_peak_bytes = tree_.build_peak_bytes;
+    // The tree itself is the scalar path's layout: every build has it.
+    offer_.add(TracePath::scalar);
+    offer_.counts = true;
+    offer_.simd_skipped = true;  // until a KdSimdAccel adds its paths
 }
 
-template <bool AnyHit, bool Count> Hit KdTreeAccel::trace(const Ray& ray, TraceCounters* counters) const {
+template <bool AnyHit, bool Count> Hit KdTreeAccel::trace_one(const Ray& ray, TraceCounters* counters) const {
     Hit best;
     if (!ray_is_traceable(ray)) return best;
     const simd::WoopShear shear = simd::woop_shear(ray.dir);
@@ -59,39 +61,22 @@ template <bool AnyHit, bool Count> Hit KdTreeAccel::trace(const Ray& ray, TraceC
     return best;
 }
 
-template Hit KdTreeAccel::trace<false, false>(const Ray&, TraceCounters*) const;
-template Hit KdTreeAccel::trace<true, false>(const Ray&, TraceCounters*) const;
+template Hit KdTreeAccel::trace_one<false, false>(const Ray&, TraceCounters*) const;
+template Hit KdTreeAccel::trace_one<true, false>(const Ray&, TraceCounters*) const;
 
-bool KdTreeAccel::trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
-                                TraceCounters& counters) const {
-    counters.rays += rays.size();
-    for (std::size_t i = 0; i < rays.size(); ++i)
-        hits[i] = any_hit ? trace<true, true>(rays[i], &counters) : trace<false, true>(rays[i], &counters);
-    return true;
+void KdTreeAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath, TraceCounters* counters) const {
+    run_scalar(rays, hits, query, counters);
 }
 
-TracePath KdTreeAccel::resolve_path(std::span<const Ray>, bool, std::string* reason) const {
-    if (!simd_) {
-        if (reason) *reason = "only the scalar path's layout was built";
-        return TracePath::scalar;
+void KdTreeAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query query, TraceCounters* counters) const {
+    const bool any_hit = query == Query::any;
+    if (counters) {
+        counters->rays += rays.size();
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            hits[i] = any_hit ? trace_one<true, true>(rays[i], counters) : trace_one<false, true>(rays[i], counters);
+        return;
     }
-    // Measured (perf/results/kdtree-simd-2026-11-22.md): the packet path runs at 0.65-0.75x of the
-    // single path on every kind of ray, coherent primary and shadow rays included, because each lane
-    // still walks the ropes alone; only the triangle tests are shared.
-    if (reason) *reason = "the kd-tree's packet path is slower than its single path on every kind of ray (measured)";
-    return TracePath::single;
-}
-
-void KdTreeAccel::intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, false);
-    if (path != TracePath::scalar) return simd_->trace(tree_, rays, hits, path, false);
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<false>(rays[i]);
-}
-
-void KdTreeAccel::occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const {
-    if (path == TracePath::best || !has_path(path)) path = resolve_path(rays, true);
-    if (path != TracePath::scalar) return simd_->trace(tree_, rays, hits, path, true);
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace<true>(rays[i]);
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = any_hit ? trace_one<true>(rays[i]) : trace_one<false>(rays[i]);
 }
 
 void KdTreeAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
@@ -110,6 +95,17 @@ void KdTreeAccel::closest_points(std::span<const Vec3f> points, float max_distan
         closest_point_kdtree(tree_, s);
         out[i] = s.result();
     }
+}
+
+std::unique_ptr<KdTreeAccel> make_kdtree_accel(KdTree tree, const BuildConfig& cfg, double build_ms) {
+    if (cfg.layouts == Layouts::scalar) return std::unique_ptr<KdTreeAccel>(new KdTreeAccel(std::move(tree), cfg, build_ms));
+    return make_kd_simd_accel(std::move(tree), cfg, build_ms);
+}
+
+std::unique_ptr<KdTreeAccel> make_kdtree_accel(const TriangleView& tris, const BuildConfig& cfg) {
+    const Timer timer;
+    KdTree tree = build_kdtree(tris, cfg);
+    return make_kdtree_accel(std::move(tree), cfg, timer.ms());
 }
 
 }  // namespace arbor::accel

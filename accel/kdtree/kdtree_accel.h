@@ -1,46 +1,45 @@
 #pragma once
-/// `kdtree`: the SAH kd-tree with ropes (kdtree_build.h), its stackless scalar traversal
-/// (kdtree_traverse.h) and its SIMD paths `single` and `packet` (kdtree_simd.h).
+/// `kdtree`: the SAH kd-tree with ropes (kdtree_build.h) and its stackless scalar traversal
+/// (kdtree_traverse.h). A build with the SIMD layouts is a KdSimdAccel<N> (kdtree_simd.h): this
+/// class plus the leaves' triangles in SIMD blocks of N, and the paths `single` and `packet`.
 #include "accel/accel.h"
 #include "accel/kdtree/kdtree_node.h"
-#include "accel/kdtree/kdtree_simd.h"
 
 #include <memory>
 
 namespace arbor::accel {
 
-class KdTreeAccel final : public Accel {
+class KdTreeAccel : public Accel {
 public:
-    /// Builds the tree (copies what it needs; the view may go away afterwards).
-    KdTreeAccel(const TriangleView& tris, const BuildConfig& cfg = {});
-
-    AccelKind kind() const override { return AccelKind::kdtree; }
-    const BuildStats& stats() const override { return stats_; }
-    /// packet and single need the SIMD leaf blocks (BuildConfig::layouts != scalar).
-    bool has_path(TracePath path) const override { return simd_ || path == TracePath::scalar || path == TracePath::best; }
-    /// `single` for every batch: the packet path measured slower on every kind of ray, coherent
-    /// ones included (perf/results/kdtree-simd-2026-11-22.md).
-    TracePath resolve_path(std::span<const Ray> rays, bool any_hit, std::string* reason = nullptr) const override;
-    void intersect(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
-    void occluded(std::span<const Ray> rays, std::span<Hit> hits, TracePath path) const override;
+    /// One ray along the ropes: the closest hit (on equal t the lower prim), or any hit. Count:
+    /// adds nodes (interior nodes tested, leaves entered) and triangle tests to `counters`.
+    template <bool AnyHit, bool Count = false> Hit trace_one(const Ray& ray, TraceCounters* counters = nullptr) const;
+    const KdTree& tree() const { return tree_; }
     /// The rope walk with every hit kept (kdtree_queries.h).
     void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
     /// Depth-first over the cells, the nearer first (kdtree_queries.h).
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
+    /// Triangles per SIMD block of the SIMD paths (0: built without them).
+    std::uint32_t simd_block_width() const { return block_width_; }
 
-    bool trace_counted(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit,
-                       TraceCounters& counters) const override;
+protected:
+    /// Takes over `tree` (built with `cfg`, in `build_ms`) for its scalar path.
+    KdTreeAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms);
+    friend std::unique_ptr<KdTreeAccel> make_kdtree_accel(KdTree tree, const BuildConfig& cfg, double build_ms);
 
-    /// One ray along the ropes: the closest hit (on equal t the lower prim), or any hit. Count:
-    /// adds nodes (interior nodes tested, leaves entered) and triangle tests to `counters`.
-    template <bool AnyHit, bool Count = false> Hit trace(const Ray& ray, TraceCounters* counters = nullptr) const;
-    const KdTree& tree() const { return tree_; }
-    const KdSimdPaths& simd_paths() const { return *simd_; }
+    /// The scalar path and the counted mode.
+    void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
+             TraceCounters* counters) const override;
+    void run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query query, TraceCounters* counters) const;
 
-private:
     KdTree tree_;
-    std::unique_ptr<KdSimdPaths> simd_;
-    BuildStats stats_;
+    std::uint32_t block_width_ = 0;
 };
+
+/// Builds the kd-tree over `tris` (copies what it needs; the view may go away afterwards) with its
+/// SIMD blocks when cfg.layouts asks for them.
+std::unique_ptr<KdTreeAccel> make_kdtree_accel(const TriangleView& tris, const BuildConfig& cfg = {});
+/// The same over a tree built before (`build_ms`: its build time; the blocks' time is added).
+std::unique_ptr<KdTreeAccel> make_kdtree_accel(KdTree tree, const BuildConfig& cfg, double build_ms = 0.0);
 
 }  // namespace arbor::accel

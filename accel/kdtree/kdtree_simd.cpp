@@ -16,11 +16,13 @@
 // sides of a split plane a ray lies in).
 #include "accel/kdtree/kdtree_simd.h"
 
+#include "accel/core/simd_paths.h"
 #include "accel/kdtree/kdtree_blocks.h"
 #include "accel/kdtree/kdtree_traverse.h"
 #include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
 #include "simd/wide_ray.h"
+#include "accel/util/timer.h"
 
 #include <algorithm>
 #include <bit>
@@ -42,39 +44,40 @@ inline xsimd::batch_bool<float, A> int_less(const xsimd::batch<std::int32_t, A>&
     return xsimd::bool_cast(a < b);
 }
 
-template <std::size_t N> class KdSimdPathsN final : public KdSimdPaths {
+template <std::size_t N> class KdSimdAccel final : public KdTreeAccel, public SimdPaths<KdSimdAccel<N>> {
+    friend class SimdPaths<KdSimdAccel<N>>;
+
 public:
     using T = typename LaneOf<N>::type;
 
-    KdSimdPathsN(const KdTree& tree, const BuildConfig& cfg) : blocks_(make_kd_blocks<N>(tree)) {
-        packet_lanes_ = cfg.packet_lanes == 8 || cfg.packet_lanes == 16 ? cfg.packet_lanes : (XSIMD_WITH_AVX512F ? 16 : 8);
-        if (!XSIMD_WITH_AVX512F) packet_lanes_ = 8;
-        switch_lanes_ = cfg.packet_switch >= 0 ? cfg.packet_switch : int(packet_lanes_ / 8);
-    }
-
-    std::size_t block_width() const override { return N; }
-    std::size_t packet_lanes() const override { return packet_lanes_; }
-    std::size_t memory_bytes() const override { return blocks_.memory_bytes(); }
-
-    void trace(const KdTree& tree, std::span<const Ray> rays, std::span<Hit> hits, TracePath path,
-               bool any_hit) const override {
-        if (path == TracePath::packet && !tree.empty()) {
-#if XSIMD_WITH_AVX512F
-            if (packet_lanes_ == 16) {
-                if (any_hit) trace_packets<true, simd::Float16>(tree, rays, hits);
-                else trace_packets<false, simd::Float16>(tree, rays, hits);
-                return;
-            }
-#endif
-            if (any_hit) trace_packets<true, simd::Float8>(tree, rays, hits);
-            else trace_packets<false, simd::Float8>(tree, rays, hits);
-            return;
-        }
-        for (std::size_t i = 0; i < rays.size(); ++i)
-            hits[i] = any_hit ? trace_one<true>(tree, rays[i]) : trace_one<false>(tree, rays[i]);
+    KdSimdAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms)
+        : KdTreeAccel(std::move(tree), cfg, build_ms), SimdPaths<KdSimdAccel<N>>(resolve_packets(cfg)) {
+        const Timer timer;
+        blocks_ = make_kd_blocks<N>(tree_);
+        stats_.build_ms += timer.ms();
+        stats_.memory_bytes += blocks_.memory_bytes();
+        offer_.add(TracePath::single);
+        offer_.add(TracePath::packet);
+        offer_.simd_skipped = false;
+        block_width_ = N;
+        offer_.packet_lanes = this->packets_.lanes;
+        // Measured (perf/results/kdtree-simd-2026-11-22.md): the packet path runs at 0.65-0.75x of
+        // the single path on every kind of ray, coherent primary and shadow rays included, because
+        // each lane still walks the ropes alone; only the triangle tests are shared.
+        offer_.packets_pay = false;
     }
 
 private:
+    void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
+             TraceCounters* counters) const override {
+        if (counters || path == TracePath::scalar) return run_scalar(rays, hits, query, counters);
+        this->trace_simd(rays, hits, query, path);
+    }
+
+    template <bool AnyHit> void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
+        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_lane<AnyHit>(rays[i]);
+    }
+
     /// The triangles of leaf `li` against ray `r` (r.tfar: the current best distance or the ray's
     /// tfar), updating `best` by the scalar path's rule. Returns true (any hit) when a hit was found.
     template <bool AnyHit> bool test_leaf(simd::WideRay<T>& r, std::uint32_t li, Hit& best) const {
@@ -97,7 +100,8 @@ private:
         return false;
     }
 
-    template <bool AnyHit> Hit trace_one(const KdTree& tree, const Ray& ray) const {
+    template <bool AnyHit> Hit trace_lane(const Ray& ray) const {
+        const KdTree& tree = tree_;
         Hit best;
         if (tree.empty() || !ray_is_traceable(ray)) return best;
         simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
@@ -115,8 +119,12 @@ private:
         unsigned touched;
     };
 
-    template <bool AnyHit, class P>
-    void trace_packets(const KdTree& tree, std::span<const Ray> rays, std::span<Hit> hits) const {
+    template <bool AnyHit, class P> void trace_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+        const KdTree& tree = tree_;
+        if (tree.empty()) {
+            std::fill(hits.begin(), hits.end(), Hit{});
+            return;
+        }
         constexpr std::size_t K = simd::lanes<P>;
         using IntP = simd::IntOf<P>;
         const KdNode* nodes = tree.nodes.data();
@@ -224,7 +232,7 @@ private:
                 const int n = std::popcount(group);
                 const std::uint32_t nblocks = blocks_.first[li + 1] - blocks_.first[li];
                 std::uint32_t done = 0;
-                if (n > switch_lanes_ && std::uint32_t(n) * nblocks * 2 > tree.leaves[li].count) {
+                if (n > this->packets_.switch_lanes && std::uint32_t(n) * nblocks * 2 > tree.leaves[li].count) {
                     done = together(group, li);
                 } else {
                     for (std::uint32_t l = group; l != 0; l &= l - 1)
@@ -252,21 +260,19 @@ private:
     }
 
     KdBlocks<N> blocks_;
-    std::uint32_t packet_lanes_ = 8;
-    int switch_lanes_ = 1;
 };
 
 }  // namespace
 
 std::uint32_t default_kd_block_width() { return 8; }
 
-std::unique_ptr<KdSimdPaths> make_kd_simd_paths(const KdTree& tree, const BuildConfig& cfg) {
+std::unique_ptr<KdTreeAccel> make_kd_simd_accel(KdTree tree, const BuildConfig& cfg, double build_ms) {
     const std::uint32_t width = cfg.kd_block_width ? cfg.kd_block_width : default_kd_block_width();
 #if XSIMD_WITH_AVX512F
-    if (width == 16) return std::make_unique<KdSimdPathsN<16>>(tree, cfg);
+    if (width == 16) return std::make_unique<KdSimdAccel<16>>(std::move(tree), cfg, build_ms);
 #endif
     (void)width;
-    return std::make_unique<KdSimdPathsN<8>>(tree, cfg);
+    return std::make_unique<KdSimdAccel<8>>(std::move(tree), cfg, build_ms);
 }
 
 }  // namespace arbor::accel

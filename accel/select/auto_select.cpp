@@ -109,7 +109,8 @@ struct AutoSelector::Impl {
     std::vector<Timed> time(const std::vector<const Accel*>& accels, std::span<const Ray> rays, bool any_hit) const {
         std::vector<Timed> out(accels.size());
         if (rays.empty()) {
-            for (std::size_t i = 0; i < accels.size(); ++i) out[i].path = accels[i]->resolve_path(rays, any_hit);
+            for (std::size_t i = 0; i < accels.size(); ++i)
+                out[i].path = choose_path(accels[i]->offer(), rays, {any_hit ? Query::any : Query::closest}).path;
             return out;
         }
         struct Config {
@@ -121,8 +122,9 @@ struct AutoSelector::Impl {
         for (std::size_t i = 0; i < accels.size(); ++i) {
             const std::size_t before = configs.size();
             for (const TracePath p : {TracePath::packet, TracePath::single})
-                if (accels[i]->has_path(p)) configs.push_back({i, p});
-            if (configs.size() == before) configs.push_back({i, accels[i]->resolve_path(rays, any_hit)});
+                if (accels[i]->offer().has(p)) configs.push_back({i, p});
+            if (configs.size() == before)
+                configs.push_back({i, choose_path(accels[i]->offer(), rays, {any_hit ? Query::any : Query::closest}).path});
         }
         std::vector<Hit> hits(rays.size());
         const double threads = active_threads();
@@ -405,6 +407,22 @@ AutoChoice AutoSelector::pick(std::vector<AutoPrediction> predictions, double bu
              : "; calibrated on all " + human_count(double(s.n)) + " triangles";
     r += ", " + std::to_string(s.last_sample) + " rays, " + human_ms(s.spent_ms);
     out.reason = r;
+    return out;
+}
+
+AccelPick pick_accel(AccelKind kind, const TriangleView& tris, const AutoWork& work) {
+    AccelPick out;
+    out.kind = kind;
+    if (kind != AccelKind::automatic) return out;
+    AutoConfig cfg;
+    cfg.build = work.build;
+    AutoSelector selector(tris, cfg);
+    AutoChoice choice = selector.choose(work.sample, work.query == Query::any, work.budget);
+    out.kind = choice.kind;
+    out.path = choice.path;
+    out.reason = std::move(choice.reason);
+    out.built = selector.take_built(choice.kind);
+    out.calibration_ms = choice.calibration_ms;
     return out;
 }
 

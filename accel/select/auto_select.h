@@ -124,6 +124,29 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// The work `--accel auto` picks a structure for.
+struct AutoWork {
+    std::span<const Ray> sample;       ///< rays like those to be traced (empty: rays into the bounds)
+    Query query = Query::closest;
+    double budget = double(1 << 20);   ///< rays to be traced
+    BuildConfig build;                 ///< the settings the pick will be built with
+};
+
+/// What a structure name resolved to, for `work`.
+struct AccelPick {
+    AccelKind kind = AccelKind::brute;
+    /// The pick's fastest path in auto's calibration (best: not calibrated); the path policy takes
+    /// it for `best` (TraceRequest::calibrated).
+    TracePath path = TracePath::best;
+    std::string reason;                ///< auto's one line: the pick, its prediction, the runner-up
+    std::unique_ptr<Accel> built;      ///< the pick, when calibration built it on the whole scene
+    double calibration_ms = 0.0;       ///< time auto spent calibrating
+};
+
+/// `kind` as it is, or for `automatic`: an AutoSelector over `tris` (which must outlive the call)
+/// calibrated on `work`, its choice, and the pick when calibration built it whole.
+AccelPick pick_accel(AccelKind kind, const TriangleView& tris, const AutoWork& work = {});
+
 /// Rays from points on a sphere around `b` towards random points inside it (deterministic).
 std::vector<Ray> rays_into_bounds(const Bounds& b, std::size_t n, std::uint64_t seed);
 

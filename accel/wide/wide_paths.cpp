@@ -10,8 +10,6 @@ std::uint32_t default_wide_width() {
 #endif
 }
 
-std::uint32_t default_packet_lanes() { return wide_width_available<16>() ? 16 : 8; }
-
 bool wide_width_supported(std::uint32_t width) {
     switch (width) {
     case 4: return true;
@@ -25,19 +23,18 @@ std::uint32_t wide_width_or_default(std::uint32_t width) {
     return wide_width_supported(width) ? width : default_wide_width();
 }
 
-std::unique_ptr<WidePaths> make_wide_paths(std::uint32_t width, const BinaryBvh& bvh, const TriangleView& tris,
-                                           const WideConfig& cfg) {
-    switch (wide_width_or_default(width)) {
-    case 4: return make_wide_paths_n<4>(bvh, tris, cfg);
+std::unique_ptr<Accel> make_wide_bvh_accel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
+                                           const BuildConfig& cfg, double build_ms) {
+    switch (wide_width_or_default(cfg.bvh_width)) {
 #if XSIMD_WITH_AVX2
-    case 8: return make_wide_paths_n<8>(bvh, tris, cfg);
+    case 8: return make_wide_bvh_accel_n<8>(kind, bvh, tris, cfg, build_ms);
 #endif
 #if XSIMD_WITH_AVX512F
-    case 16: return make_wide_paths_n<16>(bvh, tris, cfg);
+    case 16: return make_wide_bvh_accel_n<16>(kind, bvh, tris, cfg, build_ms);
 #endif
     default: break;
     }
-    return make_wide_paths_n<4>(bvh, tris, cfg);
+    return make_wide_bvh_accel_n<4>(kind, bvh, tris, cfg, build_ms);
 }
 
 }  // namespace arbor::accel

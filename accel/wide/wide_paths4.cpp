@@ -4,8 +4,9 @@
 namespace arbor::accel {
 
 template <>
-std::unique_ptr<WidePaths> make_wide_paths_n<4>(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg) {
-    return std::make_unique<WidePathsN<4>>(bvh, tris, cfg);
+std::unique_ptr<Accel> make_wide_bvh_accel_n<4>(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
+                                                 const BuildConfig& cfg, double build_ms) {
+    return std::make_unique<WideBvhAccel<4>>(kind, bvh, tris, cfg, build_ms);
 }
 
 }  // namespace arbor::accel

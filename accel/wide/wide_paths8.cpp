@@ -4,8 +4,9 @@
 namespace arbor::accel {
 #if XSIMD_WITH_AVX2
 template <>
-std::unique_ptr<WidePaths> make_wide_paths_n<8>(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg) {
-    return std::make_unique<WidePathsN<8>>(bvh, tris, cfg);
+std::unique_ptr<Accel> make_wide_bvh_accel_n<8>(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
+                                                 const BuildConfig& cfg, double build_ms) {
+    return std::make_unique<WideBvhAccel<8>>(kind, bvh, tris, cfg, build_ms);
 }
 #endif
 }  // namespace arbor::accel

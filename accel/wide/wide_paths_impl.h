@@ -1,10 +1,13 @@
 #pragma once
-/// WidePathsN<N>: the batch loops of the SIMD paths for one width. Included only by the
-/// wide_paths{4,8,16}.cpp files, which instantiate one width each (compile time, and each width
-/// in its own translation unit).
-#include "accel/wide/wide_paths.h"
+/// WideBvhAccel<N>: a BVH with its N-wide SIMD layout (and, when built, its scalar layout), and the
+/// batch loops of the SIMD paths for that width. Included only by the wide_paths{4,8,16}.cpp
+/// files, which instantiate one width each (compile time, and each width in its own translation
+/// unit).
+#include "accel/bvh/bvh_accel.h"
+#include "accel/core/simd_paths.h"
 #include "accel/util/stack_buffer.h"
 #include "accel/wide/wide_packet.h"
+#include "accel/wide/wide_paths.h"
 #include "accel/wide/wide_queries.h"
 #include "accel/wide/wide_traverse.h"
 #include "simd/packet_bounds.h"
@@ -17,42 +20,29 @@
 
 namespace arbor::accel {
 
-template <std::size_t N> class WidePathsN final : public WidePaths {
+template <std::size_t N> class WideBvhAccel final : public BvhAccel, public SimdPaths<WideBvhAccel<N>> {
+    friend class SimdPaths<WideBvhAccel<N>>;
+
 public:
     using T = WideLane<N>;
 
-    WidePathsN(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg)
-        : layout_(make_wide_layout<N>(bvh, tris, cfg)) {
-        packet_lanes_ = cfg.packet_lanes == 8 || cfg.packet_lanes == 16 ? cfg.packet_lanes : default_packet_lanes();
-        if (!wide_width_supported(packet_lanes_)) packet_lanes_ = 8;
-        switch_lanes_ = cfg.switch_lanes >= 0 ? cfg.switch_lanes : int(packet_lanes_ / 8);
-        switch_mixed_ = cfg.switch_lanes_mixed >= 0 ? cfg.switch_lanes_mixed : int(packet_lanes_ / 2);
+    WideBvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
+        : BvhAccel(kind), SimdPaths<WideBvhAccel<N>>(resolve_packets(cfg)) {
+        WideConfig wide_cfg;
+        wide_cfg.merge_triangles = cfg.wide_merge;
+        init(bvh, tris, cfg, build_ms, [&] {
+            layout_ = make_wide_layout<N>(bvh, tris, wide_cfg);
+            return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
+        });
+        offer_.add(TracePath::single);
+        offer_.add(TracePath::packet);
+        offer_.packets_pay = true;
+        offer_.packet_lanes = this->packets_.lanes;
     }
 
-    std::size_t width() const override { return N; }
-    std::size_t memory_bytes() const override { return layout_.memory_bytes(); }
-    std::size_t nodes() const override { return layout_.nodes.size(); }
-    std::size_t leaves() const override { return layout_.leaves; }
-    std::size_t packet_lanes() const override { return packet_lanes_; }
-    const WideLayout<N>& layout() const { return layout_; }
+    const WideLayout<N>& wide_layout() const { return layout_; }
 
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, TracePath path, bool any_hit) const override {
-        if (path == TracePath::packet && !layout_.empty()) {
-#if XSIMD_WITH_AVX512F
-            if (packet_lanes_ == 16) {
-                if (any_hit) trace_packets<true, simd::Float16>(rays, hits);
-                else trace_packets<false, simd::Float16>(rays, hits);
-                return;
-            }
-#endif
-            if (any_hit) trace_packets<true, simd::Float8>(rays, hits);
-            else trace_packets<false, simd::Float8>(rays, hits);
-            return;
-        }
-        if (any_hit) trace_single<true>(rays, hits);
-        else trace_single<false>(rays, hits);
-    }
-
+    /// On the SIMD layout (wide_queries.h), whether or not the scalar one was built too.
     void trace_all(std::span<const Ray> rays, HitSink& sink) const override {
         WideStack stack(layout_.stack_size());
         std::vector<Hit> hits;
@@ -104,6 +94,12 @@ public:
     }
 
 private:
+    void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
+             TraceCounters* counters) const override {
+        if (counters || path == TracePath::scalar) return run_scalar(rays, hits, query, counters);
+        this->trace_simd(rays, hits, query, path);
+    }
+
     /// Whether the active lanes of `p` share one direction octant.
     template <class P> static bool one_octant(const simd::RayPacket<P>& p) {
         const std::uint32_t active = simd::to_bits(p.active);
@@ -136,6 +132,10 @@ private:
 
     /// Packets of lanes<P> consecutive rays (the last one partial), see wide_packet.h.
     template <bool AnyHit, class P> void trace_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+        if (layout_.empty()) {
+            std::fill(hits.begin(), hits.end(), Hit{});
+            return;
+        }
         constexpr std::size_t K = simd::lanes<P>;
         using IntP = simd::IntOf<P>;
         StackBuffer<PacketStackEntry<P>, 256> pstack(layout_.stack_size());
@@ -203,19 +203,18 @@ private:
                 take_lanes(simd::from_bits<P>(1u << i), P(h.t), P(h.u), P(h.v), IntP(std::int32_t(h.prim)));
                 return true;
             };
-            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), one_octant(p) ? switch_lanes_ : switch_mixed_, leaf,
+            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), one_octant(p) ? this->packets_.switch_lanes : this->packets_.switch_mixed, leaf,
                                     single);
             simd::store_hits(best, hits.subspan(base, in.size()));
         }
     }
 
     WideLayout<N> layout_;
-    std::uint32_t packet_lanes_ = 8;
-    int switch_lanes_ = 1, switch_mixed_ = 4;
 };
 
-/// The paths of width N (defined in wide_paths{N}.cpp).
+/// The BVH of width N (defined in wide_paths{N}.cpp).
 template <std::size_t N>
-std::unique_ptr<WidePaths> make_wide_paths_n(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg);
+std::unique_ptr<Accel> make_wide_bvh_accel_n(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
+                                             const BuildConfig& cfg, double build_ms);
 
 }  // namespace arbor::accel

@@ -49,8 +49,7 @@ int run_info(const InfoOptions& o) {
                    {"max", {mesh.bounds.hi.x, mesh.bounds.hi.y, mesh.bounds.hi.z}}};
     j["warnings"] = warnings.lines;
     if (!o.accel.empty()) {
-        std::string reason;
-        const auto kind = resolve_accel(o.accel, mesh.view(), &reason);
+        const auto kind = resolve_accel(o.accel, mesh.view()).kind;
         const auto accel = accel::make_accel(kind, mesh.view(), o.build);
         j["accel"] = accel::to_string(kind);
         j["build_ms"] = accel->stats().build_ms;

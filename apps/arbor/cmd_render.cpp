@@ -2,6 +2,7 @@
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
 #include "accel/util/timer.h"
+#include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_cost.h"
@@ -24,7 +25,7 @@ struct RenderCommand {
     std::string out = "arbor.exr", accel = "bvh-sah";
     accel::BuildConfig build;
     int threads = 0;
-    bool no_png = false, verbose = false, quiet = false;
+    bool no_png = false, verbose = false, quiet = false, mpi = false;
     float exposure = 0.0f;
 };
 
@@ -47,7 +48,11 @@ void check_render_memory(const RenderCommand& o, const engine::Scene& scene, acc
 
 int run_render(const RenderCommand& o) {
     const auto limit = limit_threads(o.threads);
+    Cluster* const cluster = Cluster::join(o.mpi);  // mpirun: every rank runs this, rank 0 writes
+    const bool writer = !cluster || cluster->root();
     const engine::IntegratorKind integrator = parse_integrator_option(o.render.integrator);
+    if (integrator == engine::IntegratorKind::cost && cluster)
+        throw OptionError("--integrator cost: not spread over ranks yet; run it without mpirun");
     if (integrator == engine::IntegratorKind::cost)
         return run_cost_render({o.scene, o.render, o.accel, o.build, o.out, o.no_png, o.verbose, o.quiet});
     if (o.accel.find(',') != std::string::npos)
@@ -55,21 +60,23 @@ int run_render(const RenderCommand& o) {
     const engine::RenderSettings base = to_settings(o.render, integrator);
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
-    const engine::Scene scene = load_scene(o.scene);
-    std::string reason;
-    AutoHints hints;  // about (1 primary + 1 shadow per light + bounces) rays per sample
-    hints.budget = double(set.width) * double(set.height) * double(set.spp) *
-                   double(1 + scene.lights.size() + set.depth());
+    const engine::Scene scene = load_scene(o.scene, writer);
+    if (cluster) cluster->require_same(scene, settings_text(set));
+    accel::AutoWork work;  // about (1 primary + 1 shadow per light + bounces) rays per sample
+    work.budget = double(set.width) * double(set.height) * double(set.spp) *
+                  double(1 + scene.lights.size() + set.depth());
     // The renderer traces the SIMD paths (packets and single rays): the scalar layout is not built.
     accel::BuildConfig build = o.build;
-    build.layouts = accel::Layouts::simd;
-    hints.build = build;
-    const auto kind = resolve_accel(o.accel, scene.mesh.view(), &reason, hints);
+    build.layouts = accel::layouts_for(accel::TracePath::best);
+    work.build = build;
+    // Under MPI rank 0 alone resolves --accel (auto calibrates by timing: ranks could differ).
+    accel::AccelPick pick;
+    if (writer) pick = resolve_accel(o.accel, scene.mesh.view(), work);
+    if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
+    const auto kind = pick.kind;
     const engine::LightSet lights(scene);
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
-    if (kind != accel::AccelKind::brute)
-        plan.skipped.push_back("the structure's scalar layout (the renderer traces its SIMD paths)");
-    if (const std::string floor = leaf_floor_skipped(kind, build); !floor.empty()) plan.skipped.push_back(floor);
+    for (const std::string& s : accel::skipped_by_build(kind, build)) plan.skipped.push_back("the structure's " + s);
     check_render_memory(o, scene, kind, build, plan);
     const std::string accel_name(accel::to_string(kind));
     std::printf("%s\n", plan.line(accel_name).c_str());
@@ -80,15 +87,18 @@ int run_render(const RenderCommand& o) {
     const auto structure = accel::make_accel(kind, scene.mesh.view(), build);
     const double build_ms = build_timer.ms();
     engine::RenderStats stats;
-    const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats);
+    const auto tiles = cluster ? cluster->frame_tiles() : nullptr;
+    const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats, tiles.get());
     std::string written;
-    for (const std::string& f : engine::write_outputs(o.out, img, {!o.no_png, o.exposure}))
-        written += (written.empty() ? "" : ", ") + f;
-    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s -> %s\n",
+    if (writer)
+        for (const std::string& f : engine::write_outputs(o.out, img, {!o.no_png, o.exposure}))
+            written += (written.empty() ? "" : ", ") + f;
+    const std::string ranks = cluster ? cluster->on_ranks() : "";
+    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s%s -> %s\n",
                 scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
-                reason.empty() ? "" : " (auto: ", reason.empty() ? "" : (reason + ")").c_str(), build_ms, set.width,
+                pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms, set.width,
                 set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
-                stats.threads, stats.threads == 1 ? "" : "s", written.c_str());
+                stats.threads, stats.threads == 1 ? "" : "s", ranks.c_str(), written.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
     return 0;
 }
@@ -110,6 +120,7 @@ Run add_render(CLI::App& cmd) {
     cmd.add_flag("-v,--verbose", o->verbose, "also list what the plan skipped and why");
     cmd.add_flag("-q,--quiet", o->quiet, "no progress bar");
     add_threads_option(cmd, o->threads);
+    add_mpi_option(cmd, o->mpi);
     return [o] { return run_render(*o); };
 }
 

@@ -30,43 +30,28 @@ int run_trace(const TraceOptions& o) {
     engine::Warnings warnings;
     const engine::Mesh mesh = engine::load_obj(o.scene, warnings, o.build.max_memory);
     const std::vector<accel::Ray> rays = engine::read_rays(o.rays, o.build.max_memory);
-    // Only the layout the path reads is built: the scalar one for --path scalar, else the SIMD ones.
-    auto path = *accel::parse_trace_path(o.path);
+    // Only the layout the path reads is built (the path policy says which).
+    const auto asked = *accel::parse_trace_path(o.path);
+    const auto query = o.occluded ? accel::Query::any : accel::Query::closest;
     accel::BuildConfig build = o.build;
-    build.layouts = accel::layouts_for(path == accel::TracePath::scalar);
-    const char* skipped = path == accel::TracePath::scalar ? "SIMD layouts (--path scalar does not read them)"
-                                                           : "scalar layout (only --path scalar reads it)";
-    std::string reason;
-    std::unique_ptr<accel::Accel> prebuilt;
-    double auto_ms = 0.0;
-    AutoHints hints;
-    hints.sample = rays;
-    hints.any_hit = o.occluded;
-    hints.budget = double(rays.size()) * double(o.repeat);
-    hints.build = build;
-    hints.prebuilt = &prebuilt;
-    hints.auto_ms = &auto_ms;
-    accel::TracePath auto_path = accel::TracePath::best;
-    hints.path = &auto_path;
-    const accel::AccelKind kind = resolve_accel(o.accel, mesh.view(), &reason, hints);
+    build.layouts = accel::layouts_for(asked);
+    accel::AccelPick pick = resolve_accel(o.accel, mesh.view(), {rays, query, double(rays.size()) * double(o.repeat), build});
 
     // With auto, calibration may have built the pick already: then its own build time counts.
-    const bool was_prebuilt = prebuilt != nullptr;
+    const bool was_prebuilt = pick.built != nullptr;
     const accel::Timer build_timer;
-    const auto structure = was_prebuilt ? std::move(prebuilt) : accel::make_accel(kind, mesh.view(), build);
+    const auto structure = was_prebuilt ? std::move(pick.built) : accel::make_accel(pick.kind, mesh.view(), build);
     const double build_ms = was_prebuilt ? structure->stats().build_ms : build_timer.ms();
 
-    // `best`: the structure measures the rays once and says which path it takes, and why.
-    std::string path_reason = "forced with --path";
-    if (path == accel::TracePath::best && auto_path != accel::TracePath::best && structure->has_path(auto_path)) {
-        path = auto_path;
-        path_reason = "the faster path in auto's calibration";
-    }
-    if (path == accel::TracePath::best) path = structure->resolve_path(rays, o.occluded, &path_reason);
+    // The one path decision, for the whole file: what was asked, else auto's calibrated path, else
+    // what the structure has and the rays' coherence say (accel/select/path_policy.h).
+    const accel::PathChoice choice = accel::choose_path(structure->offer(), rays, {query, asked, accel::RayHint::unknown, pick.path});
+    const accel::TracePath path = choice.path;
+    const std::string path_reason = accel::path_reason(choice);
+    const accel::AccelKind kind = pick.kind;
 
     std::vector<accel::Hit> hits(rays.size());
     std::vector<double> times;
-    const auto query = o.occluded ? accel::Query::any : accel::Query::closest;
     for (int k = 0; k < o.repeat; ++k) {
         const accel::Timer t;
         accel::trace_parallel(*structure, rays, hits, query, path);
@@ -80,8 +65,8 @@ int run_trace(const TraceOptions& o) {
     nlohmann::json j;
     j["accel"] = accel::to_string(kind);
     if (accel::parse_accel_kind(o.accel) == accel::AccelKind::automatic) {
-        j["auto_reason"] = reason;
-        j["auto_ms"] = auto_ms;
+        j["auto_reason"] = pick.reason;
+        j["auto_ms"] = pick.calibration_ms;
     }
     j["path"] = accel::to_string(path);
     j["path_reason"] = path_reason;
@@ -99,11 +84,8 @@ int run_trace(const TraceOptions& o) {
     j["leaf_size"] = o.build.max_leaf_size;
     const bool has_layouts = kind != accel::AccelKind::brute;
     j["layouts"] = has_layouts ? (build.layouts == accel::Layouts::scalar ? "scalar" : "simd") : "none";
-    nlohmann::json skipped_list = has_layouts ? nlohmann::json::array({skipped}) : nlohmann::json::array();
-    // A BVH built for the SIMD paths only stops splitting at the layout's width (BuildConfig::leaf_floor).
-    const std::string floor_note = leaf_floor_skipped(kind, build);
-    if (!floor_note.empty()) skipped_list.push_back(floor_note);
-    j["skipped"] = skipped_list;
+    const std::vector<std::string> skipped = accel::skipped_by_build(kind, build);
+    j["skipped"] = skipped;
     put_stats(j, structure->stats());
     if (o.json) {
         std::cout << j.dump() << '\n';
@@ -113,9 +95,10 @@ int run_trace(const TraceOptions& o) {
     std::printf("%s: %zu triangles, %zu rays, %zu hits; build %.2f ms, trace %.2f ms (median of %d), "
                 "%.3g Mrays/s, %d thread%s, path %s (%s)%s%s\n",
                 std::string(j["accel"]).c_str(), mesh.triangle_count(), rays.size(), nhit, build_ms, median_ms,
-                o.repeat, double(j["mrays_per_s"]), int(j["threads"]), int(j["threads"]) == 1 ? "" : "s", std::string(accel::to_string(path)).c_str(),
-                path_reason.c_str(), has_layouts ? "; skipped: " : "", has_layouts ? skipped : "");
-    if (!floor_note.empty()) std::printf("also skipped: %s\n", floor_note.c_str());
+                o.repeat, double(j["mrays_per_s"]), int(j["threads"]), int(j["threads"]) == 1 ? "" : "s",
+                std::string(accel::to_string(path)).c_str(), path_reason.c_str(), skipped.empty() ? "" : "; skipped: ",
+                skipped.empty() ? "" : skipped[0].c_str());
+    for (std::size_t i = 1; i < skipped.size(); ++i) std::printf("also skipped: %s\n", skipped[i].c_str());
     return 0;
 }
 

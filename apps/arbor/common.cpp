@@ -1,7 +1,5 @@
 #include "apps/arbor/common.h"
 
-#include "accel/select/auto_select.h"
-#include "accel/bvh/bvh_accel.h"
 #include "engine/error.h"
 #include "engine/memory_budget.h"
 
@@ -79,21 +77,10 @@ int active_threads() {
     return int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
-accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason,
-                               const AutoHints& hints) {
+accel::AccelPick resolve_accel(const std::string& name, const accel::TriangleView& tris, const accel::AutoWork& work) {
     const auto kind = accel::parse_accel_kind(name);
     if (!kind) throw OptionError("--accel: unknown structure '" + name + "'");
-    if (reason) reason->clear();
-    if (*kind != accel::AccelKind::automatic) return *kind;
-    accel::AutoConfig cfg;
-    cfg.build = hints.build;
-    accel::AutoSelector selector(tris, cfg);
-    const accel::AutoChoice choice = selector.choose(hints.sample, hints.any_hit, hints.budget);
-    if (reason) *reason = choice.reason;
-    if (hints.prebuilt) *hints.prebuilt = selector.take_built(choice.kind);
-    if (hints.auto_ms) *hints.auto_ms = choice.calibration_ms;
-    if (hints.path) *hints.path = choice.path;
-    return choice.kind;
+    return accel::pick_accel(*kind, tris, work);
 }
 
 void put_stats(nlohmann::json& j, const accel::BuildStats& s) {
@@ -106,14 +93,6 @@ void put_stats(nlohmann::json& j, const accel::BuildStats& s) {
     j["memory_bytes"] = s.memory_bytes;
     j["build_peak_bytes"] = s.build_peak_bytes;
     j["dropped_nonfinite"] = s.dropped_nonfinite;
-}
-
-std::string leaf_floor_skipped(accel::AccelKind kind, const accel::BuildConfig& build) {
-    const bool bvh = kind == accel::AccelKind::bvh_median || kind == accel::AccelKind::bvh_sah || kind == accel::AccelKind::lbvh;
-    const std::uint32_t floor = accel::bvh_leaf_floor(build);
-    if (!bvh || floor <= 1) return {};
-    return "binary splits of ranges of at most " + std::to_string(floor) +
-           " triangles (the SIMD leaves' blocks hold them; --simd-leaf-floor 1 makes them)";
 }
 
 }  // namespace arbor::app

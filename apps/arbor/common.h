@@ -1,6 +1,7 @@
 #pragma once
 /// Helpers shared by the subcommands: option validation, threads, scene loading, JSON output.
 #include "accel/accel.h"
+#include "accel/select/auto_select.h"
 #include "engine/error.h"
 #include "engine/scene.h"
 
@@ -56,26 +57,9 @@ CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 int active_threads();
 
-/// What `--accel auto` knows about the work ahead (accel/select/auto_select.h).
-struct AutoHints {
-    std::span<const accel::Ray> sample;  ///< rays like those to be traced (empty: rays into the bounds)
-    bool any_hit = false;
-    double budget = double(1 << 20);     ///< rays to be traced
-    accel::BuildConfig build;
-    /// When set, receives the picked structure if calibration already built it on the whole scene.
-    std::unique_ptr<accel::Accel>* prebuilt = nullptr;
-    double* auto_ms = nullptr;           ///< when set, receives the time auto spent calibrating
-    accel::TracePath* path = nullptr;    ///< when set, receives the pick's fastest calibrated path
-};
-
-/// Resolves an --accel name to a buildable kind. `auto` calibrates and picks the structure with
-/// the smallest predicted build + trace time for `hints`; `reason` gets its one-line why.
-accel::AccelKind resolve_accel(const std::string& name, const accel::TriangleView& tris, std::string* reason,
-                               const AutoHints& hints = {});
-
-/// What a build of `kind` with `build` leaves out below its leaf floor (a BVH built for the SIMD
-/// paths only, accel::bvh_leaf_floor), as an item of a "skipped" list; empty when nothing is.
-std::string leaf_floor_skipped(accel::AccelKind kind, const accel::BuildConfig& build);
+/// Resolves an --accel name (accel::pick_accel): a named structure as is; `auto` calibrates on
+/// `work` and picks the structure with the smallest predicted build + trace time.
+accel::AccelPick resolve_accel(const std::string& name, const accel::TriangleView& tris, const accel::AutoWork& work = {});
 
 /// Build statistics as JSON fields (nodes, leaves, max_depth, sah_cost, bytes_per_triangle, ...).
 void put_stats(nlohmann::json& j, const accel::BuildStats& s);

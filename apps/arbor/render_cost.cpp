@@ -83,16 +83,16 @@ int run_cost_render(const CostRenderOptions& o) {
     // renderer's SIMD paths: both are built (the BVHs then without the SIMD leaf floor).
     accel::BuildConfig build = o.build;
     build.layouts = accel::Layouts::all;
-    AutoHints hints;
-    hints.budget = double(set.width) * double(set.height) * double(set.spp);
-    hints.build = build;
+    accel::AutoWork work;
+    work.budget = double(set.width) * double(set.height) * double(set.spp);
+    work.build = build;
     std::vector<accel::AccelKind> kinds;
     std::vector<std::string> names, reasons;
     for (const std::string& n : split_list(o.accels)) {
-        std::string reason;
-        kinds.push_back(resolve_accel(n, scene.mesh.view(), &reason, hints));
+        accel::AccelPick pick = resolve_accel(n, scene.mesh.view(), work);
+        kinds.push_back(pick.kind);
         names.emplace_back(accel::to_string(kinds.back()));
-        reasons.push_back(reason);
+        reasons.push_back(std::move(pick.reason));
     }
     const engine::LightSet lights(scene);
     const engine::RenderPlan plan = engine::make_plan(scene, lights, set);

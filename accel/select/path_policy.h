@@ -1,0 +1,61 @@
+#pragma once
+/// The path policy: the one place where a trace path is chosen. Accel::trace asks it when a batch
+/// comes with `best` (or a path the structure does not offer); `arbor trace` asks it once for the
+/// whole ray file to report `path` and `path_reason`; the renderer's batches bring a RayHint. It
+/// also says which layouts a build needs for a path (`arbor trace` builds only what its path
+/// reads) and what such a build leaves out.
+///
+/// The rule, in order:
+///   1. an offered path that answers the query, asked for by name, is taken ("forced");
+///   2. a path auto's calibration timed fastest on these rays (TraceRequest::calibrated);
+///   3. a structure with one path takes it (brute; a build with the scalar layout only);
+///   4. a structure whose packets do not pay (the kd-tree, measured) takes `single`;
+///   5. a hint decides: coherent batches take `packet`, incoherent ones `single`;
+///   6. else the rays are measured (coherence.h): `packet` when at least half of the groups of
+///      consecutive rays that would share a packet start within 5% of the scene's diagonal of each
+///      other (one direction octant, or, failing that, any), else `single`
+///      (perf/results/wide-*.md, octant-order-2026-12-02.md).
+#include "accel/core/build_config.h"
+#include "accel/core/query.h"
+#include "accel/core/ray.h"
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace arbor::accel {
+
+enum class AccelKind;
+
+/// The policy's answer: the path, and why (path_reason turns it into one line).
+struct PathChoice {
+    enum class Why : std::uint8_t { forced, calibrated, only_path, only_scalar_built, packets_do_not_pay, hint, measured };
+    TracePath path = TracePath::scalar;
+    Why why = Why::only_path;
+    /// The path asked for by name when it was not offered (best otherwise).
+    TracePath not_offered = TracePath::best;
+    RayHint hint = RayHint::unknown;
+    /// Measured (why == measured): rays per group, and the fractions of groups that are coherent
+    /// (one octant, origins together) and that start together (origins only; = coherent when
+    /// `one_octant`).
+    std::uint32_t group = 0;
+    double coherent = 0.0, together = 0.0;
+    bool one_octant = false;
+};
+
+/// The path for `rays` on a structure offering `offer`, asked as `req` (query, path, hint,
+/// calibrated path; req.counters is not read). Cheap: at most 16 groups of rays are looked at.
+PathChoice choose_path(const PathOffer& offer, std::span<const Ray> rays, const TraceRequest& req);
+
+/// One line saying why (`arbor trace --json`'s path_reason).
+std::string path_reason(const PathChoice& c);
+
+/// The layouts a build needs to trace on `path`: the reference layout for `scalar`, the SIMD
+/// layouts for anything else (best takes a SIMD path when it has one).
+Layouts layouts_for(TracePath path);
+
+/// What a build of `kind` with `cfg` leaves out, one item per line: the layouts not built, and
+/// for a BVH built for the SIMD paths only the binary splits below its leaf floor.
+std::vector<std::string> skipped_by_build(AccelKind kind, const BuildConfig& cfg);
+
+}  // namespace arbor::accel
