@@ -5,7 +5,7 @@
 #include "accel/core/kernel_set.h"
 #include "accel/core/memory_estimate.h"
 #include "engine/error.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 #include "engine/rayfile.h"
 
 #include <cerrno>
@@ -68,9 +68,15 @@ Scene Scene::load(const std::string& path) {
         check_readable(path);
         engine::Warnings warnings;
         Scene s;
-        s.impl_->mesh = engine::load_obj(path, warnings);
-        s.impl_->mesh.material.clear();
-        s.impl_->mesh.materials.clear();
+        // Every format `arbor info` reads (OBJ, PLY, STL, glTF); only the geometry is kept (the
+        // queries need no materials, normals, texture coordinates or textures).
+        engine::Mesh loaded = engine::load_mesh(path, warnings);
+        engine::Mesh& m = s.impl_->mesh;
+        m.x = std::move(loaded.x);
+        m.y = std::move(loaded.y);
+        m.z = std::move(loaded.z);
+        m.indices = std::move(loaded.indices);
+        m.bounds = loaded.bounds;
         s.impl_->first_prim.push_back(0);
         s.impl_->bounds = s.impl_->mesh.bounds;  // the loader refuses non-finite vertices
         return s;

@@ -23,6 +23,20 @@ def test_load_builds_and_reports(spot):
     assert np.all(lo < hi)
 
 
+def test_load_reads_every_format_arbor_info_reads(tmp_path):
+    """A PLY file (not only OBJ) loads with the file's own triangle numbering."""
+    v, f = box_mesh()
+    ply = tmp_path / "box.ply"
+    head = f"ply\nformat ascii 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\nproperty float z\n" \
+           f"element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n"
+    ply.write_text(head + "".join(f"{a} {b} {c}\n" for a, b, c in v) + "".join(f"3 {a} {b} {c}\n" for a, b, c in f))
+    s, ref = arbor.Scene.load(ply), arbor.Scene(v, f)
+    assert s.triangles == 12
+    o = np.array([[0.1, 0.2, -5], [0.3, -0.4, 5], [5, 0.1, 0.2]], np.float32)
+    d = np.array([[0, 0, 1], [0, 0, -1], [-1, 0, 0]], np.float32)
+    assert s.intersect(o, d).tobytes() == ref.intersect(o, d).tobytes()
+
+
 def test_meshes_get_geometry_ids_and_numbering():
     v, f = box_mesh()
     s = arbor.Scene(v, f)
