@@ -8,7 +8,9 @@
 /// on the (query, path) statically down to its leaves' triangle tests. docs/architecture.md walks
 /// one ray through it.
 #include "accel/build_config.h"
+#include "accel/core/all_hits.h"
 #include "accel/core/build_stats.h"
+#include "accel/core/closest_point.h"
 #include "accel/core/geometry.h"
 #include "accel/core/query.h"
 #include "accel/select/path_policy.h"
@@ -53,6 +55,18 @@ public:
         else if (!offer_.runs(path, req.query)) path = choose_path(offer_, rays, req).path;
         run(rays, hits, req.query, path, req.counters);
     }
+
+    /// All hits: every triangle each ray crosses in its whole [tnear, tfar] (never shortened), each
+    /// triangle once, sorted by (t, prim), handed to sink.take(i, ...) ray by ray (all_hits.h).
+    /// With the watertight test, a ray crossing a closed mesh away from its edges and vertices gets
+    /// every crossing exactly once. Untraceable rays get an empty list. A call of its own, not a
+    /// Query of trace(): its answer is a list per ray, not one Hit. Single-threaded; call from many
+    /// threads on disjoint spans.
+    virtual void trace_all(std::span<const Ray> rays, HitSink& sink) const = 0;
+    /// Closest point: for each point, the nearest point of the scene within max_distance
+    /// (closest_point.h; every structure returns the record brute force returns). Non-finite points
+    /// and a negative max_distance get the miss record. Single-threaded, as above.
+    virtual void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const = 0;
 
 protected:
     explicit Accel(AccelKind kind) : kind_(kind) {}

@@ -7,7 +7,7 @@ target_compile_options(arbor_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshado
 # triangle test relies on a*b - c*d being rounded twice so that an edge shared by two triangles
 # gets exactly opposite signs (a fused multiply-add would break that symmetry).
 add_library(arbor_arch INTERFACE)
-target_compile_options(arbor_arch INTERFACE -march=${ARBOR_ARCH} -ffp-contract=off -fno-math-errno)
+target_compile_options(arbor_arch INTERFACE -march=${ARBOR_ARCH} -ffp-contract=off -fno-math-errno -fno-semantic-interposition)
 
 add_library(arbor_sanitize INTERFACE)
 if(ARBOR_SANITIZE)
@@ -27,4 +27,3 @@ if(ARBOR_TSAN)
   target_link_options(arbor_sanitize INTERFACE -fsanitize=thread)
 endif()
 
-install(TARGETS arbor_warnings arbor_arch arbor_sanitize EXPORT arborTargets)

@@ -1,16 +1,15 @@
-# `cmake --install` puts the libraries, headers and a CMake package under the prefix, so that a
-# separate project can find_package(arbor) and link arbor::engine.
+# `cmake --install` puts the public library (libarbor.so), its one header <arbor/arbor.h>, the
+# `arbor` command and a CMake package under the prefix: a separate project does find_package(arbor)
+# and links arbor::arbor. Nothing else is installed: no internal header, no static library, and no
+# compile option reaches the user's code (arbor's own -march and -ffp-contract stay on its targets).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-install(TARGETS arbor_simd arbor_accel arbor_engine EXPORT arborTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/arbor)
+install(TARGETS arbor_api EXPORT arborTargets
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/include/arbor/arbor.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/arbor)
 install(TARGETS arbor RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-foreach(dir simd accel engine)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/arbor/${dir}
-          FILES_MATCHING PATTERN "*.h")
-endforeach()
 install(EXPORT arborTargets NAMESPACE arbor:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/arbor)
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/arborConfig.cmake.in
   ${PROJECT_BINARY_DIR}/arborConfig.cmake INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/arbor)

@@ -60,4 +60,30 @@ void BruteAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query
     else each([&](const Ray& r) { return trace_impl<false, false>(r, nullptr); });
 }
 
+void BruteAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
+    std::vector<Hit> hits;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits.clear();
+        const Ray& ray = rays[i];
+        if (ray_is_traceable(ray)) {
+            const simd::WoopShear shear = simd::woop_shear(ray.dir);
+            for (const Tri& tri : tris_) {
+                const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, ray.tfar, tri.v0, tri.v1, tri.v2);
+                if (h.hit) hits.push_back({h.t, tri.prim, h.u, h.v});
+            }
+            sort_unique_hits(hits);
+        }
+        sink.take(i, hits);
+    }
+}
+
+void BruteAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        PointSearch s(points[i], max_distance);
+        if (s.searchable())
+            for (const Tri& tri : tris_) s.offer(tri.v0, tri.v1, tri.v2, tri.prim);
+        out[i] = s.result();
+    }
+}
+
 }  // namespace arbor::accel

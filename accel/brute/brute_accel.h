@@ -13,6 +13,10 @@ public:
 
     /// One ray, the plain loop: closest hit or the first hit found.
     Hit trace_one(const Ray& ray, Query query) const;
+    /// Every triangle tested, every hit kept.
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
+    /// Every triangle's exact distance.
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
 
 private:
     /// One path (scalar), and the counted mode: one node (the whole list) per traceable ray, every

@@ -1,5 +1,6 @@
 #include "accel/bvh/bvh_accel.h"
 
+#include "accel/bvh/bvh2_queries.h"
 #include "accel/bvh/bvh2_traverse.h"
 #include "accel/core/hit_record.h"
 #include "accel/util/timer.h"
@@ -103,6 +104,26 @@ Hit BvhAccel::trace_one(const Ray& ray, Query query) const {
 
 void BvhAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath, TraceCounters* counters) const {
     run_scalar(rays, hits, query, counters);
+}
+
+void BvhAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
+    std::vector<Bvh2StackEntry> stack(bvh2_stack_size(layout_));
+    std::vector<Hit> hits;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits.clear();
+        if (ray_is_traceable(rays[i])) all_hits_bvh2(layout_, rays[i], stack, hits);
+        sort_unique_hits(hits);
+        sink.take(i, hits);
+    }
+}
+
+void BvhAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
+    std::vector<Bvh2StackEntry> stack;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        PointSearch s(points[i], max_distance);
+        closest_point_bvh2(layout_, s, stack);
+        out[i] = s.result();
+    }
 }
 
 void BvhAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query query, TraceCounters* counters) const {

@@ -29,6 +29,10 @@ public:
 
     /// One ray through the scalar loop (needs the scalar layout): the closest hit, or any hit.
     Hit trace_one(const Ray& ray, Query query) const;
+    /// On the scalar layout (bvh2_queries.h); WideBvhAccel answers on its SIMD layout
+    /// (wide_queries.h).
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
     const Bvh2Layout& layout() const { return layout_; }
     const WideShape& wide_shape() const { return wide_; }
 

@@ -2,6 +2,7 @@
 
 #include "accel/core/hit_record.h"
 #include "accel/kdtree/kdtree_build.h"
+#include "accel/kdtree/kdtree_queries.h"
 #include "accel/kdtree/kdtree_simd.h"
 #include "accel/kdtree/kdtree_traverse.h"
 #include "accel/util/timer.h"
@@ -70,6 +71,24 @@ void KdTreeAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Que
         return;
     }
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = any_hit ? trace_one<true>(rays[i]) : trace_one<false>(rays[i]);
+}
+
+void KdTreeAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
+    std::vector<Hit> hits;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits.clear();
+        all_hits_kdtree(tree_, rays[i], hits);
+        sort_unique_hits(hits);
+        sink.take(i, hits);
+    }
+}
+
+void KdTreeAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        PointSearch s(points[i], max_distance);
+        closest_point_kdtree(tree_, s);
+        out[i] = s.result();
+    }
 }
 
 std::unique_ptr<KdTreeAccel> make_kdtree_accel(KdTree tree, const BuildConfig& cfg, double build_ms) {

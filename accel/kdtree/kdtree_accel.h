@@ -15,6 +15,10 @@ public:
     /// adds nodes (interior nodes tested, leaves entered) and triangle tests to `counters`.
     template <bool AnyHit, bool Count = false> Hit trace_one(const Ray& ray, TraceCounters* counters = nullptr) const;
     const KdTree& tree() const { return tree_; }
+    /// The rope walk with every hit kept (kdtree_queries.h).
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
+    /// Depth-first over the cells, the nearer first (kdtree_queries.h).
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
     /// Triangles per SIMD block of the SIMD paths (0: built without them).
     std::uint32_t simd_block_width() const { return block_width_; }
 

@@ -9,6 +9,7 @@
 #include "accel/util/stack_buffer.h"
 #include "accel/wide/wide_packet.h"
 #include "accel/wide/wide_paths.h"
+#include "accel/wide/wide_queries.h"
 #include "accel/wide/wide_traverse.h"
 #include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
@@ -39,6 +40,27 @@ public:
     }
 
     const WideLayout<N>& wide_layout() const { return layout_; }
+
+    /// On the SIMD layout (wide_queries.h), whether or not the scalar one was built too.
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override {
+        WideStack stack(layout_.stack_size());
+        std::vector<Hit> hits;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            hits.clear();
+            all_hits_wide<N>(layout_, rays[i], stack, hits);
+            sort_unique_hits(hits);
+            sink.take(i, hits);
+        }
+    }
+
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override {
+        std::vector<PointStackEntry> stack;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            PointSearch s(points[i], max_distance);
+            closest_point_wide<N>(layout_, s, stack);
+            out[i] = s.result();
+        }
+    }
 
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
     template <bool AnyHit>

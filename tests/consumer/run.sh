@@ -1,12 +1,30 @@
 #!/usr/bin/env bash
-# Installs the build tree into a scratch prefix, then configures, builds and runs the consumer
-# (with the build's own compiler, when given: the sanitizer flags the package exports are the
-# compiler's own, e.g. clang's -fsanitize=fuzzer-no-link in the preset fuzz).
+# The install-consumer test. Installs the build tree into a scratch prefix and checks that it holds
+# only the public header and library; then builds the README's C++ example (the first ```cpp block
+# of its section "Use arbor from C++", copied out of README.md) as a separate project with the
+# compiler's default flags, checks that no flag of arbor's own reached its compile line, and runs
+# it on a model. The build's own compiler is used when given (a sanitizer build's library needs
+# that compiler's runtime).
+# Usage: run.sh BUILD_DIR WORK_DIR README.md MODEL.obj [CXX]
 set -eu
-build=$1; work=$2; cxx=${3:-}
-rm -rf "$work"; mkdir -p "$work"
+build=$1; work=$2; readme=$3; model=$4; cxx=${5:-}
+[ -f "$model" ] || { echo "FAIL: model $model not found (../shared/scenes is needed)"; exit 1; }
+rm -rf "$work"; mkdir -p "$work/src"
+awk '/^## Use arbor from C\+\+/ {s = 1} s == 1 && /^```cpp/ {s = 2; next} s == 2 && /^```/ {exit} s == 2 {print}' \
+  "$readme" > "$work/src/main.cpp"
+grep -q 'arbor/arbor.h' "$work/src/main.cpp" || { echo "FAIL: no C++ example found in $readme"; exit 1; }
+cp "$(dirname "$0")/CMakeLists.txt" "$work/src/"
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
-cmake -S "$(dirname "$0")" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
+headers=$(cd "$work/prefix/include" && find . -type f | sort)
+if [ "$headers" != "./arbor/arbor.h" ]; then
+  echo "FAIL: the installed tree holds more than <arbor/arbor.h>:"; echo "$headers"; exit 1
+fi
+if find "$work/prefix" -name '*.a' | grep -q .; then echo "FAIL: static libraries installed"; exit 1; fi
+cmake -S "$work/src" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
   ${cxx:+-DCMAKE_CXX_COMPILER="$cxx"} >/dev/null
 cmake --build "$work/build" >/dev/null
-"$work/build/consumer"
+line=$(grep '"command"' "$work/build/compile_commands.json")
+for flag in -march -ffp-contract -std= -fno-math-errno -O; do
+  if grep -q -- "$flag" <<<"$line"; then echo "FAIL: the package put $flag on the consumer's compile line: $line"; exit 1; fi
+done
+"$work/build/consumer" "$model"

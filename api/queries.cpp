@@ -1,0 +1,216 @@
+/// arbor::Scene's batch queries: the caller's arrays are read in chunks (fixed boundaries, so the
+/// answers do not depend on the thread count), each chunk turned into accel::Ray records or points
+/// in a per-thread buffer, answered by one call of the structure, and written back with geometry ids.
+#include "api/scene_impl.h"
+
+#include "accel/inside.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace arbor {
+
+namespace {
+
+/// Rays per chunk: as accel::trace_parallel (whole 8x8 tiles of a camera stay in one chunk).
+constexpr std::size_t ray_chunk = 1024;
+constexpr std::size_t point_chunk = 256;
+
+/// Calls f(begin, end) for the chunks [k * chunk, (k + 1) * chunk) of [0, n), in parallel on the
+/// scene's threads.
+template <class F> void for_chunks(const Scene::Impl& s, std::size_t n, std::size_t chunk, F&& f) {
+    if (n == 0) return;
+    s.arena->execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + chunk - 1) / chunk, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t k = r.begin(); k != r.end(); ++k) f(k * chunk, std::min(n, (k + 1) * chunk));
+        });
+    });
+}
+
+float read_float(const float* base, std::size_t stride, std::size_t i) {
+    float v;
+    std::memcpy(&v, reinterpret_cast<const unsigned char*>(base) + i * stride, sizeof v);
+    return v;
+}
+
+accel::Vec3f read_vec3(const float* base, std::size_t stride, std::size_t i) {
+    float v[3];
+    std::memcpy(v, reinterpret_cast<const unsigned char*>(base) + i * stride, sizeof v);
+    return {v[0], v[1], v[2]};
+}
+
+accel::Ray ray_at(const RayArrays& r, std::size_t i) {
+    return {read_vec3(r.origins, r.origin_stride, i), r.tnear ? read_float(r.tnear, r.tnear_stride, i) : r.tnear_value,
+            read_vec3(r.directions, r.direction_stride, i), r.tfar ? read_float(r.tfar, r.tfar_stride, i) : r.tfar_value};
+}
+
+/// The chunk's rays in this thread's buffer.
+std::span<const accel::Ray> load_rays(const RayArrays& r, std::size_t begin, std::size_t end) {
+    thread_local std::vector<accel::Ray> buf;
+    buf.resize(end - begin);
+    for (std::size_t i = begin; i < end; ++i) buf[i - begin] = ray_at(r, i);
+    return buf;
+}
+
+std::span<const accel::Vec3f> load_points(const PointArrays& p, std::size_t begin, std::size_t end) {
+    thread_local std::vector<accel::Vec3f> buf;
+    buf.resize(end - begin);
+    for (std::size_t i = begin; i < end; ++i) buf[i - begin] = read_vec3(p.xyz, p.stride, i);
+    return buf;
+}
+
+void check_rays(const RayArrays& r, const void* out, const char* fn) {
+    if (r.count == 0) return;
+    if (!r.origins || !r.directions)
+        throw Error(Error::Kind::invalid_argument, std::string(fn) + ": " + (r.origins ? "directions" : "origins") + " is null");
+    if (!out) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": the output array is null");
+}
+
+void check_points(const PointArrays& p, const void* out, const char* fn) {
+    if (p.count == 0) return;
+    if (!p.xyz) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": points is null");
+    if (!out) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": the output array is null");
+}
+
+/// Writes each ray's crossings into its row of `max_hits` records and its count.
+class RowSink final : public accel::HitSink {
+public:
+    RowSink(const Scene::Impl& s, Hit* hits, std::int32_t* counts, std::size_t max_hits, std::size_t base)
+        : s_(s), hits_(hits), counts_(counts), max_(max_hits), base_(base) {}
+    void take(std::size_t i, std::span<accel::Hit> list) override {
+        constexpr std::size_t most = 0x7FFFFFFF;
+        counts_[base_ + i] = std::int32_t(std::min(list.size(), most));
+        Hit* row = hits_ + (base_ + i) * max_;
+        const std::size_t n = std::min(list.size(), max_);
+        for (std::size_t k = 0; k < n; ++k) row[k] = s_.to_public(list[k]);
+        for (std::size_t k = n; k < max_; ++k) row[k] = Hit{};
+    }
+
+private:
+    const Scene::Impl& s_;
+    Hit* hits_;
+    std::int32_t* counts_;
+    std::size_t max_, base_;
+};
+
+}  // namespace
+
+void Scene::intersect(const RayArrays& rays, Hit* hits) const {
+    guarded([&] {
+        check_rays(rays, hits, "intersect");
+        const accel::Accel& a = impl_->structure();
+        for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
+            const auto in = load_rays(rays, b, e);
+            thread_local std::vector<accel::Hit> out;
+            out.resize(in.size());
+            a.trace(in, out, {accel::Query::closest, accel::TracePath::best, accel::RayHint::unknown, impl_->path});
+            for (std::size_t i = b; i < e; ++i) hits[i] = impl_->to_public(out[i - b]);
+        });
+    });
+}
+
+void Scene::occluded(const RayArrays& rays, bool* occluded) const {
+    guarded([&] {
+        check_rays(rays, occluded, "occluded");
+        const accel::Accel& a = impl_->structure();
+        for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
+            const auto in = load_rays(rays, b, e);
+            thread_local std::vector<accel::Hit> out;
+            out.resize(in.size());
+            a.trace(in, out, {accel::Query::any, accel::TracePath::best, accel::RayHint::unknown, impl_->path});
+            for (std::size_t i = b; i < e; ++i) occluded[i] = out[i - b].is_hit();
+        });
+    });
+}
+
+void Scene::intersect_all(const RayArrays& rays, std::size_t max_hits, Hit* hits, std::int32_t* counts) const {
+    guarded([&] {
+        check_rays(rays, counts, "intersect_all");
+        if (max_hits != 0 && rays.count != 0 && !hits) throw Error(Error::Kind::invalid_argument, "intersect_all: hits is null");
+        const accel::Accel& a = impl_->structure();
+        for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
+            RowSink sink(*impl_, hits, counts, max_hits, b);
+            a.trace_all(load_rays(rays, b, e), sink);
+        });
+    });
+}
+
+void Scene::closest_point(const PointArrays& points, float max_distance, ClosestPoint* out) const {
+    guarded([&] {
+        check_points(points, out, "closest_point");
+        if (!(max_distance >= 0.0f))
+            throw Error(Error::Kind::invalid_argument, "closest_point: max_distance must be >= 0 (+inf: no limit), got " +
+                                                           std::to_string(max_distance));
+        const accel::Accel& a = impl_->structure();
+        for_chunks(*impl_, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
+            const auto in = load_points(points, b, e);
+            thread_local std::vector<accel::PointHit> res;
+            res.resize(in.size());
+            a.closest_points(in, max_distance, res);
+            for (std::size_t i = b; i < e; ++i) {
+                const accel::PointHit& h = res[i - b];
+                ClosestPoint& c = out[i];
+                c = ClosestPoint{};
+                if (!h.is_hit()) continue;
+                impl_->locate(h.prim, c.geom, c.prim);
+                c.distance = h.distance;
+                c.point[0] = h.point.x, c.point[1] = h.point.y, c.point[2] = h.point.z;
+                c.u = h.u, c.v = h.v;
+            }
+        });
+    });
+}
+
+void Scene::inside(const PointArrays& points, bool* inside) const {
+    guarded([&] {
+        check_points(points, inside, "inside");
+        const accel::Accel& a = impl_->structure();
+        for_chunks(*impl_, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
+            const auto in = load_points(points, b, e);
+            thread_local std::vector<std::uint8_t> res;
+            res.resize(in.size());
+            accel::inside_points(a, impl_->bounds, in, res);
+            for (std::size_t i = b; i < e; ++i) inside[i] = res[i - b] != 0;
+        });
+    });
+}
+
+std::vector<Hit> Scene::intersect(const std::vector<Ray>& rays) const {
+    std::vector<Hit> hits(rays.size());
+    intersect(RayArrays::of(rays.data(), rays.size()), hits.data());
+    return hits;
+}
+
+std::vector<bool> Scene::occluded(const std::vector<Ray>& rays) const {
+    const std::unique_ptr<bool[]> out(new bool[rays.size()]);
+    occluded(RayArrays::of(rays.data(), rays.size()), out.get());
+    return std::vector<bool>(out.get(), out.get() + rays.size());
+}
+
+namespace {
+PointArrays packed_points(const std::vector<float>& xyz, const char* fn) {
+    if (xyz.size() % 3 != 0)
+        throw Error(Error::Kind::invalid_argument, std::string(fn) + ": points must hold x, y, z triples (size " +
+                                                       std::to_string(xyz.size()) + ")");
+    return {xyz.size() / 3, xyz.data(), 3 * sizeof(float)};
+}
+}  // namespace
+
+std::vector<ClosestPoint> Scene::closest_point(const std::vector<float>& xyz, float max_distance) const {
+    const PointArrays p = packed_points(xyz, "closest_point");
+    std::vector<ClosestPoint> out(p.count);
+    closest_point(p, max_distance, out.data());
+    return out;
+}
+
+std::vector<bool> Scene::inside(const std::vector<float>& xyz) const {
+    const PointArrays p = packed_points(xyz, "inside");
+    const std::unique_ptr<bool[]> out(new bool[p.count]);
+    inside(p, out.get());
+    return std::vector<bool>(out.get(), out.get() + p.count);
+}
+
+}  // namespace arbor

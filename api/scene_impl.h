@@ -1,0 +1,78 @@
+#pragma once
+/// What a public arbor::Scene holds (private to the library): every mesh concatenated into one
+/// engine::Mesh (geometry g owns triangles [first_prim[g], first_prim[g + 1])), the structure built
+/// over it, and the task arena its batches run in. Also the one place internal exceptions become
+/// arbor::Error.
+#include "accel/accel.h"
+#include "engine/mesh.h"
+
+#include <arbor/arbor.h>
+
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace arbor {
+
+struct Scene::Impl {
+    engine::Mesh mesh;
+    std::vector<std::uint32_t> first_prim;  ///< per geometry, its first triangle in `mesh`
+    accel::Bounds bounds;                   ///< of the finite triangles
+    BuildOptions options;                   ///< of the last build (a lazy build uses the defaults)
+    std::unique_ptr<accel::Accel> accel;
+    std::string accel_name, accel_reason;
+    /// auto's calibrated path (TraceRequest::calibrated), else `best`: the path policy decides per batch.
+    accel::TracePath path = accel::TracePath::best;
+    std::unique_ptr<tbb::task_arena> arena;
+    std::atomic<bool> ready{false};
+    std::mutex build_mutex;
+
+    /// The structure, built with the last options first when it is not (thread-safe).
+    const accel::Accel& structure();
+    void build_locked(const BuildOptions& o);
+
+    /// Geometry id and triangle number within it of triangle `global` of `mesh`.
+    void locate(std::uint32_t global, std::uint32_t& geom, std::uint32_t& prim) const {
+        if (global == accel::invalid_prim) {
+            geom = prim = invalid_id;
+            return;
+        }
+        std::size_t g = 0;
+        if (first_prim.size() > 1) {
+            std::size_t lo = 0, hi = first_prim.size();  // the last g with first_prim[g] <= global
+            while (hi - lo > 1) {
+                const std::size_t mid = (lo + hi) / 2;
+                (first_prim[mid] <= global ? lo : hi) = mid;
+            }
+            g = lo;
+        }
+        geom = std::uint32_t(g);
+        prim = global - first_prim[g];
+    }
+
+    Hit to_public(const accel::Hit& h) const {
+        Hit out;
+        if (!h.is_hit()) return out;
+        locate(h.prim, out.geom, out.prim);
+        out.t = h.t, out.u = h.u, out.v = h.v;
+        return out;
+    }
+};
+
+/// Runs f, turning every internal exception into arbor::Error.
+template <class F> decltype(auto) guarded(F&& f);
+[[noreturn]] void rethrow_as_error();
+
+template <class F> decltype(auto) guarded(F&& f) {
+    try {
+        return f();
+    } catch (...) {
+        rethrow_as_error();
+    }
+}
+
+}  // namespace arbor

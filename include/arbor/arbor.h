@@ -1,0 +1,199 @@
+#pragma once
+/// arbor's public C++ API: the one header a program includes (link arbor::arbor after
+/// find_package(arbor)). A Scene of your own triangle arrays or of a model file, one build step,
+/// and four batch queries: closest hit, any hit, all hits along a ray, closest point on the surface,
+/// plus inside/outside for closed meshes.
+///
+/// C++14 or later, standard library only: no SIMD, TBB or GLM type appears here, and the installed package
+/// sets no compile option on your code. Every error is an arbor::Error with a one-line message.
+///
+/// Threads: after build(), every const member of a Scene may be called from any number of threads
+/// at once; each batch call itself runs on the scene's threads (build's `threads`, default: all
+/// cores). add_mesh() and build() must not run while another call is using the scene.
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#if defined(ARBOR_BUILDING_LIBRARY)
+#define ARBOR_API __attribute__((visibility("default")))
+#else
+#define ARBOR_API
+#endif
+
+namespace arbor {
+
+/// The library's version, "MAJOR.MINOR.PATCH".
+ARBOR_API std::string version();
+/// The SIMD kernel set the queries run on ("avx512", "avx2" or "sse4").
+ARBOR_API std::string kernel_set();
+
+/// The one exception arbor throws. what() is a single line naming the file, argument or option and
+/// the problem; kind() tells input mistakes from unreadable files and exhausted memory.
+class ARBOR_API Error : public std::runtime_error {
+public:
+    enum class Kind {
+        invalid_argument,  ///< a bad argument: array size, index out of range, unknown structure name
+        bad_file,          ///< a file that was read but cannot be used (malformed, no triangles)
+        io,                ///< a file that cannot be opened or read
+        out_of_memory,     ///< the memory budget (BuildOptions::max_memory) or the machine's memory
+    };
+    Error(Kind kind, const std::string& message);
+    Kind kind() const noexcept { return kind_; }
+
+private:
+    Kind kind_;
+};
+
+/// Marks "no triangle": the geom and prim of a miss.
+constexpr std::uint32_t invalid_id = 0xFFFFFFFFu;
+
+/// One ray o + t d, t in [tnear, tfar] (the record of a .rays file, 32 bytes). d need not be
+/// normalised; t is measured in units of its length. A ray with NaN or infinite components, a zero
+/// direction or tfar < tnear misses.
+struct Ray {
+    float org[3] = {0.0f, 0.0f, 0.0f};
+    float tnear = 0.0f;
+    float dir[3] = {0.0f, 0.0f, 1.0f};
+    float tfar = std::numeric_limits<float>::infinity();
+};
+
+/// A ray's answer (20 bytes): the hit at distance t on triangle `prim` (numbered from 0 within its
+/// mesh, in face order) of mesh `geom`, at barycentrics (u, v): point = (1-u-v) v0 + u v1 + v v2.
+/// A miss is t = +inf, geom = prim = invalid_id, u = v = 0.
+struct Hit {
+    float t = std::numeric_limits<float>::infinity();
+    std::uint32_t geom = invalid_id;
+    std::uint32_t prim = invalid_id;
+    float u = 0.0f, v = 0.0f;
+
+    bool hit() const { return prim != invalid_id; }
+};
+
+/// A closest-point answer (36 bytes): the nearest point of the scene, its distance, triangle and
+/// barycentrics. Nothing within max_distance (or a non-finite query point): distance = +inf,
+/// geom = prim = invalid_id, the rest 0.
+struct ClosestPoint {
+    float distance = std::numeric_limits<float>::infinity();
+    std::uint32_t geom = invalid_id;
+    std::uint32_t prim = invalid_id;
+    float point[3] = {0.0f, 0.0f, 0.0f};
+    float u = 0.0f, v = 0.0f;
+
+    bool found() const { return prim != invalid_id; }
+};
+
+/// Rays as a program holds them, read in place: `count` origins and directions (3 floats each,
+/// consecutive ones `*_stride` bytes apart; 12 = packed), and tnear / tfar either per ray (a
+/// pointer and its stride) or one value for all (null pointer).
+struct RayArrays {
+    std::size_t count = 0;
+    const float* origins = nullptr;
+    std::size_t origin_stride = 3 * sizeof(float);
+    const float* directions = nullptr;
+    std::size_t direction_stride = 3 * sizeof(float);
+    const float* tnear = nullptr;
+    std::size_t tnear_stride = sizeof(float);
+    float tnear_value = 0.0f;
+    const float* tfar = nullptr;
+    std::size_t tfar_stride = sizeof(float);
+    float tfar_value = std::numeric_limits<float>::infinity();
+
+    /// The view of `n` Ray records.
+    static RayArrays of(const Ray* rays, std::size_t n) {
+        RayArrays r;
+        r.count = n;
+        if (n == 0) return r;
+        r.origins = rays->org, r.directions = rays->dir, r.tnear = &rays->tnear, r.tfar = &rays->tfar;
+        r.origin_stride = r.direction_stride = r.tnear_stride = r.tfar_stride = sizeof(Ray);
+        return r;
+    }
+};
+
+/// The rays of a .rays file (the exchange format of `arbor trace`, 32-byte records). Throws
+/// Error(io) when the file cannot be read, Error(bad_file) when it is not a valid ray file.
+ARBOR_API std::vector<Ray> read_rays(const std::string& path);
+
+/// Points as a program holds them: `count` x, y, z triples, consecutive ones `stride` bytes apart.
+struct PointArrays {
+    std::size_t count = 0;
+    const float* xyz = nullptr;
+    std::size_t stride = 3 * sizeof(float);
+};
+
+struct BuildOptions {
+    /// The structure: "bvh-sah", "bvh-median", "lbvh", "kdtree", "brute", or "auto" (arbor picks by
+    /// predicted build + trace time, the same decision as the command line's --accel auto).
+    std::string accel = "auto";
+    /// Threads for the build and for every batch query (0 = all cores).
+    int threads = 0;
+    /// Upper bound on the build's memory in bytes (0 = no limit); a build that would exceed it
+    /// throws Error(out_of_memory) before allocating.
+    std::uint64_t max_memory = 0;
+};
+
+class ARBOR_API Scene {
+public:
+    Scene();
+    ~Scene();
+    Scene(Scene&&) noexcept;
+    Scene& operator=(Scene&&) noexcept;
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    /// A scene of one mesh (geom 0) from a model file (any file `arbor info` loads), its triangles
+    /// numbered as a .hits file numbers them.
+    static Scene load(const std::string& path);
+
+    /// Adds a mesh and returns its geometry id (0, 1, 2, ... in the order added). `positions` holds
+    /// `vertex_count` x, y, z float triples, consecutive ones `stride` bytes apart (12 = packed;
+    /// e.g. sizeof(MyVertex) for positions inside a struct); `indices` holds 3 vertex numbers per
+    /// triangle. The arrays are copied. Triangles with a NaN or infinite corner are never hit.
+    /// Throws Error(invalid_argument) for an index out of range or a null array.
+    std::uint32_t add_mesh(const float* positions, std::size_t vertex_count, std::size_t stride,
+                           const std::uint32_t* indices, std::size_t triangle_count);
+    /// The same from packed vectors (x, y, z per vertex; 3 indices per triangle).
+    std::uint32_t add_mesh(const std::vector<float>& positions, const std::vector<std::uint32_t>& indices);
+
+    /// Builds the acceleration structure (again, after add_mesh). Queries on a scene never built
+    /// build it first with the default options.
+    void build(const BuildOptions& options = {});
+    bool built() const;
+    /// The structure built ("bvh-sah", ...), empty before build(); and with "auto", why.
+    std::string accel() const;
+    std::string accel_reason() const;
+    std::size_t triangles() const;
+    std::size_t meshes() const;
+    /// Lower and upper corners of the scene's box (+inf / -inf for an empty scene).
+    void bounds(float lo[3], float hi[3]) const;
+
+    /// Closest hit of each ray: hits[i] for rays i = 0 .. count-1.
+    void intersect(const RayArrays& rays, Hit* hits) const;
+    std::vector<Hit> intersect(const std::vector<Ray>& rays) const;
+    /// Any hit (shadow rays): occluded[i] is true when ray i hits anything in [tnear, tfar].
+    void occluded(const RayArrays& rays, bool* occluded) const;
+    std::vector<bool> occluded(const std::vector<Ray>& rays) const;
+    /// All hits: every triangle ray i crosses in [tnear, tfar], each once, sorted by t (then geom,
+    /// prim), in hits[i * max_hits ...], the rest of its row filled with misses. counts[i] is the
+    /// number of crossings, which may exceed max_hits (then the row holds the first max_hits).
+    void intersect_all(const RayArrays& rays, std::size_t max_hits, Hit* hits, std::int32_t* counts) const;
+    /// Closest point on the scene to each point, within max_distance (>= 0; +inf: no limit).
+    void closest_point(const PointArrays& points, float max_distance, ClosestPoint* out) const;
+    std::vector<ClosestPoint> closest_point(const std::vector<float>& xyz,
+                                            float max_distance = std::numeric_limits<float>::infinity()) const;
+    /// Whether each point is inside the scene's closed meshes: the parity of a ray's crossings, a
+    /// second direction where the first meets an edge or vertex exactly. Meaningful for closed
+    /// meshes; points on the surface get either answer.
+    void inside(const PointArrays& points, bool* inside) const;
+    std::vector<bool> inside(const std::vector<float>& xyz) const;
+
+    struct Impl;  ///< opaque: the library's own
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace arbor

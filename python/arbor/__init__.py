@@ -1,0 +1,26 @@
+"""arbor: ray queries on triangle meshes, on numpy arrays.
+
+    scene = arbor.Scene.load("bunny.obj")            # or arbor.Scene(vertices, faces)
+    scene.build("bvh-sah")                           # or "auto" (the default), "lbvh", ...
+    hits = scene.intersect(origins, directions)      # structured array: t, geom, prim, u, v
+    occ = scene.occluded(origins, directions)        # bool per ray
+    hits, counts = scene.intersect_all(origins, directions, max_hits=16)
+    near = scene.closest_point(points)               # distance, geom, prim, point, u, v
+    ins = scene.inside(points)                       # bool per point (closed meshes)
+
+The contract is ../shared/spec/python.md. Work runs with the GIL released on all the scene's
+threads; float32 arrays are read in place.
+"""
+import numpy as _np
+
+from ._arbor import Scene, __version__, kernel_set, read_rays
+
+#: The record of a hit (intersect, intersect_all): a miss is t = inf, geom = prim = MISS, u = v = 0.
+hit_dtype = _np.dtype([("t", "<f4"), ("geom", "<u4"), ("prim", "<u4"), ("u", "<f4"), ("v", "<f4")])
+#: The record of a closest point: nothing within reach is distance = inf, geom = prim = MISS.
+point_dtype = _np.dtype([("distance", "<f4"), ("geom", "<u4"), ("prim", "<u4"), ("point", "<f4", (3,)),
+                         ("u", "<f4"), ("v", "<f4")])
+#: geom and prim of a miss.
+MISS = 0xFFFFFFFF
+
+__all__ = ["Scene", "read_rays", "kernel_set", "hit_dtype", "point_dtype", "MISS", "__version__"]
