@@ -69,6 +69,8 @@ int main(int argc, char** argv) {
     app.add_flag("--no-embree", no_embree, "leave the Embree peer out");
     app.add_flag("--no-embree-variants", no_variants, "only Embree's default mode (not HIGH, not ROBUST)");
     app.add_flag("--time-brute", time_brute, "also time brute (tiny scenes only)");
+    bool no_auto = false;
+    app.add_flag("--no-auto", no_auto, "do not evaluate --accel auto (e.g. a run that only feeds perf/model/fit_auto_model.py)");
     app.add_flag("-q,--quiet", quiet, "no progress lines");
     try {
         app.parse(argc, argv);
@@ -87,6 +89,7 @@ int main(int argc, char** argv) {
         o.embree = !no_embree;
         if (no_variants) o.embree_variants = false;
         o.time_brute = time_brute;
+        if (no_auto) o.evaluate_auto = false;
         o.verbose = !quiet;
 
         arbor::perf::BenchResult r = arbor::perf::run_bench(o);
