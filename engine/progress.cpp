@@ -5,8 +5,8 @@
 
 namespace arbor::engine {
 
-Progress::Progress(std::string label, long total, bool enabled)
-    : label_(std::move(label)), total_(total), enabled_(enabled && total > 0 && ::isatty(2) == 1) {}
+Progress::Progress(std::string label, long total, bool enabled, bool terminal)
+    : label_(std::move(label)), total_(total), enabled_(enabled && total > 0 && (terminal || ::isatty(2) == 1)) {}
 
 Progress::~Progress() {
     if (enabled_ && last_draw_ >= 0.0) std::fprintf(stderr, "\r\033[K");

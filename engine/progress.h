@@ -12,7 +12,9 @@ namespace arbor::engine {
 class Progress {
 public:
     /// `total` units of work; `enabled` false (or stderr not a terminal) draws nothing.
-    Progress(std::string label, long total, bool enabled);
+    /// `terminal`: stderr leads to a terminal although it is not one itself (rank 0 under mpirun
+    /// writes into a pipe that mpirun copies to its terminal).
+    Progress(std::string label, long total, bool enabled, bool terminal = false);
     ~Progress();  ///< erases the bar
     Progress(const Progress&) = delete;
     Progress& operator=(const Progress&) = delete;

@@ -47,7 +47,7 @@ void store_tile(const TileFilm& film, int spp, const Layers& layers, Image& img)
 }  // namespace
 
 Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
-             const RenderSettings& set, RenderStats* stats) {
+             const RenderSettings& set, RenderStats* stats, TileSource* tiles) {
     if (set.width < 1 || set.height < 1 || set.spp < 1 || set.tile < 1)
         throw std::invalid_argument("render: width, height, spp and tile must be positive");
     const accel::Timer timer;
@@ -57,31 +57,39 @@ Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan,
     const auto integrator = make_integrator(plan.integrator);
     Image img(set.width, set.height, channel_names(plan));
 
-    const int tiles_x = (set.width + set.tile - 1) / set.tile, tiles_y = (set.height + set.tile - 1) / set.tile;
-    Progress progress("rendering", long(tiles_x) * tiles_y, set.progress);
+    const TileGrid grid{set.width, set.height, set.tile};
+    Progress progress("rendering", grid.count(), set.progress && (!tiles || tiles->shows_progress()),
+                      tiles && tiles->progress_to_terminal());
     tbb::enumerable_thread_specific<Tracer> tracers([&] { return Tracer(accel); });
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
-        Tracer& tracer = tracers.local();
-        for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
-            for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
-                const Tile tile{tx * set.tile, ty * set.tile, std::min((tx + 1) * set.tile, set.width),
-                                std::min((ty + 1) * set.tile, set.height)};
-                TileFilm film(tile, plan.layers);
-                integrator->render_tile(ctx, tracer, film);
-                store_tile(film, set.spp, plan.layers, img);
-                progress.tick();
-            }
-    });
-    if (stats) {
-        *stats = RenderStats{};
-        stats->seconds = timer.seconds();
-        stats->threads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-        for (const Tracer& t : tracers)
-            for (std::size_t k = 0; k < render_ray_kind_count; ++k) {
-                stats->rays[k] += t.counts[k];
-                stats->trace_seconds[k] += t.seconds[k];
-            }
+    auto render_tile = [&](int index) {
+        Tile tile;
+        grid.bounds(index, tile.x0, tile.y0, tile.x1, tile.y1);
+        TileFilm film(tile, plan.layers);
+        integrator->render_tile(ctx, tracers.local(), film);
+        store_tile(film, set.spp, plan.layers, img);
+    };
+    if (tiles) {
+        tiles->run(grid, img, progress, render_tile);
+    } else {
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, grid.rows(), 1, 0, grid.columns(), 1),
+                          [&](const tbb::blocked_range2d<int>& r) {
+                              for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
+                                  for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+                                      render_tile(ty * grid.columns() + tx);
+                                      progress.tick();
+                                  }
+                          });
     }
+    RenderStats local;
+    local.seconds = timer.seconds();
+    local.threads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    for (const Tracer& t : tracers)
+        for (std::size_t k = 0; k < render_ray_kind_count; ++k) {
+            local.rays[k] += t.counts[k];
+            local.trace_seconds[k] += t.seconds[k];
+        }
+    if (tiles) tiles->gather(local);  // collective over the processes of the frame: always called
+    if (stats) *stats = local;
     return img;
 }
 

@@ -10,14 +10,16 @@
 #include "engine/plan.h"
 #include "engine/render_settings.h"
 #include "engine/scene.h"
+#include "engine/tile_source.h"
 
 namespace arbor::engine {
 
 /// Renders `scene` with `accel` (built over scene.mesh) following `plan` (from make_plan with the
 /// same settings). The image has channels R, G, B, then Z, N.X N.Y N.Z, A.R A.G A.B as the plan's
 /// layers say (cost integrator: nodes, tris). `stats` (optional) receives the rays traced per kind and the times.
+/// `tiles` (optional) decides which tiles this process renders (engine/tile_source.h); without it, all.
 Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
-             const RenderSettings& settings, RenderStats* stats = nullptr);
+             const RenderSettings& settings, RenderStats* stats = nullptr, TileSource* tiles = nullptr);
 
 /// Same, making the light set and the plan itself.
 Image render(const Scene& scene, const accel::Accel& accel, const RenderSettings& settings,

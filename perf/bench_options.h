@@ -68,6 +68,10 @@ struct BenchOptions {
     std::uint64_t seed = 1;
     /// Print progress lines on stderr.
     bool verbose = true;
+    /// Under `mpirun arbor bench`: this process's rank (recorded in every row; -1 without MPI) and
+    /// a tag for its progress lines (" r1" -> "[bench r1 12.3s]").
+    int rank = -1;
+    std::string log_tag;
 
     /// The two-minute variant: tiny and small scenes, fewer rays and repeats.
     static BenchOptions quick();

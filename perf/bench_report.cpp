@@ -249,6 +249,8 @@ std::string to_json(const BenchResult& r) {
         nlohmann::json x;
         x["scene"] = row.scene, x["family"] = row.family, x["kind"] = row.kind, x["query"] = row.query;
         x["structure"] = row.structure, x["path"] = row.path, x["best_path"] = row.best_path, x["embree"] = row.embree, x["threads"] = row.threads;
+        x["host"] = row.host;
+        if (row.rank >= 0) x["rank"] = row.rank;
         x["triangles"] = row.triangles, x["rays"] = row.rays, x["validated_rays"] = row.validated_rays;
         x["build_ms"] = stat(row.build_ms), x["trace_ms"] = stat(row.trace_ms), x["mrays_per_s"] = stat(row.mrays);
         x["build_samples_ms"] = row.build_samples, x["trace_samples_ms"] = row.trace_samples;

@@ -28,6 +28,8 @@ struct BenchRow {
     bool best_path = false;
     bool embree = false;
     int threads = 0;
+    std::string host;   ///< the machine that measured the row
+    int rank = -1;      ///< the MPI rank that measured it (`mpirun arbor bench`), -1 without MPI
     std::size_t triangles = 0;
     std::size_t rays = 0;            ///< rays timed
     std::size_t validated_rays = 0;  ///< rays of the error columns (the timed ones or a finer image of them)

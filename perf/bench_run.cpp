@@ -19,6 +19,8 @@
 #include <map>
 #include <optional>
 #include <ctime>
+#include <iterator>
+#include <unistd.h>
 
 namespace arbor::perf {
 
@@ -30,10 +32,10 @@ namespace {
 
 class Progress {
 public:
-    explicit Progress(bool on) : on_(on) {}
+    Progress(bool on, std::string tag) : on_(on), tag_(std::move(tag)) {}
     void operator()(const char* fmt, ...) const __attribute__((format(printf, 2, 3))) {
         if (!on_) return;
-        std::fprintf(stderr, "[bench %6.1fs] ", timer_.seconds());
+        std::fprintf(stderr, "[bench%s %6.1fs] ", tag_.c_str(), timer_.seconds());
         va_list args;
         va_start(args, fmt);
         std::vfprintf(stderr, fmt, args);
@@ -43,8 +45,14 @@ public:
 
 private:
     bool on_;
+    std::string tag_;
     accel::Timer timer_;
 };
+
+std::string host_name() {
+    char name[256] = {};
+    return ::gethostname(name, sizeof name - 1) == 0 ? std::string(name) : std::string();
+}
 
 /// CPU time of the whole process, ms (all threads).
 double process_cpu_ms() {
@@ -373,27 +381,44 @@ Stat3 summarize(std::vector<double> v) {
     return {median, v.front(), v.back()};
 }
 
-BenchResult run_bench(const BenchOptions& o) {
+BenchResult run_bench(const BenchOptions& o, const SceneShare& share) {
     for (const std::string& k : o.kinds)
         if (!engine::parse_ray_kind(k))
             throw engine::InputError("--kinds: unknown ray kind '" + k + "' (expected primary, shadow, diffuse, random)");
     (void)bench_structures(o);  // validates the names
     const std::vector<SceneSource> plan = plan_scenes(o);
     const std::vector<int> threads = resolve_threads(o.threads);
-    const Progress log(o.verbose);
+    const Progress log(o.verbose, o.log_tag);
     const accel::Timer timer;
     BenchResult out;
     out.load_before = load_average();
     out.budgets = o.budgets;
     out.hardware_threads = tbb::info::default_concurrency();
+    // The build history predicts build times from this process's earlier scenes (to skip builds
+    // over max_build_seconds); spread over processes, each has its own.
     BuildHistory history;
-    for (const SceneSource& src : plan) {
+    const std::string host = host_name();
+    auto run_one = [&](std::size_t i) {
+        BenchResult part;
         try {
-            const BenchScene scene = src.make();
-            run_scene(scene, o, threads, log, history, out);
+            const BenchScene scene = plan[i].make();
+            run_scene(scene, o, threads, log, history, part);
         } catch (const std::bad_alloc&) {
-            out.notes.push_back(src.name + ": out of memory, skipped");
+            part.notes.push_back(plan[i].name + ": out of memory, skipped");
         }
+        for (BenchRow& r : part.rows) r.host = host, r.rank = o.rank;
+        return part;
+    };
+    std::vector<BenchResult> parts;
+    if (share) {
+        parts = share(plan.size(), run_one);
+    } else {
+        for (std::size_t i = 0; i < plan.size(); ++i) parts.push_back(run_one(i));
+    }
+    for (BenchResult& p : parts) {
+        std::move(p.rows.begin(), p.rows.end(), std::back_inserter(out.rows));
+        std::move(p.autos.begin(), p.autos.end(), std::back_inserter(out.autos));
+        std::move(p.notes.begin(), p.notes.end(), std::back_inserter(out.notes));
     }
     std::sort(out.notes.begin(), out.notes.end());
     out.notes.erase(std::unique(out.notes.begin(), out.notes.end()), out.notes.end());

@@ -8,12 +8,14 @@
 #include "perf/bench_plan.h"
 #include "perf/bench_report.h"
 #include "perf/bench_run.h"
+#include "perf/bench_wire.h"
 #include "perf/scenes.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
@@ -209,4 +211,48 @@ TEST_CASE("bench: a tiny run validates every row against brute and writes consis
     const std::string md = perf::to_markdown(r);
     CHECK(md.find("## Headline") != std::string::npos);
     CHECK(md.find("| tiny |") != std::string::npos);
+
+    // What `mpirun arbor bench` sends from rank to rank (rows, auto rows, notes; rank 0 writes the
+    // run's own meta data): every field back, NaN kept.
+    const perf::BenchResult back = perf::from_wire(perf::to_wire(r));
+    perf::BenchResult same_meta = r;
+    same_meta.rows = back.rows, same_meta.autos = back.autos, same_meta.notes = back.notes;
+    CHECK(perf::to_json(same_meta) == perf::to_json(r));
+    REQUIRE(back.rows.size() == r.rows.size());
+    for (std::size_t i = 0; i < r.rows.size(); ++i) {
+        CHECK(std::isnan(back.rows[i].ratio_embree) == std::isnan(r.rows[i].ratio_embree));
+        CHECK(back.rows[i].trace_samples == r.rows[i].trace_samples);
+    }
+    CHECK_THROWS_AS(perf::from_wire("not cbor"), std::runtime_error);
+}
+
+TEST_CASE("bench: a scene share runs each scene where it says and the report keeps plan order") {
+    perf::BenchOptions o;
+    o.scenes = {"replicated-1e3", "tiny"};
+    o.kinds = {"primary"};
+    o.structures = {"lbvh"};
+    o.threads = {1};
+    o.rays = 256;
+    o.repeats = 1;
+    o.build_repeats = 1;
+    o.embree = false;
+    o.evaluate_auto = false;
+    o.verbose = false;
+    std::vector<std::size_t> ran;
+    // As on rank 0 of two: scene 1 here, scene 0 "elsewhere" (run here too, sent through the wire).
+    const perf::SceneShare share = [&](std::size_t count, const std::function<perf::BenchResult(std::size_t)>& job) {
+        std::vector<perf::BenchResult> parts(count);
+        for (std::size_t i = count; i-- > 0;) {
+            ran.push_back(i);
+            parts[i] = i == 0 ? perf::from_wire(perf::to_wire(job(i))) : job(i);
+        }
+        return parts;
+    };
+    const perf::BenchResult r = perf::run_bench(o, share);
+    CHECK(ran == std::vector<std::size_t>{1, 0});
+    REQUIRE(r.rows.size() >= 2);
+    CHECK(r.rows.front().scene == "replicated-1e3");
+    CHECK(r.rows.back().scene == "tiny");
+    const perf::BenchResult none = perf::run_bench(o, [](std::size_t, const auto&) { return std::vector<perf::BenchResult>{}; });
+    CHECK(none.rows.empty());  // a rank that does not write the report
 }

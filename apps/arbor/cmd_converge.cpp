@@ -3,6 +3,7 @@
 /// reference per integrator, then renders at 1, 2, 4, … spp up to --max-spp with every structure
 /// and integrator, timing each, and writes DIR/converge.csv and the plot DIR/converge.png.
 #include "accel/util/timer.h"
+#include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_options.h"
@@ -30,7 +31,7 @@ struct ConvergeCommand {
     RenderOptions render;
     std::string out_dir, reference, accels = "bvh-sah", integrators = "direct";
     int max_spp = 64, ref_spp = 0, repeat = 1, threads = 0;
-    bool no_plot = false, verbose = false;
+    bool no_plot = false, verbose = false, mpi = false;
     bool size_given = false;
     accel::BuildConfig build;
 };
@@ -82,6 +83,9 @@ std::vector<engine::RenderRays> converge_rays(const ConvergeCommand& o, const en
 
 int run_converge(ConvergeCommand& o) {
     const auto limit = limit_threads(o.threads);
+    Cluster* const cluster = Cluster::join(o.mpi);  // mpirun: every rank renders, rank 0 writes
+    const bool writer = !cluster || cluster->root();
+    const auto tiles = cluster ? cluster->frame_tiles() : nullptr;
     std::vector<accel::AccelKind> kinds;
     for (const std::string& name : split_list(o.accels)) {
         const auto k = accel::parse_accel_kind(name);
@@ -108,10 +112,16 @@ int run_converge(ConvergeCommand& o) {
     }
     const std::filesystem::path dir(o.out_dir);
     std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) throw OptionError("--out: cannot create directory '" + o.out_dir + "'");
+    if (writer) std::filesystem::create_directories(dir, ec);
+    if (writer && (ec || !std::filesystem::is_directory(dir)))
+        throw OptionError("--out: cannot create directory '" + o.out_dir + "'");
 
-    const engine::Scene scene = load_scene(o.scene);
+    const engine::Scene scene = load_scene(o.scene, writer);
+    if (cluster)
+        cluster->require_same(scene, settings_text(to_settings(o.render, integrators[0])) + ", accel " + o.accels +
+                                         ", integrators " + o.integrators + ", max spp " + std::to_string(o.max_spp) +
+                                         ", ref spp " + std::to_string(o.ref_spp) + ", repeat " +
+                                         std::to_string(o.repeat) + ", reference " + std::to_string(!o.reference.empty()));
     const engine::LightSet lights(scene);
     const int ref_spp = o.ref_spp > 0 ? o.ref_spp : 8 * o.max_spp;
     std::vector<engine::Image> references(integrators.size());
@@ -121,15 +131,21 @@ int run_converge(ConvergeCommand& o) {
     build.layouts = accel::layouts_for(accel::TracePath::best);  // the renderer traces the SIMD paths only
     for (std::size_t a = 0; a < kinds.size(); ++a) {
         // --accel auto decides once for everything this structure renders here (converge_rays).
-        std::vector<engine::RenderRays> job_rays;
-        if (kinds[a] == accel::AccelKind::automatic) job_rays = converge_rays(o, scene, lights, integrators, a == 0);
-        accel::AutoJob job;
-        job.tris = scene.mesh.view();
-        job.build = build;
-        for (const engine::RenderRays& r : job_rays) job.groups.insert(job.groups.end(), r.groups.begin(), r.groups.end());
-        accel::AccelPick pick = accel::pick_accel(kinds[a], job);
+        // Under MPI rank 0 alone resolves it (a probe measures: ranks could differ).
+        accel::AccelPick pick;
+        pick.kind = kinds[a];
+        if (writer) {
+            std::vector<engine::RenderRays> job_rays;
+            if (kinds[a] == accel::AccelKind::automatic) job_rays = converge_rays(o, scene, lights, integrators, a == 0);
+            accel::AutoJob job;
+            job.tris = scene.mesh.view();
+            job.build = build;
+            for (const engine::RenderRays& r : job_rays) job.groups.insert(job.groups.end(), r.groups.begin(), r.groups.end());
+            pick = accel::pick_accel(kinds[a], job);
+            if (!pick.reason.empty()) std::printf("auto: %s\n", pick.reason.c_str());
+        }
+        if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
         const auto kind = pick.kind;
-        if (!pick.reason.empty()) std::printf("auto: %s\n", pick.reason.c_str());
         const accel::Timer build_timer;
         const bool prebuilt = pick.built != nullptr;
         const auto structure = prebuilt ? std::move(pick.built) : accel::make_accel(kind, scene.mesh.view(), build);
@@ -149,10 +165,11 @@ int run_converge(ConvergeCommand& o) {
                     const engine::RenderPlan plan = engine::make_plan(scene, lights, ref);
                     std::printf("reference: %s\n", plan.line(std::string(accel::to_string(kind))).c_str());
                     std::fflush(stdout);
-                    references[i] = engine::render(scene, lights, plan, *structure, ref);
-                    const std::string path = (dir / ("reference-" + iname + ".exr")).string();
-                    engine::write_exr(path, references[i]);
-                    engine::write_png_preview((dir / ("reference-" + iname + ".png")).string(), references[i]);
+                    references[i] = engine::render(scene, lights, plan, *structure, ref, nullptr, tiles.get());
+                    if (writer) {
+                        engine::write_exr((dir / ("reference-" + iname + ".exr")).string(), references[i]);
+                        engine::write_png_preview((dir / ("reference-" + iname + ".png")).string(), references[i]);
+                    }
                 }
             }
             for (int spp = 1; spp <= o.max_spp; spp *= 2) {
@@ -163,12 +180,15 @@ int run_converge(ConvergeCommand& o) {
                 engine::Image img;
                 engine::RenderStats stats;
                 for (int r = 0; r < o.repeat; ++r) {
-                    img = engine::render(scene, lights, plan, *structure, set, &stats);
+                    img = engine::render(scene, lights, plan, *structure, set, &stats, tiles.get());
                     times.push_back(stats.seconds);
                 }
                 std::sort(times.begin(), times.end());
                 const double seconds = times[times.size() / 2];
-                const engine::ImageError err = engine::compare_rgb(img, references[i], o.reference.empty() ? "reference" : o.reference);
+                // Other ranks hold only their own tiles: rank 0 alone judges the image.
+                const engine::ImageError err =
+                    writer ? engine::compare_rgb(img, references[i], o.reference.empty() ? "reference" : o.reference)
+                           : engine::ImageError{};
                 char row[512];
                 std::snprintf(row, sizeof row, "%s,%s,%d,%.6f,%llu,%.6g,%.6g,%.6g,%.4f,%.3f,%d,%d,%d\n",
                               std::string(accel::to_string(kind)).c_str(), iname.c_str(), spp, seconds,
@@ -183,8 +203,9 @@ int run_converge(ConvergeCommand& o) {
             }
         }
     }
+    if (!writer) return 0;
     engine::write_file_atomic((dir / "converge.csv").string(), csv);
-    std::printf("wrote %s\n", (dir / "converge.csv").string().c_str());
+    std::printf("wrote %s%s\n", (dir / "converge.csv").string().c_str(), cluster ? cluster->on_ranks().c_str() : "");
     if (!o.no_plot) std::printf("%s\n", make_plot(dir, "arbor converge: " + scene.name).c_str());
     return 0;
 }
@@ -217,6 +238,7 @@ Run add_converge(CLI::App& cmd) {
     cmd.add_flag("--no-plot", o->no_plot, "write the CSV only");
     cmd.add_flag("-v,--verbose", o->verbose, "print each plan and what it skipped");
     add_threads_option(cmd, o->threads);
+    add_mpi_option(cmd, o->mpi);
     CLI::App* app = &cmd;
     return [o, app] {
         o->size_given = app->count("--width") > 0 || app->count("--height") > 0;

@@ -2,6 +2,7 @@
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
 #include "accel/util/timer.h"
+#include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/render_cost.h"
@@ -25,7 +26,7 @@ struct RenderCommand {
     std::string out = "arbor.exr", accel = "bvh-sah";
     accel::BuildConfig build;
     int threads = 0;
-    bool no_png = false, verbose = false, quiet = false;
+    bool no_png = false, verbose = false, quiet = false, mpi = false;
     float exposure = 0.0f;
 };
 
@@ -48,7 +49,11 @@ void check_render_memory(const RenderCommand& o, const engine::Scene& scene, acc
 
 int run_render(const RenderCommand& o) {
     const auto limit = limit_threads(o.threads);
+    Cluster* const cluster = Cluster::join(o.mpi);  // mpirun: every rank runs this, rank 0 writes
+    const bool writer = !cluster || cluster->root();
     const engine::IntegratorKind integrator = parse_integrator_option(o.render.integrator);
+    if (integrator == engine::IntegratorKind::cost && cluster)
+        throw OptionError("--integrator cost: not spread over ranks yet; run it without mpirun");
     if (integrator == engine::IntegratorKind::cost)
         return run_cost_render({o.scene, o.render, o.accel, o.build, o.out, o.no_png, o.verbose, o.quiet});
     if (o.accel.find(',') != std::string::npos)
@@ -56,15 +61,19 @@ int run_render(const RenderCommand& o) {
     const engine::RenderSettings base = to_settings(o.render, integrator);
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
-    const engine::Scene scene = load_scene(o.scene);
+    const engine::Scene scene = load_scene(o.scene, writer);
+    if (cluster) cluster->require_same(scene, settings_text(set));
     // The renderer traces the SIMD paths (packets and single rays): the scalar layout is not built.
     accel::BuildConfig build = o.build;
     build.layouts = accel::layouts_for(accel::TracePath::best);
     const engine::LightSet lights(scene);
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
-    // --accel auto decides for the plan's ray mix (engine/render_job.h).
+    // --accel auto decides for the plan's ray mix (engine/render_job.h). Under MPI rank 0 alone
+    // resolves --accel (a probe measures: ranks could differ); the others take its choice.
     const engine::RenderRays job_rays = engine::render_rays(scene, plan, set);
-    accel::AccelPick pick = resolve_accel(o.accel, engine::render_job(scene, job_rays, build));
+    accel::AccelPick pick;
+    if (writer) pick = resolve_accel(o.accel, engine::render_job(scene, job_rays, build));
+    if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
     const auto kind = pick.kind;
     for (const std::string& s : accel::skipped_by_build(kind, build)) plan.skipped.push_back("the structure's " + s);
     check_render_memory(o, scene, kind, build, plan);
@@ -79,15 +88,18 @@ int run_render(const RenderCommand& o) {
     const auto structure = prebuilt ? std::move(pick.built) : accel::make_accel(kind, scene.mesh.view(), build);
     const double build_ms = prebuilt ? structure->stats().build_ms : build_timer.ms();
     engine::RenderStats stats;
-    const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats);
+    const auto tiles = cluster ? cluster->frame_tiles() : nullptr;
+    const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats, tiles.get());
     std::string written;
-    for (const std::string& f : engine::write_outputs(o.out, img, {!o.no_png, o.exposure}))
-        written += (written.empty() ? "" : ", ") + f;
-    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s -> %s\n",
+    if (writer)
+        for (const std::string& f : engine::write_outputs(o.out, img, {!o.no_png, o.exposure}))
+            written += (written.empty() ? "" : ", ") + f;
+    const std::string ranks = cluster ? cluster->on_ranks() : "";
+    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s%s -> %s\n",
                 scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
                 pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms, set.width,
                 set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
-                stats.threads, stats.threads == 1 ? "" : "s", written.c_str());
+                stats.threads, stats.threads == 1 ? "" : "s", ranks.c_str(), written.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
     return 0;
 }
@@ -109,6 +121,7 @@ Run add_render(CLI::App& cmd) {
     cmd.add_flag("-v,--verbose", o->verbose, "also list what the plan skipped and why");
     cmd.add_flag("-q,--quiet", o->quiet, "no progress bar");
     add_threads_option(cmd, o->threads);
+    add_mpi_option(cmd, o->mpi);
     return [o] { return run_render(*o); };
 }
 

@@ -4,10 +4,17 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <string>
 
 namespace arbor::app {
 
 using Run = std::function<int()>;
+
+/// The command line as typed, "arbor SUBCOMMAND ..." (for reports); main() sets it.
+inline std::string& command_line() {
+    static std::string line;
+    return line;
+}
 
 Run add_info(CLI::App& app);
 Run add_trace(CLI::App& app);
@@ -15,5 +22,6 @@ Run add_render(CLI::App& app);
 Run add_rays(CLI::App& app);
 Run add_converge(CLI::App& app);
 Run add_stress(CLI::App& app);
+Run add_bench(CLI::App& app);  ///< when built with the benchmark library (ARBOR_HAVE_BENCH)
 
 }  // namespace arbor::app

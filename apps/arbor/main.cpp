@@ -1,9 +1,13 @@
 /// `arbor`: subcommand dispatch and the single error boundary. Bad input (InputError, option
-/// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else.
+/// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else. Under
+/// mpirun the line comes from rank 0 only, naming the rank that failed, and the whole job stops
+/// (apps/arbor/cluster.h).
+#include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "accel/core/memory_estimate.h"
 #include "engine/error.h"
+#include "mpi/launcher.h"
 #include "simd/simd.h"
 
 #include <cstdio>
@@ -35,6 +39,16 @@ std::string unknown_subcommand(int argc, char** argv, const CLI::App& app) {
     return std::string("unknown subcommand '") + argv[1] + "' (expected one of " + names + ")";
 }
 
+/// Prints "arbor: <what>" and returns `code`; in an MPI job, stops the whole job instead (rank 0
+/// prints the line with the failing rank). Before a job is joined (option errors), only the
+/// launcher's rank 0 prints, so that N ranks do not print N copies.
+int failure(int code, const std::string& what) {
+    if (arbor::app::Cluster* c = arbor::app::Cluster::current()) c->fail(code, what);
+    const arbor::mpi::Launch launch = arbor::mpi::detect_launch();
+    if (!launch.launched || launch.rank == 0) std::fprintf(stderr, "arbor: %s\n", what.c_str());
+    return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -52,15 +66,25 @@ int main(int argc, char** argv) {
     reg("stress", "the stiff-case suite: every structure and path against a double-precision oracle", arbor::app::add_stress);
     reg("render", "render a scene (the embedded default scene without SCENE)", arbor::app::add_render);
     reg("converge", "error against run time: renders at 1, 2, 4, ... spp against a reference", arbor::app::add_converge);
+#ifdef ARBOR_HAVE_BENCH
+    reg("bench", "the benchmark matrix: every structure, scene, ray kind and path, validated then timed (perf/README.md)",
+        arbor::app::add_bench);
+#endif
+    for (int i = 0; i < argc; ++i) arbor::app::command_line() += (i ? " " : "") + std::string(i ? argv[i] : "arbor");
     app.set_version_flag("--version", version_text(), "print the version and the SIMD kernel set, then exit");
     if (const std::string unknown = unknown_subcommand(argc, argv, app); !unknown.empty()) {
-        std::fprintf(stderr, "arbor: %s\n", unknown.c_str());
-        return 2;
+        return failure(2, unknown);
     }
     try {
         app.parse(argc, argv);
         for (auto& [sub, run] : commands)
-            if (sub->parsed()) return run();
+            if (sub->parsed()) {
+                const int status = run();
+                arbor::app::Cluster* cluster = arbor::app::Cluster::current();
+                if (status != 0 && cluster) cluster->fail(status, "stopped with exit status " + std::to_string(status));
+                arbor::app::Cluster::leave();
+                return status;
+            }
         return 2;
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
@@ -69,22 +93,16 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "arbor: %s\n", e.what());
-        return 2;
+        return failure(2, e.what());
     } catch (const arbor::accel::MemoryLimitError& e) {
-        std::fprintf(stderr, "arbor: --max-memory: %s\n", e.what());
-        return 1;
+        return failure(1, std::string("--max-memory: ") + e.what());
     } catch (const arbor::app::OptionError& e) {
-        std::fprintf(stderr, "arbor: %s\n", e.what());
-        return 2;
+        return failure(2, e.what());
     } catch (const arbor::engine::InputError& e) {
-        std::fprintf(stderr, "arbor: %s\n", e.what());
-        return 1;
+        return failure(1, e.what());
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "arbor: out of memory\n");
-        return 3;
+        return failure(3, "out of memory");
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "arbor: %s\n", e.what());
-        return 4;
+        return failure(4, e.what());
     }
 }

@@ -1,0 +1,165 @@
+#!/usr/bin/env bash
+# `mpirun -np N arbor render|converge` (spec/cli.md, "Across machines"): the image of N = 1, 2, 3
+# ranks equals the single-process image bit for bit (default scene, Cornell box path traced);
+# rank 0 alone prints and writes; a plain call loads no MPI; a rank that crashes, throws or is
+# killed mid-frame stops the job with one line from rank 0 naming it, a non-zero exit and no
+# output written or overwritten; a rank with another scene file or other settings is refused.
+# Every mpirun runs under `timeout`. Needs Open MPI's mpirun (the MPI front end is built).
+set -u
+ARBOR=$(realpath "$1")
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+command -v mpirun >/dev/null || { echo "FAIL: mpirun not found (scripts/setup-deps.sh installs openmpi-bin)"; exit 1; }
+# A shared CI machine has 2 cores: 3 ranks need --oversubscribe.
+MPIRUN=(timeout 120 mpirun --oversubscribe)
+
+small=(--width 70 --height 45 --spp 2 -q)                                  # 5 x 3 tiles of 16
+cornell=(builtin:cornell --integrator path --width 64 --height 48 --spp 4 -q)
+
+# 1. Bit-identical images for N = 1, 2, 3 ranks.
+for scene in default cornell; do
+  if [ $scene = default ]; then args=("${small[@]}"); else args=("${cornell[@]}"); fi
+  "$ARBOR" render "${args[@]}" -o "$WORK/$scene-single.exr" --threads 2 >"$WORK/single.out" 2>&1 \
+    || fail "$scene: single-process render failed: $(cat "$WORK/single.out")"
+  for n in 1 2 3; do
+    out="$WORK/$scene-$n.exr"
+    if "${MPIRUN[@]}" -np $n "$ARBOR" render "${args[@]}" -o "$out" --threads 1 >"$WORK/mpi.out" 2>"$WORK/mpi.err"; then
+      cmp -s "$WORK/$scene-single.exr" "$out" || fail "$scene: the image of $n ranks differs from the single-process one"
+      cmp -s "$WORK/$scene-single.png" "$WORK/$scene-$n.png" || fail "$scene: the PNG of $n ranks differs"
+      grep -q "rendered in .* on $n ranks\? -> " "$WORK/mpi.out" || fail "$scene: no 'on $n ranks' summary: $(cat "$WORK/mpi.out")"
+      [ "$(grep -c '^plan:' "$WORK/mpi.out")" -eq 1 ] || fail "$scene: $n ranks printed more than rank 0's lines: $(cat "$WORK/mpi.out")"
+    else
+      fail "$scene: mpirun -np $n exited $?: $(cat "$WORK/mpi.err")"
+    fi
+  done
+done
+# The parts of the frame really came from several ranks: rank 0 kept from rendering, the image
+# is still the same (rank 1 rendered all of it and sent every tile).
+if ARBOR_MPI_ROOT_RENDERS=0 "${MPIRUN[@]}" -x ARBOR_MPI_ROOT_RENDERS -np 2 "$ARBOR" render "${small[@]}" \
+     -o "$WORK/idle.exr" >"$WORK/mpi.out" 2>"$WORK/mpi.err"; then
+  cmp -s "$WORK/default-single.exr" "$WORK/idle.exr" || fail "tiles rendered on rank 1 only: image differs"
+else
+  fail "ARBOR_MPI_ROOT_RENDERS=0 mpirun -np 2 exited $?: $(cat "$WORK/mpi.err")"
+fi
+
+# 2. converge: the same CSV (but for the times) on 2 ranks as in one process.
+"$ARBOR" converge "${small[@]:0:4}" --out "$WORK/cv1" --max-spp 4 --no-plot >/dev/null 2>&1 || fail "converge failed"
+if "${MPIRUN[@]}" -np 2 "$ARBOR" converge "${small[@]:0:4}" --out "$WORK/cv2" --max-spp 4 --no-plot \
+     >"$WORK/mpi.out" 2>"$WORK/mpi.err"; then
+  [ "$(cut -d, -f1-3,5-8 "$WORK/cv1/converge.csv")" = "$(cut -d, -f1-3,5-8 "$WORK/cv2/converge.csv")" ] \
+    || fail "converge on 2 ranks: CSV differs: $(cat "$WORK/cv2/converge.csv")"
+  cmp -s "$WORK/cv1/reference-direct.exr" "$WORK/cv2/reference-direct.exr" || fail "converge: references differ"
+  grep -q "converge.csv on 2 ranks" "$WORK/mpi.out" || fail "converge: no 'on 2 ranks': $(cat "$WORK/mpi.out")"
+else
+  fail "converge: mpirun -np 2 exited $?: $(cat "$WORK/mpi.err")"
+fi
+
+# 3. bench: the report of 2 ranks holds every row of the 1-rank report (row keys, not timings).
+# --bind-to none: Open MPI binds each of 2 ranks to one core, which would change "all threads".
+bench=(bench --quick --scenes tiny,replicated-1e3 --kinds primary,diffuse --rays 1024 --repeats 1 -q)
+"$ARBOR" "${bench[@]}" -o "$WORK/b1" >/dev/null 2>"$WORK/err" || fail "arbor bench failed: $(cat "$WORK/err")"
+for rpn in 2 1; do
+  if "${MPIRUN[@]}" --bind-to none -np 2 "$ARBOR" "${bench[@]}" -o "$WORK/b2-$rpn" --ranks-per-node $rpn \
+       >"$WORK/mpi.out" 2>"$WORK/mpi.err"; then
+    grep -q "rows in .* on 2 ranks -> " "$WORK/mpi.out" || fail "bench: no 'on 2 ranks': $(cat "$WORK/mpi.out")"
+    python3 - "$WORK/b1/bench.json" "$WORK/b2-$rpn/bench.json" $rpn <<'PY' || fail "bench on 2 ranks, --ranks-per-node $rpn"
+import json, sys
+one, two, rpn = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.argv[3])
+key = lambda r: (r["scene"], r["kind"], r["threads"], r["structure"], r["path"])
+a, b = [key(r) for r in one["rows"]], [key(r) for r in two["rows"]]
+assert a and sorted(a) == sorted(b), (set(a) ^ set(b))
+assert [key(r) for r in two["rows"]] == a, "rows out of plan order"
+akey = lambda x: (x["scene"], x["kind"], x["threads"], x["budget"])
+assert sorted(map(akey, one["auto"])) == sorted(map(akey, two["auto"]))
+ranks = {r["rank"] for r in two["rows"]}
+# Both ranks share one machine: with --ranks-per-node 1 only rank 0 times rows.
+assert ranks == ({0, 1} if rpn == 2 else {0}), ranks
+PY
+  else
+    fail "bench: mpirun -np 2 --ranks-per-node $rpn exited $?: $(cat "$WORK/mpi.err")"
+  fi
+done
+
+# 4. A plain call neither loads nor initialises MPI; the launcher's variables are what tell.
+LD_DEBUG=files "$ARBOR" render "${small[@]}" -o "$WORK/plain.exr" >/dev/null 2>"$WORK/ld.err" || fail "plain render failed"
+grep -q "libmpi" "$WORK/ld.err" && fail "a plain call loaded libmpi"
+grep -q "arbor_mpi.so" "$WORK/ld.err" && fail "a plain call loaded arbor_mpi.so"
+ARBOR_MPI_MODULE=$WORK/none.so OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0 "$ARBOR" render "${small[@]}" \
+  -o "$WORK/x.exr" >/dev/null 2>"$WORK/err"
+rc=$?
+{ [ $rc -ge 1 ] && [ $rc -le 127 ] && grep -q "none.so" "$WORK/err"; } || fail "a launcher variable did not ask for MPI: exit $rc $(cat "$WORK/err")"
+# --mpi joins without a launcher (Open MPI's singleton start): a job of 1 rank.
+timeout 120 "$ARBOR" render --mpi "${small[@]}" -o "$WORK/single-mpi.exr" >"$WORK/out" 2>"$WORK/err" \
+  && grep -q "on 1 rank -> " "$WORK/out" && cmp -s "$WORK/default-single.exr" "$WORK/single-mpi.exr" \
+  || fail "--mpi without mpirun: $(cat "$WORK/out" "$WORK/err")"
+"${MPIRUN[@]}" -np 2 "$ARBOR" render "${small[@]}" -o "$WORK/y.exr" >/dev/null 2>&1 &&
+  { LD_DEBUG=files "${MPIRUN[@]}" -x LD_DEBUG -np 1 "$ARBOR" render "${small[@]}" -o "$WORK/y.exr" 2>&1 | grep -q "libmpi" \
+      || fail "under mpirun libmpi was not loaded"; }
+
+# 5. Faults: one line from rank 0 naming the rank, exit 1..127, no output written or overwritten.
+# expect_stop EXIT_TEST NEEDLE ENV... -- ARGS...: runs 2 ranks (3 with ranks=3) on the Cornell box.
+expect_stop() {
+  local want_rc=$1 needle=$2; shift 2
+  local envs=() xs=()
+  while [ "$1" != "--" ]; do envs+=("$1"); xs+=(-x "${1%%=*}"); shift; done
+  shift
+  echo "keep me" >"$WORK/kept.exr"
+  env "${envs[@]}" "${MPIRUN[@]}" "${xs[@]}" -np 2 "$@" >"$WORK/out" 2>"$WORK/err"
+  local rc=$?
+  case $want_rc in
+    1..127) { [ $rc -ge 1 ] && [ $rc -le 127 ]; } || fail "[$needle] exit $rc, want 1..127: $(cat "$WORK/err")";;
+    *) [ $rc -eq "$want_rc" ] || fail "[$needle] exit $rc, want $want_rc: $(cat "$WORK/err")";;
+  esac
+  [ "$(grep -c '^arbor: ' "$WORK/err")" -eq 1 ] || fail "[$needle] not one 'arbor:' line: $(cat "$WORK/err")"
+  grep -q -- "$needle" "$WORK/err" || fail "[$needle] missing from: $(cat "$WORK/err")"
+  [ "$(tr -d '\0' <"$WORK/kept.exr")" = "keep me" ] || fail "[$needle] the existing output was overwritten"
+  [ ! -e "$WORK/kept.png" ] || fail "[$needle] a PNG was written"
+  ls "$WORK" | grep -q "kept.exr." && fail "[$needle] a temporary output was left behind"
+  rm -f "$WORK/kept.png"
+}
+frame=("$ARBOR" render "${cornell[@]}" --threads 1 -o "$WORK/kept.exr")
+# Rank 0 only hands out tiles here, so that rank 1 surely renders the 12 tiles of the frame and
+# fails at the tile asked however loaded the machine is; rank 0 surely renders its first tile.
+idle=ARBOR_MPI_ROOT_RENDERS=0
+expect_stop 4 "arbor: rank 1: crashed: SIGABRT" $idle ARBOR_MPI_TEST_FAULT=1:3:abort -- "${frame[@]}"
+expect_stop 4 "arbor: rank 1: crashed: SIGSEGV" $idle ARBOR_MPI_TEST_FAULT=1:2:segv -- "${frame[@]}"
+expect_stop 4 "arbor: rank 1: test fault after 3 tiles" $idle ARBOR_MPI_TEST_FAULT=1:3:throw -- "${frame[@]}"
+expect_stop 3 "arbor: rank 1: out of memory" $idle ARBOR_MPI_TEST_FAULT=1:1:oom -- "${frame[@]}"
+expect_stop 4 "arbor: rank 0: crashed: SIGABRT" ARBOR_MPI_TEST_FAULT=0:1:abort -- "${frame[@]}"
+# SIGKILL cannot be caught: mpirun stops the job and exits 128 + 9 (its own choice); rank 0 still
+# names the rank that vanished.
+expect_stop 137 "arbor: rank 1 (pid [0-9]* on .*) died without a word (SIGKILL" $idle ARBOR_MPI_TEST_FAULT=1:3:kill \
+  -- "${frame[@]}"
+
+# Ranks that disagree: another file with the same name in another folder, another setting, a
+# file missing on one rank.
+mkdir -p "$WORK/a" "$WORK/b"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$WORK/a/s.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1.5 0\nf 1 2 3\n' >"$WORK/b/s.obj"
+two_ranks() {  # two_ranks WDIR0 WDIR1 ARGS0 -- ARGS1: MPMD, one rank each
+  local w0=$1 w1=$2 a0=() a1=(); shift 2
+  while [ "$1" != "--" ]; do a0+=("$1"); shift; done
+  shift; a1=("$@")
+  echo "keep me" >"$WORK/kept.exr"
+  "${MPIRUN[@]}" -np 1 --wdir "$w0" "$ARBOR" render "${a0[@]}" : -np 1 --wdir "$w1" "$ARBOR" render "${a1[@]}" \
+    >"$WORK/out" 2>"$WORK/err"
+  echo $?
+}
+q=(--width 32 --height 32 -q -o "$WORK/kept.exr")
+rc=$(two_ranks "$WORK/a" "$WORK/b" s.obj "${q[@]}" -- s.obj "${q[@]}")
+{ [ "$rc" -eq 1 ] && grep -q "arbor: rank 1 (pid .*): its scene is not rank 0's" "$WORK/err" \
+  && [ "$(cat "$WORK/kept.exr")" = "keep me" ]; } || fail "another scene file on rank 1: exit $rc $(cat "$WORK/err")"
+rc=$(two_ranks "$WORK/a" "$WORK/a" s.obj "${q[@]}" -- s.obj "${q[@]}" --spp 3)
+{ [ "$rc" -eq 1 ] && grep -q "its settings are not rank 0's" "$WORK/err"; } \
+  || fail "other settings on rank 1: exit $rc $(cat "$WORK/err")"
+rc=$(two_ranks "$WORK/a" "$WORK" s.obj "${q[@]}" -- s.obj "${q[@]}")
+{ [ "$rc" -eq 1 ] && grep -q "arbor: rank 1: s.obj: cannot open" "$WORK/err" \
+  && [ "$(grep -c '^arbor: ' "$WORK/err")" -eq 1 ]; } || fail "a file missing on rank 1: exit $rc $(cat "$WORK/err")"
+rc=$(two_ranks "$WORK/a" "$WORK/b" s.obj "${q[@]}" -- s.obj "${q[@]}")
+[ "$(cat "$WORK/kept.exr")" = "keep me" ] || fail "a refused job overwrote the output"
+
+[ $fails -eq 0 ] && echo "mpi tests passed"
+exit $fails
