@@ -41,7 +41,7 @@ fetch || { echo "tsan-tbb: fetching the onetbb source failed, trying once more" 
 src=$(find "$out/src" -mindepth 1 -maxdepth 1 -type d -name 'onetbb-*' | head -1)
 cmake -S "$src" -B "$out/build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_INSTALL_PREFIX="$(pwd)/$prefix" \
   -DCMAKE_INSTALL_LIBDIR=lib -DTBB_SANITIZE=thread -DTBB_TEST=OFF -DTBB_EXAMPLES=OFF -DTBBMALLOC_BUILD=OFF \
-  -DTBB_STRICT=OFF >/dev/null
+  -DTBB_STRICT=OFF -DTBB_DISABLE_HWLOC_AUTOMATIC_SEARCH=ON >/dev/null
 cmake --build "$out/build" -j "$(nproc)" --target tbb >/dev/null
 cmake --install "$out/build" >/dev/null
 echo "$version" >"$prefix/VERSION"

@@ -60,6 +60,27 @@ template <class T> inline Mask<T> traceable(const Vec3<T>& org, const Vec3<T>& d
     }
 }
 
+/// The tie rule of every closest-hit query, per lane of T: a hit (t, prim) replaces the record
+/// (best_t, best_prim) when its t is smaller, or equal with a lower prim (prims compared unsigned,
+/// so the miss record {+inf, invalid_prim} loses to every hit: the triangle test gives no t of
+/// +inf). The closest hit of a ray is thus one record, (the smallest t, the lowest prim at that t),
+/// whatever the order in which a structure finds the candidates: every structure and path gives
+/// brute force's answer, t, prim, u, v, bit for bit (u, v: the same test of the same triangle).
+template <class T>
+inline Mask<T> closer(const T& t, const IntOf<T>& prim, const T& best_t, const IntOf<T>& best_prim) {
+    if constexpr (std::is_same_v<T, float>) {
+        return t < best_t || (t == best_t && std::uint32_t(prim) < std::uint32_t(best_prim));
+    } else {
+        const IntOf<T> flip(std::numeric_limits<std::int32_t>::min());  // unsigned order from a signed compare
+        return (t < best_t) | ((t == best_t) & xsimd::bool_cast((prim ^ flip) < (best_prim ^ flip)));
+    }
+}
+
+/// The rule for one hit against a Hit record.
+inline bool closer(float t, std::uint32_t prim, const Hit& best) {
+    return closer<float>(t, std::int32_t(prim), best.t, std::int32_t(best.prim));
+}
+
 /// The rule for one Ray.
 inline bool ray_is_traceable(const Ray& r) { return traceable<float>(r.org, r.dir, r.tnear, r.tfar); }
 

@@ -165,15 +165,26 @@ template <class T> struct PacketHit {
     IntOf<T> prim = IntOf<T>(-1);
 };
 
-/// Takes the lanes of `h` that hit and are strictly closer than the hit recorded so far (or are the
-/// first hit): the tie rule of the brute oracle. Shrinks p.tfar in those lanes; returns them.
+/// The packet form of the hit record (accel/core/hit_record.h): offers hits (t, prim, u, v) in the
+/// lanes `candidates`; a closest-hit record keeps those the tie rule of ray.h (closer) prefers, an
+/// any-hit record every one. Returns the lanes taken (their tfar is then t).
+template <bool AnyHit, class T>
+inline Mask<T> offer_lanes(PacketHit<T>& best, const Mask<T>& candidates, const T& t, const IntOf<T>& prim, const T& u,
+                           const T& v) {
+    Mask<T> take = candidates;
+    if constexpr (!AnyHit) take = take & closer<T>(t, prim, best.t, best.prim);
+    best.t = select(take, t, best.t);
+    best.u = select(take, u, best.u);
+    best.v = select(take, v, best.v);
+    best.prim = iselect(take, prim, best.prim);
+    return take;
+}
+
+/// The closest-hit record of the lanes of `h` that hit (active lanes of p): the tie rule of ray.h.
+/// Shrinks p.tfar in the lanes taken; returns them.
 template <class T>
 inline Mask<T> record_hits(PacketHit<T>& best, RayPacket<T>& p, const TriHit<T>& h, std::int32_t prim) {
-    const Mask<T> take = h.hit & p.active & ((h.t < best.t) | int_equal(best.prim, IntOf<T>(-1)));
-    best.t = select(take, h.t, best.t);
-    best.u = select(take, h.u, best.u);
-    best.v = select(take, h.v, best.v);
-    best.prim = iselect(take, IntOf<T>(prim), best.prim);
+    const Mask<T> take = offer_lanes<false>(best, h.hit & p.active, h.t, IntOf<T>(prim), h.u, h.v);
     p.tfar = select(take, h.t, p.tfar);
     return take;
 }

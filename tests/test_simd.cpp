@@ -226,7 +226,7 @@ TEST_CASE_TEMPLATE("RayPacket: partial packets and the uniform permutation flag"
     CHECK(to_bits(load_packet<T, Ray>(std::span<const Ray>()).active) == 0u);
 }
 
-TEST_CASE_TEMPLATE("PacketHit: record_hits keeps brute's tie rule, store_hits writes Hit records", T, float,
+TEST_CASE_TEMPLATE("PacketHit: record_hits keeps the tie rule (smaller t, equal t lower prim), store_hits writes Hit records", T, float,
                    ARBOR_TEST_BATCHES) {
     constexpr std::size_t n = lanes<T>;
     std::vector<Ray> rays(n, Ray{{0, 0, 5}, 0.0f, {0, 0, -1}, INFINITY});
@@ -243,6 +243,13 @@ TEST_CASE_TEMPLATE("PacketHit: record_hits keeps brute's tie rule, store_hits wr
     h.t = load_lanes<T>(t2);
     h.u = T(0.125f);
     const std::uint32_t second = to_bits(record_hits(best, p, h, 9));
+    // A third hit at the recorded t with a lower prim takes the lane (the tie rule), a higher one not.
+    const T recorded = best.t;
+    h.t = recorded;
+    CHECK(to_bits(record_hits(best, p, h, 99)) == 0u);
+    CHECK(to_bits(record_hits(best, p, h, 2) & p.active) == (to_bits(p.active) & ~1u));
+    h.t = recorded + T(1.0f);  // farther: nothing taken
+    CHECK(to_bits(record_hits(best, p, h, 1)) == 0u);
     std::vector<arbor::accel::Hit> out(n + 1);
     store_hits(best, std::span<arbor::accel::Hit>(out).first(n));
     for (std::size_t i = 0; i < n; ++i) {
@@ -254,9 +261,9 @@ TEST_CASE_TEMPLATE("PacketHit: record_hits keeps brute's tie rule, store_hits wr
         }
         const bool closer = i % 2 == 0;
         CHECK(bool((second >> i) & 1u) == closer);
-        CHECK(out[i].prim == (closer ? 9u : 7u));
+        CHECK(out[i].prim == 2u);  // the tie at the recorded t went to the lower prim
         CHECK(out[i].t == (closer ? t2[i] : t1[i]));
-        CHECK(out[i].u == (closer ? 0.125f : 0.25f));
+        CHECK(out[i].u == 0.125f);
         CHECK(out[i].v == 0.5f);
         CHECK(lane(p.tfar, i) == out[i].t);
     }

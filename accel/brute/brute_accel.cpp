@@ -1,5 +1,6 @@
 #include "accel/brute/brute_accel.h"
 
+#include "accel/core/hit_record.h"
 #include "accel/util/timer.h"
 #include "simd/tri_test.h"
 
@@ -26,37 +27,37 @@ BruteAccel::BruteAccel(const TriangleView& view) : Accel(AccelKind::brute) {
 }
 
 Hit BruteAccel::trace_one(const Ray& ray, Query query) const {
-    return trace_impl<false>(ray, query == Query::any, nullptr);
+    return query == Query::any ? trace_impl<true, false>(ray, nullptr) : trace_impl<false, false>(ray, nullptr);
 }
 
-template <bool Count> Hit BruteAccel::trace_impl(const Ray& ray, bool any_hit, TraceCounters* counters) const {
-    Hit best;
+template <bool AnyHit, bool Count> Hit BruteAccel::trace_impl(const Ray& ray, TraceCounters* counters) const {
+    HitRecord<AnyHit> best;
     if constexpr (Count) ++counters->rays;
-    if (!ray_is_traceable(ray)) return best;
+    if (!ray_is_traceable(ray)) return best.hit;
     if constexpr (Count) ++counters->nodes_visited;
     const simd::WoopShear shear = simd::woop_shear(ray.dir);
     float tfar = ray.tfar;
     for (const Tri& tri : tris_) {
         if constexpr (Count) ++counters->triangles_tested;
         const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
-        // Strictly closer only: on a tie the triangle defined first keeps the hit.
-        if (h.hit && (h.t < best.t || !best.is_hit())) {
-            best = {h.t, tri.prim, h.u, h.v};
-            if (any_hit) return best;
+        if (h.hit && best.offer(h.t, tri.prim, h.u, h.v)) {
+            if constexpr (AnyHit) return best.hit;
             tfar = h.t;
         }
     }
-    return best;
+    return best.hit;
 }
 
 void BruteAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath,
                      TraceCounters* counters) const {
-    const bool any_hit = query == Query::any;
-    if (counters) {
-        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_impl<true>(rays[i], any_hit, counters);
-        return;
-    }
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = trace_impl<false>(rays[i], any_hit, nullptr);
+    const auto each = [&](auto one) {
+        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = one(rays[i]);
+    };
+    const bool any = query == Query::any;
+    if (counters && any) each([&](const Ray& r) { return trace_impl<true, true>(r, counters); });
+    else if (counters) each([&](const Ray& r) { return trace_impl<false, true>(r, counters); });
+    else if (any) each([&](const Ray& r) { return trace_impl<true, false>(r, nullptr); });
+    else each([&](const Ray& r) { return trace_impl<false, false>(r, nullptr); });
 }
 
 }  // namespace arbor::accel

@@ -19,7 +19,7 @@ private:
     /// triangle tested until the answer.
     void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
              TraceCounters* counters) const override;
-    template <bool Count> Hit trace_impl(const Ray& ray, bool any_hit, TraceCounters* counters) const;
+    template <bool AnyHit, bool Count> Hit trace_impl(const Ray& ray, TraceCounters* counters) const;
 
     struct Tri {
         Vec3f v0, v1, v2;

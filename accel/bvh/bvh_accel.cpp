@@ -1,6 +1,7 @@
 #include "accel/bvh/bvh_accel.h"
 
 #include "accel/bvh/bvh2_traverse.h"
+#include "accel/core/hit_record.h"
 #include "accel/util/timer.h"
 #include "accel/wide/wide_paths.h"
 #include "simd/tri_test.h"
@@ -60,7 +61,7 @@ void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits, Trace
     }
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const Ray& ray = rays[i];
-        Hit best;
+        HitRecord<AnyHit> best;
         if (ray_is_traceable(ray)) {
             const simd::WoopShear shear = simd::woop_shear(ray.dir);
             float tfar = ray.tfar;
@@ -74,9 +75,7 @@ void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits, Trace
                     const simd::TriHit<float> h = simd::woop_test(
                         ray.org, shear, ray.tnear, tfar, {b.v0[0][l], b.v0[1][l], b.v0[2][l]},
                         {b.v1[0][l], b.v1[1][l], b.v1[2][l]}, {b.v2[0][l], b.v2[1][l], b.v2[2][l]});
-                    // Strictly closer only, as in brute (the spec allows another prim at an equal t).
-                    if (h.hit && (h.t < best.t || !best.is_hit())) {
-                        best = {h.t, layout_.prim_ids[s], h.u, h.v};
+                    if (h.hit && best.offer(h.t, layout_.prim_ids[s], h.u, h.v)) {
                         tfar = h.t;
                         found = true;
                         if constexpr (AnyHit) return true;
@@ -87,7 +86,7 @@ void BvhAccel::trace_batch(std::span<const Ray> rays, std::span<Hit> hits, Trace
             if constexpr (Count) traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf, [&] { ++nodes; });
             else traverse_bvh2<AnyHit>(layout_, ray.org, ray.dir, ray.tnear, tfar, stack, leaf);
         }
-        hits[i] = best;
+        hits[i] = best.hit;
     }
     if constexpr (Count) {
         counters->rays += rays.size();

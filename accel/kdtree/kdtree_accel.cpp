@@ -1,5 +1,6 @@
 #include "accel/kdtree/kdtree_accel.h"
 
+#include "accel/core/hit_record.h"
 #include "accel/kdtree/kdtree_build.h"
 #include "accel/kdtree/kdtree_simd.h"
 #include "accel/kdtree/kdtree_traverse.h"
@@ -27,8 +28,8 @@ KdTreeAccel::KdTreeAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms)
 }
 
 template <bool AnyHit, bool Count> Hit KdTreeAccel::trace_one(const Ray& ray, TraceCounters* counters) const {
-    Hit best;
-    if (!ray_is_traceable(ray)) return best;
+    HitRecord<AnyHit> best;
+    if (!ray_is_traceable(ray)) return best.hit;
     const simd::WoopShear shear = simd::woop_shear(ray.dir);
     float tfar = ray.tfar;
     std::uint64_t visited = 0, tested = 0;
@@ -39,25 +40,18 @@ template <bool AnyHit, bool Count> Hit KdTreeAccel::trace_one(const Ray& ray, Tr
             const KdTriangle& tri = tree_.tris[tree_.refs[i]];
             if constexpr (Count) ++tested;
             const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
-            if (!h.hit) continue;
-            if constexpr (AnyHit) {
-                best = {h.t, tri.prim, h.u, h.v};
-                return true;
-            }
-            // woop_test accepts t == tfar: on equal t the lower prim wins, as in brute.
-            if (h.t < best.t || !best.is_hit() || tri.prim < best.prim) {
-                best = {h.t, tri.prim, h.u, h.v};
-                tfar = h.t;
-            }
+            if (!h.hit || !best.offer(h.t, tri.prim, h.u, h.v)) continue;
+            if constexpr (AnyHit) return true;
+            tfar = h.t;
         }
         return false;
     };
-    kd::walk_ropes<AnyHit, Count>(tree_, ray, best.t, leaf_fn, visited);
+    kd::walk_ropes<AnyHit, Count>(tree_, ray, best.hit.t, leaf_fn, visited);
     if constexpr (Count) {
         counters->nodes_visited += visited;
         counters->triangles_tested += tested;
     }
-    return best;
+    return best.hit;
 }
 
 template Hit KdTreeAccel::trace_one<false, false>(const Ray&, TraceCounters*) const;

@@ -16,6 +16,7 @@
 // sides of a split plane a ray lies in).
 #include "accel/kdtree/kdtree_simd.h"
 
+#include "accel/core/hit_record.h"
 #include "accel/core/simd_paths.h"
 #include "accel/kdtree/kdtree_blocks.h"
 #include "accel/kdtree/kdtree_traverse.h"
@@ -37,12 +38,6 @@ template <> struct LaneOf<8> { using type = simd::Float8; };
 #if XSIMD_WITH_AVX512F
 template <> struct LaneOf<16> { using type = simd::Float16; };
 #endif
-
-/// Lanes where a < b (signed 32-bit), as a mask of the float lanes.
-template <class A>
-inline xsimd::batch_bool<float, A> int_less(const xsimd::batch<std::int32_t, A>& a, const xsimd::batch<std::int32_t, A>& b) {
-    return xsimd::bool_cast(a < b);
-}
 
 template <std::size_t N> class KdSimdAccel final : public KdTreeAccel, public SimdPaths<KdSimdAccel<N>> {
     friend class SimdPaths<KdSimdAccel<N>>;
@@ -79,8 +74,8 @@ private:
     }
 
     /// The triangles of leaf `li` against ray `r` (r.tfar: the current best distance or the ray's
-    /// tfar), updating `best` by the scalar path's rule. Returns true (any hit) when a hit was found.
-    template <bool AnyHit> bool test_leaf(simd::WideRay<T>& r, std::uint32_t li, Hit& best) const {
+    /// tfar), offered to `best`. Returns true (any hit) when a hit was found.
+    template <bool AnyHit> bool test_leaf(simd::WideRay<T>& r, std::uint32_t li, HitRecord<AnyHit>& best) const {
         const KdBlock<N>* b = blocks_.blocks.data() + blocks_.first[li];
         const KdBlock<N>* end = blocks_.blocks.data() + blocks_.first[li + 1];
         for (; b != end; ++b) {
@@ -91,9 +86,7 @@ private:
             // the lowest lane, which is the lowest prim (a leaf's triangles are in ascending prim order).
             const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
             const float t = simd::lane(h.t, std::size_t(lane));
-            const std::uint32_t prim = b->ids[lane];
-            if (!AnyHit && best.is_hit() && !(t < best.t || (t == best.t && prim < best.prim))) continue;
-            best = {t, prim, simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane))};
+            if (!best.offer(t, b->ids[lane], simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane)))) continue;
             if constexpr (AnyHit) return true;
             r.tfar = T(t);
         }
@@ -102,12 +95,12 @@ private:
 
     template <bool AnyHit> Hit trace_lane(const Ray& ray) const {
         const KdTree& tree = tree_;
-        Hit best;
-        if (tree.empty() || !ray_is_traceable(ray)) return best;
+        HitRecord<AnyHit> best;
+        if (tree.empty() || !ray_is_traceable(ray)) return best.hit;
         simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
         std::uint64_t visited = 0;
-        kd::walk_ropes<AnyHit>(tree, ray, best.t, [&](std::uint32_t li) { return test_leaf<AnyHit>(r, li, best); }, visited);
-        return best;
+        kd::walk_ropes<AnyHit>(tree, ray, best.hit.t, [&](std::uint32_t li) { return test_leaf<AnyHit>(r, li, best); }, visited);
+        return best.hit;
     }
 
     /// One lane's walk: the state of kd::walk_ropes between two leaves.
@@ -151,8 +144,9 @@ private:
                 }
                 simd::WideRay<T>& r = wide[i];
                 r.tfar = T(tfar[i]);
-                Hit h{best_t[i], std::uint32_t(best_prim[i]), best_u[i], best_v[i]};
-                const bool stop = test_leaf<AnyHit>(r, li, h);
+                HitRecord<AnyHit> rec{{best_t[i], std::uint32_t(best_prim[i]), best_u[i], best_v[i]}};
+                const bool stop = test_leaf<AnyHit>(r, li, rec);
+                const Hit& h = rec.hit;
                 best_t[i] = h.t, best_prim[i] = std::int32_t(h.prim), best_u[i] = h.u, best_v[i] = h.v;
                 if (h.is_hit()) tfar[i] = h.t;
                 return stop;
@@ -177,17 +171,9 @@ private:
                         const simd::TriHit<P> h = simd::packet_triangle(p, Vec3f{v[0][0][l], v[0][1][l], v[0][2][l]},
                                                                         Vec3f{v[1][0][l], v[1][1][l], v[1][2][l]},
                                                                         Vec3f{v[2][0][l], v[2][1][l], v[2][2][l]});
-                        const IntP prim(std::int32_t(blk.ids[l]));
-                        auto take = h.hit & live;
-                        if constexpr (!AnyHit)
-                            take = take & ((h.t < best.t) | simd::int_equal(best.prim, IntP(-1)) |
-                                           ((h.t == best.t) & int_less(prim, best.prim)));
+                        const auto take = simd::offer_lanes<AnyHit>(best, h.hit & live, h.t, IntP(std::int32_t(blk.ids[l])), h.u, h.v);
                         const std::uint32_t bits = simd::to_bits(take);
                         if (bits == 0) continue;
-                        best.t = simd::select(take, h.t, best.t);
-                        best.u = simd::select(take, h.u, best.u);
-                        best.v = simd::select(take, h.v, best.v);
-                        best.prim = simd::iselect(take, prim, best.prim);
                         p.tfar = simd::select(take, h.t, p.tfar);
                         if constexpr (AnyHit) {
                             done |= bits;

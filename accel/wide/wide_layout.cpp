@@ -235,12 +235,13 @@ private:
     void fill_leaf(const LeafJob& job, std::vector<std::uint32_t>& prims) {
         // A binary leaf's triangles are one range of prim_ids; a merged subtree is gathered.
         const BvhBuildNode& node = bvh_.nodes[job.bin];
-        const std::uint32_t* src = bvh_.prim_ids.data() + node.first;
-        if (!node.is_leaf()) {
-            prims.clear();
-            gather(job.bin, prims);
-            src = prims.data();
-        }
+        prims.clear();
+        if (node.is_leaf()) prims.insert(prims.end(), bvh_.prim_ids.begin() + node.first, bvh_.prim_ids.begin() + node.first + node.count);
+        else gather(job.bin, prims);
+        // The leaf's triangles in ascending prim order, so that the lowest of the lanes of a block
+        // tied at the smallest t is the lowest prim (the tie rule, core/hit_record.h).
+        std::sort(prims.begin() + job.offset, prims.begin() + job.offset + job.count);
+        const std::uint32_t* src = prims.data();
         for (std::uint32_t b = 0; b < wide_blocks<N>(job.count); ++b) {
             WideBlock<N>& block = out_.blocks[job.first_block + b];
             for (std::uint32_t l = 0; l < N; ++l) {

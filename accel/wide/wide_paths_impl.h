@@ -4,6 +4,7 @@
 /// files, which instantiate one width each (compile time, and each width in its own translation
 /// unit).
 #include "accel/bvh/bvh_accel.h"
+#include "accel/core/hit_record.h"
 #include "accel/core/simd_paths.h"
 #include "accel/util/stack_buffer.h"
 #include "accel/wide/wide_packet.h"
@@ -44,7 +45,7 @@ public:
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
     template <bool AnyHit>
     Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStack& stack) const {
-        Hit best;
+        HitRecord<AnyHit> best;
         const WideBlock<N>* blocks = layout_.blocks.data();
         auto leaf = [&](std::uint32_t first, std::uint32_t n) {
             bool found = false;
@@ -54,11 +55,12 @@ public:
                 const simd::TriHit<T> h = simd::ray_triangles<T, true>(r, blocks[b].soa());
                 const std::uint32_t bits = simd::to_bits(h.hit);
                 if (bits == 0) continue;
+                // Closest: the smallest t, on equal t the lowest lane, which is the lowest prim (a
+                // leaf's triangles are in ascending prim order, wide_layout.h).
                 const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
                 const float t = simd::lane(h.t, std::size_t(lane));
-                // Strictly closer only, as brute and the scalar path (equal t: the first found stays).
-                if (best.is_hit() && !(t < best.t)) continue;
-                best = {t, blocks[b].ids[lane], simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane))};
+                if (!best.offer(t, blocks[b].ids[lane], simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane))))
+                    continue;
                 tfar = t;
                 r.tfar = T(t);
                 found = true;
@@ -68,7 +70,7 @@ public:
         };
         if (r.plain) traverse_wide<AnyHit, true>(layout_, r, tfar, stack, child, count, leaf);
         else traverse_wide<AnyHit, false>(layout_, r, tfar, stack, child, count, leaf);
-        return best;
+        return best.hit;
     }
 
 private:
@@ -124,12 +126,11 @@ private:
             const auto in = rays.subspan(base, std::min(K, rays.size() - base));
             simd::RayPacket<P> p = simd::load_packet<P>(in);
             simd::PacketHit<P> best;
-            const auto take_lanes = [&](const simd::Mask<P>& take, const P& t, const P& u, const P& v, const IntP& prim) {
-                best.t = simd::select(take, t, best.t);
-                best.u = simd::select(take, u, best.u);
-                best.v = simd::select(take, v, best.v);
-                best.prim = simd::iselect(take, prim, best.prim);
+            // The hit record of the packet's lanes (simd::offer_lanes: the rule of HitRecord).
+            const auto offer = [&](const simd::Mask<P>& candidates, const P& t, const IntP& prim, const P& u, const P& v) {
+                const auto take = simd::offer_lanes<AnyHit>(best, candidates, t, prim, u, v);
                 p.tfar = simd::select(take, t, p.tfar);
+                return simd::to_bits(take);
             };
             const simd::PacketBounds bounds = simd::packet_bounds(p, p.active);
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
@@ -149,14 +150,11 @@ private:
                         const Vec3f v1{blk.v[1][0][l], blk.v[1][1][l], blk.v[1][2][l]};
                         const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
                         const simd::TriHit<P> h = simd::packet_triangle(p, v0, v1, v2);
-                        // Strictly closer only (equal t: the first found stays), as every other path.
-                        const auto take = h.hit & live & ((h.t < best.t) | simd::int_equal(best.prim, IntP(-1)));
-                        const std::uint32_t bits = simd::to_bits(take);
+                        const std::uint32_t bits = offer(h.hit & live, h.t, IntP(std::int32_t(blocks[first + b].ids[l])), h.u, h.v);
                         if (bits == 0) continue;
-                        take_lanes(take, h.t, h.u, h.v, IntP(std::int32_t(blocks[first + b].ids[l])));
                         found |= bits;
                         if constexpr (AnyHit) {
-                            live = live & !take;
+                            live = live & !simd::from_bits<P>(bits);
                             if (simd::none(live)) return found;
                         }
                     }
@@ -176,10 +174,8 @@ private:
                 setup.get(std::size_t(i), r);
                 r.tfar = T(tfar);
                 const Hit h = trace_from<AnyHit>(r, tfar, child, count, sstack);
-                const float old = simd::lane(best.t, std::size_t(i));
-                if (!h.is_hit() || (simd::lane(best.prim, std::size_t(i)) != -1 && !(h.t < old))) return false;
-                take_lanes(simd::from_bits<P>(1u << i), P(h.t), P(h.u), P(h.v), IntP(std::int32_t(h.prim)));
-                return true;
+                if (!h.is_hit()) return false;
+                return offer(simd::from_bits<P>(1u << i), P(h.t), IntP(std::int32_t(h.prim)), P(h.u), P(h.v)) != 0;
             };
             traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), one_octant(p) ? this->packets_.switch_lanes : this->packets_.switch_mixed, leaf,
                                     single);
