@@ -72,8 +72,7 @@ void MpiJob::loop(std::promise<void>& started) {
     MPI_Comm_dup(MPI_COMM_WORLD, &comm_);
     MPI_Comm_rank(comm_, &rank_);
     MPI_Comm_size(comm_, &size_);
-    // Host names and process ids of every rank: for messages, and to find a rank of this host
-    // that died without a word (SIGKILL) when mpirun stops the job.
+    // Host names and process ids of every rank, for messages.
     char name[MPI_MAX_PROCESSOR_NAME] = {};
     int len = 0;
     MPI_Get_processor_name(name, &len);
@@ -312,26 +311,13 @@ void MpiJob::check_signals() {
         crash_reported_ = true;
         stop_job(4, "crashed: " + signal_text(sig));
     }
-    const int stop = caught_stop_signal();
-    if (!stop) return;
-    if (rank_ == 0 && size_ > 1) {
-        std::string gone;
-        for (int r = 1; r < size_; ++r)
-            if (hosts_[std::size_t(r)] == hosts_[0] && process_gone(pids_[std::size_t(r)]))
-                gone += (gone.empty() ? "" : ", ") + describe_rank(r);
-        if (!gone.empty())
-            std::fprintf(stderr,
-                         "arbor: %s died without a word (SIGKILL: kill -9 or the out-of-memory killer); mpirun "
-                         "stopped the job\n",
-                         gone.c_str());
-        else
-            std::fprintf(stderr,
-                         "arbor: rank 0: stopped by %s (mpirun stops every rank when one dies or the job is "
-                         "interrupted; its message names the rank)\n",
-                         signal_text(stop).c_str());
-        std::fflush(stderr);
+    // mpirun stopping the job (a rank failed, or rank 0's MPI_Abort): it says why.
+    if (stopped_by_launcher()) ::_exit(1);
+    if (const int sig = caught_stop_signal(); sig && !stop_reported_) {
+        stop_reported_ = true;
+        const long sender = stop_signal_sender();
+        stop_job(4, "stopped by " + signal_text(sig) + (sender > 0 ? " (sent by pid " + std::to_string(sender) + ")" : ""));
     }
-    ::_exit(1);
 }
 
 }  // namespace arbor::mpi::detail

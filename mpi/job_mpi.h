@@ -90,7 +90,7 @@ private:
     std::list<std::string> sending_;  ///< buffers of sends in flight (service thread only)
 
     std::atomic<bool> fatal_sent_{false};
-    bool crash_reported_ = false;
+    bool crash_reported_ = false, stop_reported_ = false;
     double fatal_deadline_ = 0.0;  ///< a non-zero rank that reported a failure stops itself then
     int fatal_code_ = 1;
     std::string fatal_what_;
@@ -102,14 +102,16 @@ private:
 };
 
 /// Signals (mpi/faults_mpi.cpp): crash signals are held until the service thread has reported
-/// them to rank 0; SIGTERM (mpirun stopping the job) and SIGINT are noted for the service thread.
+/// them to rank 0; SIGTERM, SIGINT and SIGHUP are noted for the service thread with their sender.
 void install_signal_handlers();  ///< on the service thread
-/// The crash signal caught (0: none), and the stop signal (0: none).
+/// The crash signal caught (0: none).
 int caught_crash_signal();
+/// The first stop signal not sent by the launcher (0: none), and its sender's pid (-1: unknown).
 int caught_stop_signal();
+long stop_signal_sender();
+/// Whether the launcher (mpirun, directly or through the rank's guardian) sent a stop signal.
+bool stopped_by_launcher();
 /// "SIGSEGV (segmentation fault)".
 std::string signal_text(int sig);
-/// Whether process `pid` on this host is gone (or a zombie).
-bool process_gone(long pid);
 
 }  // namespace arbor::mpi::detail

@@ -33,4 +33,10 @@ inline Launch detect_launch() {
     return l;
 }
 
+/// Under a launcher each rank runs under a guardian process (apps/arbor/rank_guardian.h), which
+/// tells the rank its own and the launcher's process ids in this variable: "GUARDIAN LAUNCHER".
+inline constexpr const char* guardian_variable = "ARBOR_RANK_GUARDIAN";
+/// A signal the guardian passes on (sigqueue) carries 0 when it came from the launcher (mpirun
+/// stopping the job), otherwise the process id of its sender (-1: unknown).
+
 }  // namespace arbor::mpi

@@ -19,9 +19,11 @@
 #include "accel/bvh/bvh_accel.h"
 #include "accel/util/timer.h"
 #include "accel/trace.h"
+#include "engine/builtin_scenes.h"
 #include "engine/error.h"
 #include "engine/obj_loader.h"
 #include "engine/rayfile.h"
+#include "perf/paths_report.h"
 
 #ifdef ARBOR_HAVE_EMBREE
 #include "perf/embree_peer.h"
@@ -49,6 +51,9 @@ struct Options {
     std::string rays_dir, models = ARBOR_SHARED_SCENES "/models", out;
     std::vector<std::string> scenes{"stanford-bunny", "beast", "rocker-arm"};
     std::vector<std::string> kinds{"primary", "shadow", "diffuse", "random"};
+    /// Views per scene (scripts/bench_heldout.sh): files DIR/<scene>-<view>-<kind>.rays, each view
+    /// its own cell "scene/view"; none: DIR/<scene>-<kind>.rays.
+    std::vector<std::string> views;
     std::vector<std::string> structures{"bvh-sah"};
     std::vector<std::string> paths{"scalar", "single", "packet", "best"};
     std::vector<int> widths{0};
@@ -94,6 +99,7 @@ struct Config {
     std::vector<double> ms;
     long long err = -1;        ///< disagreements with the structure's scalar path (Embree: with the first arbor scalar)
     long long err_brute = -1;  ///< disagreements with brute on a sample of the rays
+    long long err_embree = -1; ///< disagreements with Embree's rtcIntersect1 (arbor configurations)
 };
 
 bool agree(const accel::Hit& a, const accel::Hit& b, bool any) { return any ? a.is_hit() == b.is_hit() : accel::hits_agree(a, b); }
@@ -105,17 +111,15 @@ struct LayoutRow {
     double wide_bytes_per_tri = 0, all_bytes_per_tri = 0, build_ms = 0;
 };
 
-struct Row {
-    std::string scene, kind, structure, path;
-    double mrays, lo, hi;
-    long long err, err_brute;
-    bool embree;
-};
 
-void run_scene(const Options& o, const std::string& scene, std::vector<Row>& rows, std::vector<LayoutRow>& layouts) {
+void run_scene(const Options& o, const std::string& scene, std::vector<perf::PathsRow>& rows, std::vector<LayoutRow>& layouts) {
     engine::Warnings w;
-    const engine::Mesh mesh = engine::load_obj(o.models + "/" + scene + ".obj", w);
-    const accel::TriangleView view = mesh.view();
+    // builtin:NAME scenes are made here (their files are named with '-' for ':').
+    const engine::Mesh mesh = engine::is_builtin_scene(scene) ? engine::make_builtin_scene(scene).mesh
+                                                              : engine::load_obj(o.models + "/" + scene + ".obj", w);
+    std::string file_stem = scene;
+    std::replace(file_stem.begin(), file_stem.end(), ':', '-');
+    const accel::TriangleView tris = mesh.view();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(o.threads));
 
     std::vector<std::unique_ptr<accel::Accel>> built;
@@ -126,7 +130,7 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
         if (!kind || *kind == accel::AccelKind::automatic) throw engine::InputError("--structures: unknown structure '" + s + "'");
         accel::BuildConfig scalar_cfg;  // the reference: first of its structure, read for the scalar path only
         scalar_cfg.layouts = accel::Layouts::scalar;
-        built.push_back(accel::make_accel(*kind, view, scalar_cfg));
+        built.push_back(accel::make_accel(*kind, tris, scalar_cfg));
         names.push_back(s);
         reference.push_back(true);
         for (const int width : o.widths)
@@ -142,11 +146,11 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
                     cfg.packet_switch = sw;
                     cfg.packet_switch_mixed = swx;
                     cfg.packet_lanes = o.packet_lanes;
-                    built.push_back(accel::make_accel(*kind, view, cfg));
+                    built.push_back(accel::make_accel(*kind, tris, cfg));
                     if (const auto* bvh = dynamic_cast<const accel::BvhAccel*>(built.back().get())) {
-                        const double tris = double(std::max<std::size_t>(view.triangle_count(), 1));
-                        layouts.push_back({scene, s, view.triangle_count(), bvh->wide_shape().width, bvh->wide_shape().nodes,
-                                           bvh->wide_shape().leaves, double(bvh->wide_shape().memory_bytes) / tris,
+                        const double ntris = double(std::max<std::size_t>(tris.triangle_count(), 1));
+                        layouts.push_back({scene, s, tris.triangle_count(), bvh->wide_shape().width, bvh->wide_shape().nodes,
+                                           bvh->wide_shape().leaves, double(bvh->wide_shape().memory_bytes) / ntris,
                                            bvh->stats().bytes_per_triangle(), bvh->stats().build_ms});
                     }
                     std::string name = s;
@@ -161,11 +165,14 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
     }
 #ifdef ARBOR_HAVE_EMBREE
     std::unique_ptr<perf::EmbreePeer> peer;
-    if (o.embree) peer = std::make_unique<perf::EmbreePeer>(view);
+    if (o.embree) peer = std::make_unique<perf::EmbreePeer>(tris);
 #endif
 
+    const std::vector<std::string> views = o.views.empty() ? std::vector<std::string>{""} : o.views;
+    for (const std::string& view : views)
     for (const std::string& kind : o.kinds) {
-        const std::string file = o.rays_dir + "/" + scene + "-" + kind + ".rays";
+        const std::string file = o.rays_dir + "/" + file_stem + (view.empty() ? "" : "-" + view) + "-" + kind + ".rays";
+        const std::string cell = view.empty() ? scene : scene + "/" + view;
         const std::vector<accel::Ray> rays = engine::read_rays(file);
         const bool any = kind == "shadow", coherent = kind == "primary" || kind == "shadow";
         const accel::Query q = any ? accel::Query::any : accel::Query::closest;
@@ -199,8 +206,16 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
             ref.resize(rays.size());
             accel::trace_parallel(*built[b], rays, ref, q, accel::TracePath::scalar);
         }
+        // Embree's rtcIntersect1 answers, the other reference of the arbor configurations.
+        std::vector<accel::Hit> embree_ref;
+#ifdef ARBOR_HAVE_EMBREE
+        if (peer) {
+            embree_ref.resize(rays.size());
+            peer->trace_parallel(rays, embree_ref, q, perf::EmbreeCall::single, false);
+        }
+#endif
         // Brute force on an evenly spread sample (it costs rays x triangles).
-        const accel::BruteAccel brute(view);
+        const accel::BruteAccel brute(tris);
         const std::size_t sample = std::min<std::size_t>(rays.size(), o.brute_sample);
         std::vector<accel::Ray> sample_rays(sample);
         std::vector<accel::Hit> truth(sample);
@@ -213,6 +228,10 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
             const auto& ref = c.embree ? scalar.at(names[0].substr(0, names[0].find('/'))) : scalar.at(c.structure.substr(0, c.structure.find('/')));
             c.err = 0;
             for (std::size_t i = 0; i < rays.size(); ++i) c.err += !agree(hits[i], ref[i], any);
+            if (!c.embree && !embree_ref.empty()) {
+                c.err_embree = 0;
+                for (std::size_t i = 0; i < rays.size(); ++i) c.err_embree += !agree(hits[i], embree_ref[i], any);
+            }
         }
         for (int rep = 0; rep < o.repeats; ++rep)
             for (std::size_t j = 0; j < configs.size(); ++j) {
@@ -229,10 +248,11 @@ void run_scene(const Options& o, const std::string& scene, std::vector<Row>& row
         for (const Config& c : configs) {
             const double mr = double(rays.size()) * 1e-3;
             const auto [lo, hi] = std::minmax_element(c.ms.begin(), c.ms.end());
-            rows.push_back({scene, kind, c.structure, c.path, mr / median(c.ms), mr / *hi, mr / *lo, c.err, c.err_brute, c.embree});
-            std::fprintf(stderr, "%-16s %-8s %-16s %-7s %7.2f Mrays/s [%5.2f-%5.2f] err %lld brute %lld/%zu\n", scene.c_str(),
+            rows.push_back({cell, kind, c.structure, c.path, mr / median(c.ms), mr / *hi, mr / *lo, c.err, c.err_brute,
+                            c.err_embree, rays.size(), c.embree});
+            std::fprintf(stderr, "%-20s %-8s %-16s %-7s %7.2f Mrays/s [%5.2f-%5.2f] err %lld brute %lld/%zu\n", cell.c_str(),
                          kind.c_str(), c.structure.c_str(), c.path.c_str(), rows.back().mrays, rows.back().lo, rows.back().hi, c.err,
-                         c.err_brute, o.brute_sample);
+                         c.err_brute, std::min(o.brute_sample, rays.size()));
         }
     }
 }
@@ -241,68 +261,6 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, a, b, c);
     return buf;
-}
-
-/// The report: per (scene, kind) the ratio of each structure's fastest path to Embree's fastest
-/// call, then every configuration.
-std::string report(const Options& o, const std::vector<Row>& rows) {
-    std::ostringstream s;
-    using Cell = std::pair<std::string, std::string>;  // scene, kind
-    std::map<Cell, std::pair<double, std::string>> embree_best;
-    std::map<Cell, std::map<std::string, std::pair<double, std::string>>> arbor_best;  // per structure
-    std::map<Cell, std::map<std::string, double>> auto_path;                          // TracePath::best
-    std::vector<Cell> cells;
-    std::vector<std::string> structures;
-    for (const Row& r : rows) {
-        const Cell c{r.scene, r.kind};
-        if (std::find(cells.begin(), cells.end(), c) == cells.end()) cells.push_back(c);
-        if (r.embree) {
-            auto& b = embree_best[c];
-            if (r.mrays > b.first) b = {r.mrays, r.path};
-            continue;
-        }
-        if (std::find(structures.begin(), structures.end(), r.structure) == structures.end()) structures.push_back(r.structure);
-        auto& b = arbor_best[c][r.structure];
-        if (r.mrays > b.first) b = {r.mrays, r.path};
-        if (r.path == "best") auto_path[c][r.structure] = r.mrays;
-    }
-    s << "## arbor's fastest path / Embree's fastest call\n\n";
-    s << "Per structure: its fastest path's median Mrays/s over Embree's fastest call (of 1, 8, 16, 1M) on the same rays; "
-         "in brackets the path, and `best` = the path TracePath::best picked by itself.\n\n";
-    s << "| scene | kind | Embree best |";
-    for (const auto& st : structures) s << " " << st << " |";
-    s << "\n|---|---|---|";
-    for (std::size_t i = 0; i < structures.size(); ++i) s << "---|";
-    s << "\n";
-    for (const Cell& c : cells) {
-        const auto& e = embree_best[c];
-        s << "| " << c.first << " | " << c.second << " | " << e.second << ": " << fmt("%.2f", e.first) << " |";
-        for (const auto& st : structures) {
-            const auto it = arbor_best[c].find(st);
-            if (it == arbor_best[c].end() || e.first <= 0) {
-                s << " - |";
-                continue;
-            }
-            s << " **" << fmt("%.2f", it->second.first / e.first) << "x** (" << it->second.second;
-            const auto ap = auto_path[c].find(st);
-            if (ap != auto_path[c].end() && it->second.second != "best") s << "; best " << fmt("%.2f", ap->second / e.first) << "x";
-            s << ") |";
-        }
-        s << "\n";
-    }
-    s << "\n## Every configuration\n\n";
-    s << "Mrays/s median [min-max] over the repeats; `x Embree` = over Embree's fastest call in the same cell; errors = "
-         "answers disagreeing with the structure's scalar path on all rays (Embree: with the first structure's scalar path; "
-         "rayfile.md rule, any hit: hit or miss).\n\n";
-    s << "| scene | kind | configuration | Mrays/s | x Embree | errors | errors vs brute (sample of " << o.brute_sample
-      << ") |\n|---|---|---|---:|---:|---:|---:|\n";
-    for (const Row& r : rows) {
-        const double b = embree_best[{r.scene, r.kind}].first;
-        s << "| " << r.scene << " | " << r.kind << " | " << r.structure << " " << r.path << " | "
-          << fmt("%.2f [%.2f-%.2f]", r.mrays, r.lo, r.hi) << " | " << fmt("%.2f", b > 0 ? r.mrays / b : 0.0) << " | " << r.err << " | " << r.err_brute << " |\n";
-    }
-    (void)o;
-    return s.str();
 }
 
 /// The first three fields of /proc/loadavg.
@@ -322,6 +280,7 @@ int main(int argc, char** argv) {
     app.add_option("--models", o.models, "folder of .obj models")->capture_default_str();
     app.add_option("--scenes", o.scenes, "model names")->delimiter(',');
     app.add_option("--kinds", o.kinds, "ray kinds")->delimiter(',');
+    app.add_option("--views", o.views, "views per scene: files <scene>-<view>-<kind>.rays (held-out sets)")->delimiter(',');
     app.add_option("--structures", o.structures, "structures")->delimiter(',');
     app.add_option("--paths", o.paths, "arbor paths: scalar, single, packet, best")->delimiter(',');
     app.add_option("--widths", o.widths, "BVH widths (0 = default)")->delimiter(',');
@@ -347,7 +306,7 @@ int main(int argc, char** argv) {
         for (int i = 1; i < argc; ++i) cmd += std::string(" ") + argv[i];
         const std::string load_before = load_average();
         const accel::Timer total;
-        std::vector<Row> rows;
+        std::vector<perf::PathsRow> rows;
         std::vector<LayoutRow> layouts;
         for (const std::string& scene : o.scenes) run_scene(o, scene, rows, layouts);
         std::ostringstream head;
@@ -364,7 +323,7 @@ int main(int argc, char** argv) {
             lay << "| " << l.scene << " | " << l.triangles << " | " << l.structure << " | " << l.width << " | " << l.nodes << " | "
                 << l.leaves << " | " << fmt("%.1f", l.wide_bytes_per_tri) << " | " << fmt("%.1f", l.all_bytes_per_tri) << " | "
                 << fmt("%.1f", l.build_ms) << " |\n";
-        const std::string table = head.str() + report(o, rows) + lay.str();
+        const std::string table = head.str() + perf::paths_report(rows, o.brute_sample) + (o.views.empty() ? std::string() : "\n" + perf::paths_distribution(rows, o.brute_sample)) + lay.str();
         std::fputs(table.c_str(), stdout);
         if (!o.out.empty()) std::ofstream(o.out) << table;
         return 0;

@@ -147,6 +147,8 @@ void inject_test_fault(int rank, long tiles_done) {
     if (fault.kind == "abort") std::abort();
     if (fault.kind == "segv") std::raise(SIGSEGV);
     if (fault.kind == "kill") std::raise(SIGKILL);
+    if (fault.kind == "term") std::raise(SIGTERM);                    // as a user's `kill PID` would
+    if (fault.kind == "term-guardian") ::kill(::getppid(), SIGTERM);  // a `kill` of the rank's guardian
     if (fault.kind == "throw") throw std::runtime_error("test fault after " + std::to_string(tiles_done) + " tiles");
     if (fault.kind == "oom") throw std::bad_alloc();
 }

@@ -1,11 +1,14 @@
-/// `arbor rays --scene MODEL.obj --kind primary|shadow|diffuse|random --count N -o OUT.rays
-///  [--seed S] [--order tiles|rows] [--accel NAME] [--threads N] [--json]`: writes the rays of
-/// engine/ray_gen.h to a .rays file (spec/rayfile.md), so any tracer can be fed the same rays.
+/// `arbor rays --scene MODEL.obj|builtin:NAME --kind primary|shadow|diffuse|random --count N -o OUT.rays
+///  [--seed S] [--view-seed V] [--order tiles|rows] [--accel NAME] [--threads N] [--json]`: writes the
+/// rays of engine/ray_gen.h to a .rays file (spec/rayfile.md), so any tracer can be fed the same
+/// rays. --view-seed moves the camera and the light (engine/ray_views.h: held-out rays).
 #include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
+#include "engine/builtin_scenes.h"
 #include "engine/obj_loader.h"
 #include "engine/ray_gen.h"
+#include "engine/ray_views.h"
 #include "engine/rayfile.h"
 
 #include <cstdio>
@@ -18,7 +21,7 @@ namespace {
 struct RaysOptions {
     std::string scene, kind = "primary", out, order = "tiles", accel;
     std::size_t count = 0;
-    std::uint64_t seed = 1;
+    std::uint64_t seed = 1, view_seed = 0;
     int threads = 0;
     bool json = false;
 };
@@ -30,13 +33,17 @@ int run_rays(const RaysOptions& o) {
     const auto limit = limit_threads(o.threads);
     const accel::Timer timer;
     engine::Warnings warnings;
-    const engine::Scene scene = engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
+    const bool builtin = engine::is_builtin_scene(o.scene);
+    const engine::Scene scene = builtin ? engine::make_builtin_scene(o.scene)
+                                        : engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
     engine::RayGenConfig cfg;
     cfg.kind = *engine::parse_ray_kind(o.kind);
     cfg.order = *engine::parse_pixel_order(o.order);
     cfg.count = o.count;
     cfg.seed = o.seed;
-    const engine::RayGenScene gen = engine::ray_gen_scene(scene);
+    // A builtin scene is seen through its own camera (the Cornell box from inside), a model framed.
+    engine::RayGenScene gen = engine::ray_gen_scene(scene, builtin);
+    if (o.view_seed != 0) engine::place_seeded_view(gen, scene, o.view_seed, builtin);
 
     std::unique_ptr<accel::Accel> tracer;
     if (cfg.kind == engine::RayKind::shadow || cfg.kind == engine::RayKind::diffuse) {
@@ -56,6 +63,13 @@ int run_rays(const RaysOptions& o) {
         j["order"] = o.order;
         j["rays"] = rays.size();
         j["seed"] = o.seed;
+        j["view_seed"] = o.view_seed;
+        if (gen.camera) {
+            j["eye"] = {gen.camera->eye.x, gen.camera->eye.y, gen.camera->eye.z};
+            j["look_at"] = {gen.camera->look_at.x, gen.camera->look_at.y, gen.camera->look_at.z};
+            j["vfov"] = gen.camera->vfov_degrees;
+        }
+        j["light"] = {gen.light.x, gen.light.y, gen.light.z};
         j["triangles"] = scene.mesh.triangle_count();
         if (tracer) j["tracer"] = accel::to_string(tracer->kind());
         j["ms"] = timer.ms();
@@ -72,7 +86,7 @@ int run_rays(const RaysOptions& o) {
 
 Run add_rays(CLI::App& cmd) {
     auto o = std::make_shared<RaysOptions>();
-    cmd.add_option("--scene", o->scene, "OBJ file")->required();
+    cmd.add_option("--scene", o->scene, "OBJ file or builtin:NAME")->required();
     cmd.add_option("--kind", o->kind, "primary, shadow, diffuse or random")
         ->check([](const std::string& v) -> std::string {
             return engine::parse_ray_kind(v) ? std::string()
@@ -82,6 +96,10 @@ Run add_rays(CLI::App& cmd) {
     cmd.add_option("--count", o->count, "number of rays")->required()->check(CLI::Range(std::size_t(1), max_count));
     cmd.add_option("-o,--out", o->out, "output .rays file")->required();
     cmd.add_option("--seed", o->seed, "random seed (same seed, same rays)")->capture_default_str();
+    cmd.add_option("--view-seed", o->view_seed,
+                   "0: the framed camera and the scene's light (the benchmark's rays); else a camera and light "
+                   "placed from this seed (held-out rays, engine/ray_views.h)")
+        ->capture_default_str();
     cmd.add_option("--order", o->order, "pixel order of primary rays: tiles (8x8, as a renderer) or rows")
         ->check([](const std::string& v) -> std::string {
             return engine::parse_pixel_order(v) ? std::string() : "unknown order '" + v + "' (expected tiles or rows)";

@@ -1,9 +1,10 @@
-/// `arbor trace --scene MODEL.obj --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
+/// `arbor trace --scene MODEL.obj|builtin:NAME --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
 ///  [--leaf-size N] [--sah-bins N] [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
 #include "accel/util/timer.h"
 #include "accel/trace.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
+#include "engine/builtin_scenes.h"
 #include "engine/log.h"
 #include "engine/obj_loader.h"
 #include "engine/rayfile.h"
@@ -28,7 +29,8 @@ struct TraceOptions {
 int run_trace(const TraceOptions& o) {
     const auto limit = limit_threads(o.threads);
     engine::Warnings warnings;
-    const engine::Mesh mesh = engine::load_obj(o.scene, warnings, o.build.max_memory);
+    const engine::Mesh mesh = engine::is_builtin_scene(o.scene) ? engine::make_builtin_scene(o.scene).mesh
+                                                                : engine::load_obj(o.scene, warnings, o.build.max_memory);
     const std::vector<accel::Ray> rays = engine::read_rays(o.rays, o.build.max_memory);
     // Only the layout the path reads is built (the path policy says which).
     const auto asked = *accel::parse_trace_path(o.path);
@@ -109,7 +111,7 @@ int run_trace(const TraceOptions& o) {
 
 Run add_trace(CLI::App& cmd) {
     auto o = std::make_shared<TraceOptions>();
-    cmd.add_option("--scene", o->scene, "OBJ file")->required();
+    cmd.add_option("--scene", o->scene, "OBJ file or builtin:NAME")->required();
     cmd.add_option("--rays", o->rays, ".rays file (spec/rayfile.md)")->required();
     cmd.add_option("--hits", o->hits, "write the answers to this .hits file");
     add_accel_option(cmd, o->accel)->capture_default_str();

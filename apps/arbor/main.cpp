@@ -5,6 +5,7 @@
 #include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
+#include "apps/arbor/rank_guardian.h"
 #include "accel/core/memory_estimate.h"
 #include "engine/error.h"
 #include "mpi/launcher.h"
@@ -52,6 +53,7 @@ int failure(int code, const std::string& what) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    arbor::app::guard_rank();  // under a launcher: the rank goes on in a child, before any thread exists
     CLI::App app{"arbor: CPU ray tracing with comparable acceleration structures"};
     app.require_subcommand(1);
     app.set_help_all_flag("--help-all", "all subcommands' options");

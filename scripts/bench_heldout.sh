@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# arbor against Embree on HELD-OUT rays: rays the benchmark files were never tuned on
+# (perf/README.md, "Held-out rays"):
+#   [REPEATS=5] [MIN_MS=40] [RAYS=131072] [STRUCTURES=bvh-sah,lbvh] [SCENES="..."] [VIEWS="..."] \
+#       scripts/bench_heldout.sh [OUT.md] [bench_paths options...]
+# For every shared model and the builtin scenes `default` and `cornell`, three views fixed in
+# advance (view seeds 2027, 4093, 7919: camera and light placed by engine/ray_views.h; the
+# benchmark's files use the one framed camera and seed 1) and the four ray kinds (primary, shadow
+# with unnormalized directions and tfar just short of the light, cosine diffuse bounces, random),
+# ray seed 100 + view seed, are written with `arbor rays --view-seed` into $ARBOR_RAYS_DIR (default
+# build/rays-heldout); then bench_paths times each structure's SIMD paths beside Embree's four calls
+# (coherent flag on primary and shadow), 2 threads, median of REPEATS, round-robin, and reports per
+# ray kind and structure the distribution over all cells of arbor / Embree's fastest call with the
+# errors against the scalar path, brute and Embree. Do not tune on these rays: tune on
+# scripts/bench_vs_embree.sh's files, report on these. The table goes to OUT.md (default
+# perf/results/heldout-DATE.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-perf/results/heldout-$(date +%Y-%m-%d).md}
+[ $# -gt 0 ] && shift
+rays=${RAYS:-131072}
+dir=${ARBOR_RAYS_DIR:-build/rays-heldout}
+models=${ARBOR_MODELS:-../shared/scenes/models}
+views=${VIEWS:-"2027 4093 7919"}
+structures=${STRUCTURES:-bvh-sah,lbvh}
+if [ -z "${SCENES:-}" ]; then
+  [ -d "$models" ] || { echo "bench_heldout.sh: no models folder $models (set ARBOR_MODELS)" >&2; exit 1; }
+  SCENES="$(cd "$models" && ls *.obj | sed 's/\.obj$//' | tr '\n' ' ') builtin:default builtin:cornell"
+fi
+mkdir -p "$dir" "$(dirname "$out")"
+
+cmake --preset release >/dev/null
+cmake --build --preset release -j2 --target arbor bench_paths >/dev/null
+
+arbor=build/release/apps/arbor/arbor
+for scene in $SCENES; do
+  case $scene in builtin:*) src=$scene ;; *) src="$models/$scene.obj" ;; esac
+  stem=${scene//:/-}
+  for v in $views; do
+    for kind in primary shadow diffuse random; do
+      f="$dir/$stem-v$v-$kind.rays"
+      [ -f "$f" ] || ARBOR_SHARED_SCENES=$(dirname "$models") $arbor rays --scene "$src" --kind $kind --count "$rays" \
+        --view-seed "$v" --seed $((100 + v)) -o "$f" >/dev/null
+    done
+  done
+done
+
+view_list=$(for v in $views; do printf 'v%s,' "$v"; done); view_list=${view_list%,}
+scene_list=$(echo $SCENES | tr ' ' ','); 
+{
+  echo "# arbor vs Embree on held-out rays ($(date +%Y-%m-%d))"
+  echo
+  echo "- machine: $(lscpu | sed -n 's/^Model name:\s*//p'), $(nproc) hardware threads; $(c++ --version | head -1); git $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
+  echo "- rays: $rays per file: \`arbor rays --scene SCENE --kind KIND --count $rays --view-seed V --seed 100+V\` for V in $views (8x8 tile order); scenes: $SCENES"
+  ARBOR_SHARED_SCENES=$(dirname "$models") build/release/perf/bench_paths --rays "$dir" --models "$models" --scenes "$scene_list" \
+    --views "$view_list" --structures "$structures" --paths single,packet,best --threads 2 \
+    --repeats "${REPEATS:-5}" --min-ms "${MIN_MS:-40}" "$@"
+} >"$out.tmp"
+mv "$out.tmp" "$out"
+echo "report: $out"
