@@ -16,8 +16,10 @@ struct Camera {
     void prepare(int width, int height);
     /// Primary ray through image point (px, py) in pixels (e.g. x + 0.5 for the pixel centre).
     accel::Ray ray(float px, float py) const;
-    /// A camera that frames `b` from the front-right-above, whole box in view.
-    static Camera framing(const accel::Bounds& b, float vfov_degrees = 40.0f);
+    /// A camera that frames `b` from the front-right-above, whole box in view. "Above" is along
+    /// `up` (default +y): the view direction used for +y up is turned by the smallest rotation
+    /// taking +y to `up`, so a Z-up scan framed with up = (0, 0, 1) is seen from -y, upright.
+    static Camera framing(const accel::Bounds& b, float vfov_degrees = 40.0f, Vec3f up = {0, 1, 0});
 
 private:
     Vec3f origin_, corner_, du_, dv_;  // corner_ = direction to pixel (0,0); du_/dv_ per pixel

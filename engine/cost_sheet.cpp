@@ -21,17 +21,14 @@ std::string format(const char* fmt, double v) {
     return buf;
 }
 
-/// The value below which 99.5% of the pixels of channel c over all panels lie.
-double percentile995(std::span<const CostPanel> panels, int c) {
-    std::vector<float> v;
-    for (const CostPanel& p : panels) v.insert(v.end(), p.image->planes[std::size_t(c)].begin(), p.image->planes[std::size_t(c)].end());
-    if (v.empty()) return 0.0;
+}  // namespace
+
+double cost_scale_top(std::vector<float> v) {
+    if (v.empty()) return round_scale(0.0);
     const std::size_t k = std::min(v.size() - 1, std::size_t(0.995 * double(v.size())));
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-    return v[k];
+    return round_scale(v[k]);
 }
-
-}  // namespace
 
 CostSummary summarize_cost(const Image& cost) {
     const int n = cost.channel("nodes"), t = cost.channel("tris");
@@ -89,7 +86,9 @@ RgbImage cost_sheet(std::span<const CostPanel> panels) {
     for (const CostPanel& p : panels) summaries.push_back(summarize_cost(*p.image));
     for (int row = 0; row < 2; ++row) {
         const int c = panels[0].image->channel(quantity[row]);
-        const double top = round_scale(percentile995(panels, c));
+        std::vector<float> values;
+        for (const CostPanel& p : panels) values.insert(values.end(), p.image->planes[std::size_t(c)].begin(), p.image->planes[std::size_t(c)].end());
+        const double top = cost_scale_top(std::move(values));
         draw_text(img, L.pad, L.title_y(row), cost_row_title(row), L.scale, ink);
         bool saturated = false;
         for (std::size_t i = 0; i < panels.size(); ++i) {

@@ -13,6 +13,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 namespace arbor::engine {
 
@@ -52,6 +53,9 @@ struct CostSheetLayout {
 /// The upper end of a row's scale: the smallest of 1, 1.2, 1.6, 2, 2.4, 3, 4, 5, 6, 8 times a power
 /// of ten at or above `value` (1 for value <= 0); its quarters are round numbers too.
 double round_scale(double value);
+
+/// The top of the colour scale for these values: round_scale of their 99.5th percentile.
+double cost_scale_top(std::vector<float> values);
 
 /// The sheet of `panels` (all the same size, at least one).
 RgbImage cost_sheet(std::span<const CostPanel> panels);

@@ -1,6 +1,7 @@
 #include "engine/integrator.h"
 
 #include "engine/hit_geometry.h"
+#include "engine/shading.h"
 
 #include "accel/core/offset_ray.h"
 
@@ -56,14 +57,29 @@ void camera_batch(const RenderContext& ctx, const Tile& tile, int s0, int s1, st
 
 Surface surface_at(const RenderContext& ctx, const Ray& ray, const Hit& hit) {
     Surface s;
-    const HitGeometry g = hit_geometry(ctx.scene.mesh.view(), ray, hit, ctx.plan.position);
+    const RenderPlan& plan = ctx.plan;
+    const Mesh& mesh = ctx.scene.mesh;
+    const HitGeometry g = hit_geometry(mesh.view(), ray, hit, plan.position);
     if (!g.valid) return s;  // zero-area or overflowing: ignore the hit
-    s.normal = g.normal;
+    s.normal = s.shading = g.normal;
     s.position = g.position;
     s.scale = g.scale;
     s.material = &ctx.material(hit.prim);
+    s.albedo = s.material->diffuse;
+    const Barycentrics b = barycentrics(hit.u, hit.v);
+    if (plan.vertex_normals) s.shading = shading_normal(mesh, hit.prim, b, g.normal);
+    if (plan.textures || plan.vertex_colors) s.albedo = albedo_at(mesh, *s.material, hit.prim, b, plan.textures, plan.vertex_colors);
+    if (plan.position) {
+        const Vec3f from = plan.vertex_normals ? terminator_point(mesh, hit.prim, b, g.position, g.normal) : g.position;
+        s.origin = accel::offset_ray_origin(from, g.normal, g.scale);
+    }
     s.valid = true;
     return s;
+}
+
+Vec3f mirror_direction(const Surface& s, const Vec3f& dir) {
+    const Vec3f r = dir - s.shading * (2.0f * dot(dir, s.shading));
+    return dot(r, s.normal) > 0.0f ? r : dir - s.normal * (2.0f * dot(dir, s.normal));
 }
 
 void record_layers(const RenderContext& ctx, TileFilm& film, std::uint32_t pixel, const Hit& hit, const Surface& s) {
@@ -71,8 +87,8 @@ void record_layers(const RenderContext& ctx, TileFilm& film, std::uint32_t pixel
     // The camera's ray direction has a unit component along the view axis, so t is the
     // camera-space depth.
     if (l.depth) film.depth[pixel] = std::min(film.depth[pixel], hit.t);
-    if (l.normal) film.normal[pixel] += s.normal;
-    if (l.albedo) film.albedo[pixel] += s.material->diffuse;
+    if (l.normal) film.normal[pixel] += s.shading;
+    if (l.albedo) film.albedo[pixel] += s.albedo;
 }
 
 void ShadowBatch::resolve(Tracer& tracer, TileFilm& film) {
@@ -84,14 +100,13 @@ void ShadowBatch::resolve(Tracer& tracer, TileFilm& film) {
 
 void sample_direct_light(const RenderContext& ctx, const Surface& s, const Vec3f& weight, PathState& path,
                          ShadowBatch& shadows) {
-    const Material& m = *s.material;
-    if (is_black(m.diffuse)) return;
-    const Vec3f f = m.diffuse * weight * (1.0f / std::numbers::pi_v<float>);
-    const Vec3f origin = accel::offset_ray_origin(s.position, s.normal, s.scale);
+    if (is_black(s.albedo)) return;
+    const Vec3f f = s.albedo * weight * (1.0f / std::numbers::pi_v<float>);
+    const Vec3f origin = s.origin;
     if (ctx.plan.point_shadows) {
         for (const PointLight& light : ctx.lights.points()) {
             const Vec3f to = light.position - origin;
-            const float dn = dot(s.normal, to);
+            const float dn = dot(s.shading, to);
             if (!(dn > 0.0f)) continue;  // behind the surface: no shadow ray needed
             const float d2 = dot(to, to);
             shadows.add({origin, 0.0f, to, 1.0f}, path.pixel, f * light.intensity * (dn / (d2 * std::sqrt(d2))));
@@ -105,9 +120,16 @@ void sample_direct_light(const RenderContext& ctx, const Surface& s, const Vec3f
         const Vec3f to = accel::offset_ray_origin(a.point, nl, a.scale) - origin;
         const float d2 = dot(to, to);
         const float d = std::sqrt(d2);
-        const float cos_s = dot(s.normal, to) / d, cos_l = dot(nl, to) / -d;
+        const float cos_s = dot(s.shading, to) / d, cos_l = dot(nl, to) / -d;
         if (cos_s > 0.0f && cos_l > 0.0f && a.pdf_area > 0.0f && d2 > 0.0f)
             shadows.add({origin, 0.0f, to, 1.0f}, path.pixel, f * a.radiance * (cos_s * cos_l / (d2 * a.pdf_area)));
+    }
+    if (ctx.plan.sky_shadows) {
+        // Cosine-weighted: the density cos/pi cancels the BRDF's 1/pi and the cosine, leaving
+        // albedo x sky for every ray that escapes.
+        const float u1 = path.rng.next(), u2 = path.rng.next();
+        const Vec3f d = above_surface(cosine_hemisphere(s.shading, u1, u2), s.normal);
+        shadows.add({origin, 0.0f, d, std::numeric_limits<float>::infinity()}, path.pixel, s.albedo * weight * ctx.scene.background);
     }
 }
 

@@ -69,10 +69,13 @@ void camera_batch(const RenderContext& ctx, const Tile& tile, int s0, int s1, st
 int samples_per_pass(const Tile& tile, int spp);
 
 /// The surface seen by a hit: position (when the plan needs it), unit geometric normal turned
-/// against the ray, and material.
+/// against the ray, shading normal, albedo and material (engine/shading.h).
 struct Surface {
     Vec3f position{0.0f};
-    Vec3f normal{0.0f, 0.0f, 1.0f};
+    Vec3f normal{0.0f, 0.0f, 1.0f};   ///< geometric, facing the ray: offsets and the side rays leave on
+    Vec3f shading{0.0f, 0.0f, 1.0f};  ///< for cosines and scattering (= normal without vertex normals)
+    Vec3f albedo{0.0f};               ///< diffuse reflectance here (material x texture x vertex colour)
+    Vec3f origin{0.0f};               ///< where secondary rays start (offset; Hanika's point with vertex normals)
     float scale = 0.0f;  ///< accel::triangle_scale of the hit triangle (for offset_ray_origin)
     const Material* material = nullptr;
     bool valid = false;  ///< false for zero-area triangles (the hit is then ignored)
@@ -99,11 +102,15 @@ struct ShadowBatch {
     void resolve(Tracer& tracer, TileFilm& film);
 };
 
-/// Direct light at a diffuse surface point (Kd > 0): one shadow ray per point light and one to a
-/// point on an area light drawn by power (next-event estimation), as the plan allows.
-/// `weight` multiplies every contribution (the path throughput).
+/// Direct light at a diffuse surface point (albedo > 0): one shadow ray per point light, one to a
+/// point on an area light drawn by power (next-event estimation) and one cosine-weighted ray to
+/// the sky, as the plan allows. `weight` multiplies every contribution (the path throughput).
 void sample_direct_light(const RenderContext& ctx, const Surface& s, const Vec3f& weight, PathState& path,
                          ShadowBatch& shadows);
+
+/// The perfect mirror direction of `dir` about the shading normal, or about the geometric normal
+/// when the first would go below the surface.
+Vec3f mirror_direction(const Surface& s, const Vec3f& dir);
 
 class Integrator {
 public:

@@ -4,7 +4,6 @@
 /// material with both a diffuse and a mirror lobe gets both.
 #include "engine/integrator.h"
 
-#include "accel/core/offset_ray.h"
 
 namespace arbor::engine {
 
@@ -42,9 +41,7 @@ public:
                     if (plan.emission) film.color[path.pixel] += path.throughput * m.emission;
                     if (plan.shadows()) sample_direct_light(ctx, s, path.throughput, path, shadows);
                     if (plan.mirror && depth < plan.depth && !is_black(m.mirror)) {
-                        const Vec3f d = rays[i].dir - s.normal * (2.0f * dot(rays[i].dir, s.normal));
-                        next_rays.push_back({accel::offset_ray_origin(s.position, s.normal, s.scale), 0.0f, d,
-                                             std::numeric_limits<float>::infinity()});
+                        next_rays.push_back({s.origin, 0.0f, mirror_direction(s, rays[i].dir), std::numeric_limits<float>::infinity()});
                         PathState next = path;
                         next.throughput = path.throughput * m.mirror;
                         next_paths.push_back(next);

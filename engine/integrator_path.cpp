@@ -7,7 +7,7 @@
 /// Misses see the background (an environment that is never sampled directly, so always counted).
 #include "engine/integrator.h"
 
-#include "accel/core/offset_ray.h"
+#include "engine/shading.h"
 
 namespace arbor::engine {
 
@@ -60,7 +60,10 @@ private:
                       std::vector<PathState>& diffuse_paths) {
         const RenderPlan& plan = ctx.plan;
         if (!hit.is_hit()) {
-            if (plan.background) film.color[path.pixel] += path.throughput * ctx.scene.background;
+            // With the sky sampled by shadow rays (next-event estimation), a diffuse bounce that
+            // escapes was already counted there.
+            if (plan.background && (path.specular || !plan.sky_shadows))
+                film.color[path.pixel] += path.throughput * ctx.scene.background;
             return;
         }
         const Surface s = surface_at(ctx, ray, hit);
@@ -71,7 +74,7 @@ private:
         if (plan.shadows()) sample_direct_light(ctx, s, path.throughput, path, shadows);
         if (depth >= plan.depth) return;
         // Pick the continuation: mirror with probability p_mirror, diffuse otherwise.
-        const float wm = plan.mirror ? mean(m.mirror) : 0.0f, wd = plan.diffuse ? mean(m.diffuse) : 0.0f;
+        const float wm = plan.mirror ? mean(m.mirror) : 0.0f, wd = plan.diffuse ? mean(s.albedo) : 0.0f;
         if (!(wm + wd > 0.0f)) return;
         const float p_mirror = wm / (wm + wd);
         const bool mirror = path.rng.next() < p_mirror;
@@ -80,11 +83,11 @@ private:
         Vec3f dir;
         if (mirror) {
             next.throughput = path.throughput * m.mirror * (1.0f / p_mirror);
-            dir = ray.dir - s.normal * (2.0f * dot(ray.dir, s.normal));
+            dir = mirror_direction(s, ray.dir);
         } else {
-            next.throughput = path.throughput * m.diffuse * (1.0f / (1.0f - p_mirror));
+            next.throughput = path.throughput * s.albedo * (1.0f / (1.0f - p_mirror));
             const float u1 = path.rng.next(), u2 = path.rng.next();
-            dir = cosine_hemisphere(s.normal, u1, u2);
+            dir = above_surface(cosine_hemisphere(s.shading, u1, u2), s.normal);
         }
         next.specular = mirror;
         // Russian roulette: survive with probability q, the throughput's largest component.
@@ -94,8 +97,7 @@ private:
             next.throughput = next.throughput * (1.0f / q);
         }
         next.rng = path.rng;  // after every draw of this vertex, so the next vertex gets fresh dimensions
-        const accel::Ray r{accel::offset_ray_origin(s.position, s.normal, s.scale), 0.0f, dir,
-                           std::numeric_limits<float>::infinity()};
+        const accel::Ray r{s.origin, 0.0f, dir, std::numeric_limits<float>::infinity()};
         if (mirror) {
             mirror_rays.push_back(r);
             mirror_paths.push_back(next);

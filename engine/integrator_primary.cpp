@@ -26,8 +26,8 @@ public:
                 }
                 const Surface s = surface_at(ctx, rays[i], hits[i]);
                 if (!s.valid) continue;
-                const float cos = std::fabs(simd::dot(s.normal, rays[i].dir)) / simd::length(rays[i].dir);
-                film.color[px] += s.material->diffuse * cos;
+                const float cos = std::fabs(simd::dot(s.shading, rays[i].dir)) / simd::length(rays[i].dir);
+                film.color[px] += s.albedo * cos;
                 record_layers(ctx, film, px, hits[i], s);
             }
         }

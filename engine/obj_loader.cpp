@@ -3,10 +3,13 @@
 #include "engine/error.h"
 #include "engine/file_io.h"
 #include "engine/memory_budget.h"
+#include "engine/polygon.h"
 
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <charconv>
 #include <filesystem>
 #include <cmath>
@@ -40,6 +43,7 @@ public:
     bool is_unterminated_last(std::size_t number) const {
         return number == starts_.size() && !text_.empty() && text_.back() != '\n' && text_.back() != '\r';
     }
+    std::size_t count() const { return starts_.size(); }
     std::string_view line(std::size_t number) const {
         const std::size_t b = starts_[number - 1];
         std::size_t e = number < starts_.size() ? starts_[number] : text_.size();
@@ -65,7 +69,14 @@ std::vector<std::string_view> split_ws(std::string_view s) {
     return out;
 }
 
+/// A leading '+' before a digit or '.', which C's strtod accepts and from_chars does not.
+std::string_view drop_plus(std::string_view s) {
+    if (s.size() >= 2 && s[0] == '+' && (std::isdigit(static_cast<unsigned char>(s[1])) || s[1] == '.')) s.remove_prefix(1);
+    return s;
+}
+
 std::optional<long long> parse_int(std::string_view s) {
+    s = drop_plus(s);
     long long v = 0;
     const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
     if (ec != std::errc() || p != s.data() + s.size()) return std::nullopt;
@@ -79,7 +90,11 @@ struct State {
     Mesh mesh;
     Warnings* warnings = nullptr;
     std::uint32_t current_material = 0;
-    std::vector<std::uint32_t> face;  // scratch
+    std::string base_dir;  // where map_Kd textures are looked for
+    std::size_t dangling_uv = 0, dangling_normal = 0;  // corners whose vt / vn index is out of range
+    std::vector<std::uint32_t> face, face_uv, face_normal;  // scratch: one face's corners
+    std::vector<Vec3f> corners;                             // scratch: their positions
+    std::vector<std::array<std::uint32_t, 3>> triangles;    // scratch: the face cut into triangles
     std::optional<InputError> error;  // first error; later callbacks do nothing
 
     std::size_t current_line() const { return lines->line_before(stream->tellg()); }
@@ -94,6 +109,29 @@ struct State {
     }
 };
 
+/// Parses tokens [first, first + n) of `line` as finite floats into `out`; false after recording the
+/// problem (`what`: "vertex coordinate", "normal component", ...).
+bool parse_floats(State& s, std::size_t line, const std::vector<std::string_view>& tokens, std::size_t first,
+                  std::size_t n, float* out, const char* what) {
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::string_view t = drop_plus(tokens[first + k]);
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), out[k]);
+        if (ec == std::errc::result_out_of_range) {
+            s.fail(line, std::string(what) + " '" + std::string(tokens[first + k]) + "' is out of float range");
+            return false;
+        }
+        if (ec != std::errc() || end != t.data() + t.size()) {
+            s.fail(line, "malformed " + std::string(what) + " '" + std::string(tokens[first + k]) + "'");
+            return false;
+        }
+        if (!std::isfinite(out[k])) {
+            s.fail(line, std::string(what) + " is not finite (" + std::string(tokens[first + k]) + ")");
+            return false;
+        }
+    }
+    return true;
+}
+
 void on_vertex(void* user, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t) {
     auto& s = *static_cast<State*>(user);
     if (s.error) return;
@@ -102,23 +140,76 @@ void on_vertex(void* user, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t, ti
     // tokens[0] is "v"; x y z are required, w or r g b may follow.
     if (tokens.size() < 4) return s.fail(line, "vertex needs 3 coordinates");
     float p[3];
-    for (int k = 0; k < 3; ++k) {
-        const std::string_view t = tokens[1 + k];
-        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), p[k]);
-        if (ec == std::errc::result_out_of_range) return s.fail(line, "vertex coordinate '" + std::string(t) + "' is out of float range");
-        if (ec != std::errc() || end != t.data() + t.size())
-            return s.fail(line, "malformed vertex coordinate '" + std::string(t) + "'");
-        if (!std::isfinite(p[k])) return s.fail(line, "vertex coordinate is not finite (" + std::string(t) + ")");
-    }
+    if (!parse_floats(s, line, tokens, 1, 3, p, "vertex coordinate")) return;
     s.mesh.add_vertex({p[0], p[1], p[2]});
+    // "v x y z r g b": a vertex colour (a common extension); colours that do not parse are ignored.
+    if (tokens.size() == 7) {
+        float c[3];
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; ++k) {
+            const std::string_view t = drop_plus(tokens[4 + std::size_t(k)]);
+            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), c[k]);
+            ok = ec == std::errc() && end == t.data() + t.size() && std::isfinite(c[k]);
+        }
+        if (ok) {
+            s.mesh.colors.resize(s.mesh.vertex_count() - 1, Vec3f{1.0f});
+            s.mesh.colors.push_back({std::clamp(c[0], 0.0f, 1.0f), std::clamp(c[1], 0.0f, 1.0f), std::clamp(c[2], 0.0f, 1.0f)});
+        }
+    }
 }
 
-/// Resolves an OBJ position index (1-based; negative counts back from the last vertex read).
+void on_normal(void* user, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t) {
+    auto& s = *static_cast<State*>(user);
+    if (s.error) return;
+    const std::size_t line = s.current_line();
+    const auto tokens = split_ws(s.lines->line(line));
+    if (tokens.size() < 4) return s.fail(line, "normal needs 3 components");
+    float n[3];
+    if (!parse_floats(s, line, tokens, 1, 3, n, "normal component")) return;
+    // Zero-length normals stay zero: the corner falls back to the flat normal when shading.
+    const Vec3f v{n[0], n[1], n[2]};
+    const float len = simd::length(v);
+    s.mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? v / len : Vec3f{0.0f});
+}
+
+void on_texcoord(void* user, tinyobj::real_t, tinyobj::real_t, tinyobj::real_t) {
+    auto& s = *static_cast<State*>(user);
+    if (s.error) return;
+    const std::size_t line = s.current_line();
+    const auto tokens = split_ws(s.lines->line(line));
+    if (tokens.size() < 2) return s.fail(line, "texture coordinate needs at least u");
+    float t[2] = {0.0f, 0.0f};
+    if (!parse_floats(s, line, tokens, 1, std::min<std::size_t>(2, tokens.size() - 1), t, "texture coordinate")) return;
+    s.mesh.uvs.push_back({t[0], t[1]});
+}
+
+/// Resolves an OBJ index (1-based; negative counts back from the last one read).
 std::optional<std::uint32_t> resolve_index(long long idx, std::size_t vertex_count) {
     const long long n = static_cast<long long>(vertex_count);
     long long i = idx > 0 ? idx - 1 : n + idx;
     if (idx == 0 || i < 0 || i >= n) return std::nullopt;
     return std::uint32_t(i);
+}
+
+/// Resolves corner part `part` (1: texture coordinate, 2: normal) of face token `tok` against the
+/// `count` such items read so far. A malformed part is an error; an index out of range only drops
+/// the attribute (counted in `dangling`, one warning per file): other readers accept such files,
+/// and the corner still has its position.
+bool resolve_part(State& s, std::size_t line, std::string_view tok, std::string_view text, std::size_t count,
+                  std::size_t& dangling, std::vector<std::uint32_t>& out) {
+    if (text.empty()) {
+        out.push_back(no_attribute);
+        return true;
+    }
+    const auto v = parse_int(text);
+    if (!v) {
+        s.fail(line, "malformed face token '" + std::string(tok) + "'");
+        return false;
+    }
+    const auto idx = resolve_index(*v, count);
+    if (!idx) ++dangling;
+    out.push_back(idx ? *idx : no_attribute);
+    return true;
 }
 
 void on_face(void* user, tinyobj::index_t*, int) {
@@ -127,6 +218,8 @@ void on_face(void* user, tinyobj::index_t*, int) {
     const std::size_t line = s.current_line();
     const auto tokens = split_ws(s.lines->line(line));
     s.face.clear();
+    s.face_uv.clear();
+    s.face_normal.clear();
     for (std::size_t k = 1; k < tokens.size(); ++k) {
         const std::string_view tok = tokens[k];
         // v, v/vt, v//vn or v/vt/vn: every part present must be an integer.
@@ -150,13 +243,27 @@ void on_face(void* user, tinyobj::index_t*, int) {
             return s.fail(line, "face index " + std::to_string(*v) + " is out of range (" +
                                     std::to_string(s.mesh.vertex_count()) + " vertices defined so far)");
         s.face.push_back(*idx);
+        if (!resolve_part(s, line, tok, nparts > 1 ? parts[1] : std::string_view(), s.mesh.uvs.size(), s.dangling_uv, s.face_uv) ||
+            !resolve_part(s, line, tok, nparts > 2 ? parts[2] : std::string_view(), s.mesh.normals.size(), s.dangling_normal,
+                          s.face_normal))
+            return;
     }
     if (s.face.size() < 3) {
         s.warnings->add(s.name + ":" + std::to_string(line) + ": face with fewer than 3 vertices skipped");
         return;
     }
-    for (std::size_t k = 1; k + 1 < s.face.size(); ++k)
-        s.mesh.add_triangle(s.face[0], s.face[k], s.face[k + 1], s.current_material);
+    s.corners.clear();
+    for (std::uint32_t i : s.face) s.corners.push_back({s.mesh.x[i], s.mesh.y[i], s.mesh.z[i]});
+    s.triangles.clear();
+    triangulate_polygon(s.corners, s.triangles);
+    for (const auto& t : s.triangles) {
+        CornerAttributes attr;
+        for (int c = 0; c < 3; ++c) {
+            attr.normal[c] = s.face_normal[t[std::size_t(c)]];
+            attr.uv[c] = s.face_uv[t[std::size_t(c)]];
+        }
+        s.mesh.add_triangle(s.face[t[0]], s.face[t[1]], s.face[t[2]], s.current_material, attr);
+    }
 }
 
 Vec3f to_vec(const tinyobj::real_t* c) { return {float(c[0]), float(c[1]), float(c[2])}; }
@@ -185,6 +292,15 @@ void on_mtllib(void* user, const tinyobj::material_t* mats, int n) {
         m.emission = to_vec(mats[i].emission);
         // illum 3..7 turn ray-traced reflection on: Ks is then the mirror reflectance.
         if (mats[i].illum >= 3 && mats[i].illum <= 7) m.mirror = to_vec(mats[i].specular);
+        if (!mats[i].diffuse_texname.empty()) {
+            // map_Kd: a missing or undecodable image leaves the material untextured, with a warning.
+            try {
+                s.mesh.textures.push_back(load_texture(s.base_dir + mats[i].diffuse_texname));
+                m.diffuse_texture = int(s.mesh.textures.size() - 1);
+            } catch (const InputError& e) {
+                s.warnings->add(s.name + ": material '" + m.name + "': texture not used: " + e.what());
+            }
+        }
         bool clamped = clamp_colour(m.diffuse, 1.0f);
         clamped |= clamp_colour(m.mirror, 1.0f);
         clamped |= clamp_colour(m.emission, std::numeric_limits<float>::max());
@@ -203,6 +319,15 @@ void on_usemtl(void* user, const char*, int material_id) {
                              : 0;
 }
 
+/// True when some line is a point ("p") or line ("l") element.
+bool holds_points_or_lines(const Lines& lines) {
+    for (std::size_t n = 1; n <= lines.count(); ++n) {
+        const auto tokens = split_ws(lines.line(n));
+        if (!tokens.empty() && (tokens[0] == "p" || tokens[0] == "l")) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 Mesh load_obj_text(const std::string& text, const std::string& name, const std::string& base_dir,
@@ -216,9 +341,12 @@ Mesh load_obj_text(const std::string& text, const std::string& name, const std::
     s.lines = &lines;
     s.stream = &stream;
     s.warnings = &warnings;
+    s.base_dir = base_dir;
 
     tinyobj::callback_t cb;
     cb.vertex_cb = on_vertex;
+    cb.normal_cb = on_normal;
+    cb.texcoord_cb = on_texcoord;
     cb.index_cb = on_face;
     cb.mtllib_cb = on_mtllib;
     cb.usemtl_cb = on_usemtl;
@@ -232,8 +360,16 @@ Mesh load_obj_text(const std::string& text, const std::string& name, const std::
     if (s.error) throw *s.error;
     if (warn.find("Failed to load material file") != std::string::npos)
         warnings.add(name + ": material library not found; using the default material");
-    if (s.mesh.triangle_count() == 0) throw InputError(name, 0, "no triangles");
+    if (s.dangling_uv || s.dangling_normal)
+        warnings.add(name + ": " + std::to_string(s.dangling_uv) + " texture coordinate and " + std::to_string(s.dangling_normal) +
+                     " normal indices of face corners point past the vt/vn lines read so far; those corners have none");
+    if (s.mesh.triangle_count() == 0)
+        throw InputError(name, 0, holds_points_or_lines(lines) ? "no triangles: the file holds only points/lines" : "no triangles");
     if (!s.mesh.material.empty() || s.mesh.materials.size() > 1) s.mesh.material.resize(s.mesh.triangle_count(), 0);
+    if (!s.mesh.colors.empty()) s.mesh.colors.resize(s.mesh.vertex_count(), Vec3f{1.0f});
+    // Attributes no triangle refers to are dropped, so that "has normals" means some corner uses one.
+    if (s.mesh.normal_index.empty()) s.mesh.normals.clear();
+    if (s.mesh.uv_index.empty()) s.mesh.uvs.clear();
     s.mesh.compute_bounds();
     return std::move(s.mesh);
 }

@@ -21,6 +21,7 @@ SceneTraits scene_traits(const Scene& scene, const LightSet& lights) {
         t.diffuse |= !is_black(mat.diffuse);
         t.mirror |= !is_black(mat.mirror);
         t.emissive |= !is_black(mat.emission);
+        if (mat.diffuse_texture >= 0) (m.has_uvs() ? t.textured : t.texture_without_uv) = true;
     }
     t.single_material = used_count <= 1;
     t.background = !is_black(scene.background);
@@ -58,12 +59,14 @@ RenderPlan make_plan(const Scene& scene, const LightSet& lights, const RenderSet
         if (t.emitters == 0) skip("shadow rays to area lights", "no emissive triangle");
         else if (!t.diffuse) skip("shadow rays to area lights", "no diffuse surface to light");
         else p.area_shadows = true;
-        const bool dark = t.point_lights == 0 && t.emitters == 0 && !t.background;
+        const bool dark = t.point_lights == 0 && t.emitters == 0 && !t.background;  // a sky needs a background too
         const std::string dark_reason = "nothing emits light: no light, no emitter, black background";
         if (!t.mirror) skip("mirror rays", "no mirror material (MTL illum 3..7 with Ks > 0)");
         else if (p.depth == 0) skip("mirror rays", "--depth 0");
         else if (dark) skip("mirror rays", dark_reason);
         else p.mirror = true;
+        if (scene.sky_light && t.background && t.diffuse) p.sky_shadows = true;
+        else if (t.background) skip("shadow rays to the sky", "the background only colours rays that escape");
         p.emission = t.emissive;
         if (!t.emissive) skip("emission lookups", "no emissive material");
         if (set.integrator == IntegratorKind::path) {
@@ -78,6 +81,7 @@ RenderPlan make_plan(const Scene& scene, const LightSet& lights, const RenderSet
     if (!t.background && shaded) skip("background radiance", "the background is black");
     if (cost) skip("shading, background and layers Z, N, A", "the cost integrator writes the layers nodes and tris only");
     p.position = p.shadows() || p.mirror || p.diffuse || p.ao;
+    p.lights = scene.lights_note;
     if (!p.position) skip("hit positions", "no secondary ray starts at a hit");
     const bool wants_material = shaded || p.layers.albedo;
     p.material = wants_material && !t.single_material;
@@ -85,7 +89,22 @@ RenderPlan make_plan(const Scene& scene, const LightSet& lights, const RenderSet
     if (!p.layers.depth && !cost) skip("depth layer Z", "not requested");
     if (!p.layers.normal && !cost) skip("normal layer N", "not requested");
     if (!p.layers.albedo && !cost) skip("albedo layer A", "not requested");
-    skip("vertex normals and texture coordinates", "flat shading and no textures: never read");
+    if (cost) return p;  // the cost integrator shades nothing: no attribute is read
+    // Shading attributes: read only where the scene has them and the integrator looks.
+    const Mesh& mesh = scene.mesh;
+    p.vertex_normals = mesh.has_normals();
+    if (!p.vertex_normals) skip("vertex normals", "the model has none, so flat shading; --smooth computes them");
+    const bool albedo = shaded || p.layers.albedo;
+    if (!albedo) {
+        if (t.textured || !mesh.colors.empty())
+            skip("textures and vertex colours", "the ao integrator without the albedo layer reads no colour");
+    } else {
+        p.textures = t.textured;
+        p.vertex_colors = !mesh.colors.empty();
+    }
+    if (t.texture_without_uv) skip("textures", "the model has no texture coordinates");
+    else if (!t.textured) skip("texture coordinates and textures", "no material has a texture");
+    if (mesh.colors.empty()) skip("vertex colours", "the model has none");
     return p;
 }
 
@@ -95,6 +114,7 @@ std::string RenderPlan::line(const std::string& accel) const {
     s += ", structure " + accel + "; rays: camera";
     if (point_shadows) s += ", shadow(point)";
     if (area_shadows) s += ", shadow(area NEE)";
+    if (sky_shadows) s += ", shadow(sky)";
     if (mirror) s += ", mirror";
     if (diffuse) s += ", diffuse(RR)";
     if (ao) s += ", ao(" + std::to_string(ao_samples) + ")";
@@ -104,13 +124,16 @@ std::string RenderPlan::line(const std::string& accel) const {
     }
     s += "; per hit:";
     s += position ? " position" : "";
-    s += " normal";
+    s += vertex_normals ? " normal(interpolated)" : " normal";
     s += material ? " material" : "";
     s += emission ? " emission" : "";
+    s += textures ? " texture" : "";
+    s += vertex_colors ? " vertex-colour" : "";
     s += "; layers: RGB";
     if (layers.depth) s += " Z";
     if (layers.normal) s += " N";
     if (layers.albedo) s += " A";
+    if (!lights.empty()) s += "; lights: " + lights;
     s += "; " + std::to_string(skipped.size()) + " items skipped";
     return s;
 }

@@ -17,6 +17,8 @@ struct SceneTraits {
     bool mirror = false;    ///< some triangle has a mirror lobe (Ks with illum 3..7)
     bool emissive = false;  ///< some triangle has Ke > 0
     bool single_material = true;  ///< every triangle uses the same material
+    bool textured = false;        ///< some used material has a texture and the mesh has texture coordinates
+    bool texture_without_uv = false;  ///< a used material has a texture but no corner has coordinates
     bool background = false;      ///< misses see a non-black background
     std::size_t point_lights = 0, emitters = 0;
 };
@@ -36,11 +38,16 @@ struct RenderPlan {
     bool background = false;     ///< misses add the background radiance
     bool position = false;       ///< hit positions (needed by any secondary ray)
     bool material = false;       ///< per-hit material lookup (false: one material for all)
+    bool vertex_normals = false; ///< shading normals interpolated from the corners (and Hanika's ray origins)
+    bool textures = false;       ///< texture lookups at interpolated texture coordinates
+    bool vertex_colors = false;  ///< interpolated vertex colours multiply the albedo
+    bool sky_shadows = false;    ///< one shadow ray per diffuse hit toward the sky (Scene::sky_light)
+    std::string lights;          ///< the lights arbor made for the scene (Scene::lights_note), if any
     float ao_radius = 0.0f;
     int ao_samples = 0;
     std::vector<std::string> skipped;  ///< "mirror rays: no mirror material", ...
 
-    bool shadows() const { return point_shadows || area_shadows; }
+    bool shadows() const { return point_shadows || area_shadows || sky_shadows; }
     /// The plan in one line (what will be traced and computed), naming the structure `accel`.
     std::string line(const std::string& accel) const;
     /// One line per skipped item, each "skipped: WHAT (WHY)".

@@ -8,6 +8,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <stdexcept>
 
@@ -46,12 +47,14 @@ void store_tile(const TileFilm& film, int spp, const Layers& layers, Image& img)
 
 }  // namespace
 
-Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
-             const RenderSettings& set, RenderStats* stats, TileSource* tiles) {
+namespace {
+
+Image render_view(const Scene& scene, const Camera& view, const LightSet& lights, const RenderPlan& plan,
+                  const accel::Accel& accel, const RenderSettings& set, RenderStats* stats, TileSource* tiles) {
     if (set.width < 1 || set.height < 1 || set.spp < 1 || set.tile < 1)
         throw std::invalid_argument("render: width, height, spp and tile must be positive");
     const accel::Timer timer;
-    Camera camera = scene.camera;
+    Camera camera = view;
     camera.prepare(set.width, set.height);
     const RenderContext ctx(scene, camera, lights, plan, set);
     const auto integrator = make_integrator(plan.integrator);
@@ -75,6 +78,10 @@ Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan,
                           [&](const tbb::blocked_range2d<int>& r) {
                               for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
                                   for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+                                      // A render inside a cancelled task group (the viewer's page
+                                      // moved or left) stops at the next tile: one thread may own a
+                                      // long range of tiles.
+                                      if (tbb::is_current_task_group_canceling()) return;
                                       render_tile(ty * grid.columns() + tx);
                                       progress.tick();
                                   }
@@ -91,6 +98,18 @@ Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan,
     if (tiles) tiles->gather(local);  // collective over the processes of the frame: always called
     if (stats) *stats = local;
     return img;
+}
+
+}  // namespace
+
+Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
+             const RenderSettings& set, RenderStats* stats, TileSource* tiles) {
+    return render_view(scene, scene.camera, lights, plan, accel, set, stats, tiles);
+}
+
+Image render(const Scene& scene, const Camera& camera, const LightSet& lights, const RenderPlan& plan,
+             const accel::Accel& accel, const RenderSettings& set, RenderStats* stats) {
+    return render_view(scene, camera, lights, plan, accel, set, stats, nullptr);
 }
 
 Image render(const Scene& scene, const accel::Accel& accel, const RenderSettings& set, RenderStats* stats) {

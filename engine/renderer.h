@@ -21,6 +21,10 @@ namespace arbor::engine {
 Image render(const Scene& scene, const LightSet& lights, const RenderPlan& plan, const accel::Accel& accel,
              const RenderSettings& settings, RenderStats* stats = nullptr, TileSource* tiles = nullptr);
 
+/// Same, seen through `camera` instead of the scene's own (the viewer's moving camera).
+Image render(const Scene& scene, const Camera& camera, const LightSet& lights, const RenderPlan& plan,
+             const accel::Accel& accel, const RenderSettings& settings, RenderStats* stats = nullptr);
+
 /// Same, making the light set and the plan itself.
 Image render(const Scene& scene, const accel::Accel& accel, const RenderSettings& settings,
              RenderStats* stats = nullptr);

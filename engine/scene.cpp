@@ -1,6 +1,11 @@
 #include "engine/scene.h"
 
 #include "engine/procedural.h"
+#include "engine/smooth_normals.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdio>
 
 namespace arbor::engine {
 
@@ -12,8 +17,13 @@ Scene make_default_scene() {
     Material mirror{"mirror", {0.05f, 0.05f, 0.05f}, {0.9f, 0.9f, 0.9f}, {}};
     Material blue{"blue", {0.15f, 0.3f, 0.8f}, {}, {}};
     s.mesh = with_material(make_ground(0.0f, 0.0f, 0.0f, 6.0f), ground);
-    s.mesh.append(with_material(make_icosphere({-1.2f, 1.0f, 0.0f}, 1.0f, 5, 0.0f), red));
-    s.mesh.append(with_material(make_torus({1.3f, 0.45f, 0.6f}, 0.8f, 0.35f, 96, 32), mirror));
+    // The sphere and the torus are smooth surfaces: vertex normals, so that the torus reflects
+    // the scene without facets.
+    Mesh sphere = make_icosphere({-1.2f, 1.0f, 0.0f}, 1.0f, 5, 0.0f), torus = make_torus({1.3f, 0.45f, 0.6f}, 0.8f, 0.35f, 96, 32);
+    compute_smooth_normals(sphere);
+    compute_smooth_normals(torus);
+    s.mesh.append(with_material(std::move(sphere), red));
+    s.mesh.append(with_material(std::move(torus), mirror));
     s.mesh.append(with_material(make_box({0.4f, 0.0f, -1.8f}, {1.6f, 1.4f, -0.9f}), blue));
     s.mesh.compute_bounds();
     s.camera.eye = {0.0f, 2.6f, 6.5f};
@@ -39,10 +49,39 @@ Scene scene_from_mesh(Mesh mesh, std::string name) {
         const Vec3f d = light - c;
         const float d2 = simd::dot(d, d);
         s.lights.push_back({light, Vec3f{1.0f} * (3.0f * d2)});
+        s.made_light = true;
     }
     s.background = {0.2f, 0.2f, 0.22f};
     s.mesh = std::move(mesh);
     return s;
+}
+
+void light_from_camera(Scene& s) {
+    if (!s.made_light || s.lights.empty()) return;
+    const Camera& c = s.camera;
+    const glm::vec3 eye(c.eye.x, c.eye.y, c.eye.z), at(c.look_at.x, c.look_at.y, c.look_at.z);
+    const glm::vec3 forward = glm::normalize(at - eye);
+    const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(c.up.x, c.up.y, c.up.z)));
+    const glm::vec3 up = glm::cross(right, forward);
+    const float dist = glm::length(at - eye);
+    // A photographer's key light: above and to the left of the camera, a little behind it, so
+    // the side of the model facing the camera is lit from wherever the camera is.
+    const glm::vec3 pos = eye + (up * 0.6f - right * 0.4f - forward * 0.2f) * dist;
+    const float d2 = glm::dot(pos - at, pos - at);
+    PointLight key{{pos.x, pos.y, pos.z}, Vec3f{2.0f * d2}};
+    s.lights.front() = key;
+    s.sky_light = !(s.background.x <= 0.0f && s.background.y <= 0.0f && s.background.z <= 0.0f);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "key light at (%.3g, %.3g, %.3g) beside the camera%s (made: the scene has none)",
+                  double(pos.x), double(pos.y), double(pos.z), s.sky_light ? ", the background as a sky" : "");
+    s.lights_note = buf;
+}
+
+void remove_made_lights(Scene& s) {
+    if (s.made_light && !s.lights.empty()) s.lights.erase(s.lights.begin());
+    s.made_light = false;
+    s.sky_light = false;
+    s.lights_note.clear();
 }
 
 }  // namespace arbor::engine

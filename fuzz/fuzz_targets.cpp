@@ -2,6 +2,7 @@
 
 #include "accel/brute/brute_accel.h"
 #include "engine/error.h"
+#include "engine/mesh_loader.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "engine/rayfile.h"
@@ -93,16 +94,11 @@ const engine::Mesh& ray_scene() {
 
 }  // namespace
 
-void fuzz_obj(const std::uint8_t* data, std::size_t size) {
-    const std::string text(reinterpret_cast<const char*>(data), size);
-    engine::Warnings warnings;
-    engine::Mesh mesh;
-    try {
-        // A base directory that does not exist: mtllib names must not reach real files.
-        mesh = engine::load_obj_text(text, "fuzz.obj", "/nonexistent-arbor-fuzz/", warnings);
-    } catch (const engine::InputError&) {
-        return;
-    }
+namespace {
+
+/// The contract of every loaded mesh: triangles, indices and attributes in range, finite vertices,
+/// one-line warnings; small meshes are traced by every structure and path against brute force.
+void check_mesh(const engine::Mesh& mesh, const engine::Warnings& warnings) {
     require(mesh.triangle_count() > 0, "loaded a mesh without triangles");
     require(mesh.indices.size() % 3 == 0, "index count not a multiple of 3");
     for (std::uint32_t i : mesh.indices) require(i < mesh.vertex_count(), "index out of range");
@@ -110,8 +106,42 @@ void fuzz_obj(const std::uint8_t* data, std::size_t size) {
         require(std::isfinite(mesh.x[v]) && std::isfinite(mesh.y[v]) && std::isfinite(mesh.z[v]), "non-finite vertex loaded");
     require(mesh.material.empty() || mesh.material.size() == mesh.triangle_count(), "material list size");
     for (std::uint32_t m : mesh.material) require(m < mesh.materials.size(), "material index out of range");
+    require(mesh.normal_index.empty() || mesh.normal_index.size() == mesh.indices.size(), "normal index count");
+    for (std::uint32_t n : mesh.normal_index) require(n == engine::no_attribute || n < mesh.normals.size(), "normal index out of range");
+    require(mesh.uv_index.empty() || mesh.uv_index.size() == mesh.indices.size(), "uv index count");
+    for (std::uint32_t t : mesh.uv_index) require(t == engine::no_attribute || t < mesh.uvs.size(), "uv index out of range");
+    require(mesh.colors.empty() || mesh.colors.size() == mesh.vertex_count(), "vertex colour count");
     for (const std::string& w : warnings.lines) require(w.find('\n') == std::string::npos, "warning with a line break");
     if (mesh.triangle_count() <= 512) check_structures(mesh.view(), probe_rays(mesh));
+}
+
+}  // namespace
+
+void fuzz_obj(const std::uint8_t* data, std::size_t size) {
+    const std::string text(reinterpret_cast<const char*>(data), size);
+    engine::Warnings warnings;
+    engine::Mesh mesh;
+    try {
+        // A base directory that does not exist: mtllib names must not reach real files.
+        mesh = engine::load_obj_text(text, "fuzz.obj", "/nonexistent-arbor-fuzz/", warnings);
+    } catch (const engine::InputError& e) {
+        require(std::string(e.what()).find('\n') == std::string::npos, "error with a line break");
+        return;
+    }
+    check_mesh(mesh, warnings);
+}
+
+void fuzz_mesh(const std::uint8_t* data, std::size_t size) {
+    const std::string_view bytes(reinterpret_cast<const char*>(data), size);
+    engine::Warnings warnings;
+    engine::Mesh mesh;
+    try {
+        mesh = engine::load_mesh_bytes(bytes, "fuzz.mesh", "", warnings, false);
+    } catch (const engine::InputError& e) {
+        require(std::string(e.what()).find('\n') == std::string::npos, "error with a line break");
+        return;
+    }
+    check_mesh(mesh, warnings);
 }
 
 void fuzz_rays(const std::uint8_t* data, std::size_t size) {

@@ -19,8 +19,16 @@ struct FuzzFinding : std::logic_error {
 /// The OBJ loader (engine::load_obj_text) on `data` as a file's text; a mesh that loads is
 /// checked and, when small, traced by every structure and path against brute force.
 void fuzz_obj(const std::uint8_t* data, std::size_t size);
+/// The mesh loader's entry for every format (engine::load_mesh_bytes: format detection, the PLY,
+/// STL and glTF checks, Assimp, the shared validation) on `data` as a file's bytes, nothing else
+/// read; a mesh that loads is checked as in fuzz_obj.
+void fuzz_mesh(const std::uint8_t* data, std::size_t size);
 /// The ray- and hit-file readers (engine::parse_rays/parse_hits) on `data` as a file's bytes;
 /// rays that parse are traced through a fixed scene by every structure and path against brute force.
 void fuzz_rays(const std::uint8_t* data, std::size_t size);
+/// The viewer's message parser (view::parse_client_message) on `data` as a WebSocket text message:
+/// a message that parses must hold values the server can use (finite camera with a view direction,
+/// settings within the limits); a refused one must say why.
+void fuzz_view_message(const std::uint8_t* data, std::size_t size);
 
 }  // namespace arbor::fuzz

@@ -1,8 +1,8 @@
 // build_once: one build in a fresh process, as a user meets it (cold allocator, page tables and
 // thread pool), by Embree (its default MEDIUM build, rtcCommitScene) or by an arbor structure
 // (make_accel with the SIMD layouts only, as `arbor trace` builds for its default path). Prints
-// one JSON object: build_ms (wall time of the build alone), minor page faults during it, and for
-// Embree setup_ms (device and buffers). scripts/bench_fresh_build.sh runs it interleaved with
+// one JSON object: build_ms (wall time of the build alone), cpu_ms and minor page faults during it
+// (Embree: with its device and buffer setup, setup_ms), and for arbor the SAH cost. scripts/bench_fresh_build.sh runs it interleaved with
 // `arbor trace` in fresh processes.
 //
 //   build_once --scene MODEL.obj|builtin:NAME --with embree|bvh-sah|lbvh|... [--threads 2]
@@ -35,6 +35,15 @@ long minor_faults() {
     return u.ru_minflt;
 }
 
+/// User + system CPU time of the process so far, ms (a loaded machine stretches the wall time of
+/// a 2-thread build, not its CPU time).
+double cpu_ms(bool system_only = false) {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    const double sys = double(u.ru_stime.tv_sec) * 1e3 + double(u.ru_stime.tv_usec) * 1e-3;
+    return system_only ? sys : sys + double(u.ru_utime.tv_sec) * 1e3 + double(u.ru_utime.tv_usec) * 1e-3;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -56,6 +65,7 @@ int main(int argc, char** argv) {
         j["triangles"] = mesh.triangle_count();
         j["threads"] = threads;
         const long f0 = minor_faults();
+        const double c0 = cpu_ms(), s0 = cpu_ms(true);
         if (with == "embree") {
 #ifdef ARBOR_HAVE_EMBREE
             const perf::EmbreePeer peer(mesh.view());
@@ -77,6 +87,8 @@ int main(int argc, char** argv) {
             j["bytes"] = built->stats().memory_bytes;
         }
         j["minor_faults"] = minor_faults() - f0;
+        j["cpu_ms"] = cpu_ms() - c0;  // Embree: its device and buffer setup included
+        j["sys_ms"] = cpu_ms(true) - s0;  // the kernel's part: page faults, zeroing pages
         std::cout << j.dump() << '\n';
         return 0;
     } catch (const std::exception& e) {

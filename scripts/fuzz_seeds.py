@@ -1,10 +1,14 @@
 #!/usr/bin/env python3
 """Seed corpora for scripts/fuzz.sh: OBJ seeds cut from the shared models (the first vertices and
-the faces that use only them) and ray/hit files covering the stiff cases of spec/rayfile.md."""
+the faces that use only them), ray/hit files covering the stiff cases of spec/rayfile.md, and small
+PLY, STL, glTF and GLB files, good and broken (the bad-input rows of the loader tests)."""
+import base64
+import json
 import math
 import os
 import struct
 import sys
+import zlib
 
 
 def model_heads(models_dir, out_dir, vertices=40):
@@ -58,10 +62,128 @@ def ray_seeds(out_dir):
                 + struct.pack("<fIff", inf, 0xFFFFFFFF, 0, 0))
 
 
+def ply(vertices, faces, encoding="ascii", normals=None, colours=None, count_override=None):
+    endian = {"binary_little_endian": "<", "binary_big_endian": ">"}.get(encoding)
+    head = "ply\nformat %s 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n" % (
+        encoding, count_override or len(vertices))
+    if normals:
+        head += "property float nx\nproperty float ny\nproperty float nz\n"
+    if colours:
+        head += "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+    head += "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % len(faces)
+    body = b""
+    for i, v in enumerate(vertices):
+        vals = list(v) + (list(normals[i]) if normals else [])
+        if endian:
+            body += struct.pack(endian + "%df" % len(vals), *vals)
+            if colours:
+                body += bytes(colours[i])
+        else:
+            body += (" ".join("%g" % x for x in vals) + ("".join(" %d" % c for c in colours[i]) if colours else "") + "\n").encode()
+    for f in faces:
+        body += (struct.pack(endian + "B%di" % len(f), len(f), *f) if endian
+                 else ("%d %s\n" % (len(f), " ".join(map(str, f)))).encode())
+    return head.encode() + body
+
+
+def stl_binary(triangles, count=None):
+    out = b"binary STL seed".ljust(80, b" ") + struct.pack("<I", len(triangles) if count is None else count)
+    for t in triangles:
+        out += struct.pack("<12fH", 0, 0, 1, *t[0], *t[1], *t[2], 0)
+    return out
+
+
+def stl_ascii(triangles):
+    out = "solid seed\n"
+    for t in triangles:
+        out += "facet normal 0 0 1\n outer loop\n" + "".join("  vertex %g %g %g\n" % p for p in t) + " endloop\nendfacet\n"
+    return (out + "endsolid seed\n").encode()
+
+
+def png(w, h, rows):
+    raw = b"".join(b"\0" + bytes(c for px in row for c in px) for row in rows)
+    chunk = lambda t, d: struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def gltf(vertices, indices, glb=True, mode=4, position_count=None, index_count=None, matrix=None):
+    blobs = [b"".join(struct.pack("<3f", *v) for v in vertices),
+             b"".join(struct.pack("<3f", 0, 0, 1) for _ in vertices),
+             b"".join(struct.pack("<2f", v[0], v[1]) for v in vertices),
+             b"".join(struct.pack("<I", i) for i in indices),
+             png(2, 2, [[(255, 0, 0), (255, 0, 0)], [(0, 0, 255), (0, 0, 255)]])]
+    buf, views = b"", []
+    for b in blobs:
+        buf += b"\0" * (-len(buf) % 4)
+        views.append({"buffer": 0, "byteOffset": len(buf), "byteLength": len(b)})
+        buf += b
+    buf += b"\0" * (-len(buf) % 4)
+    acc = [{"bufferView": 0, "componentType": 5126, "count": position_count or len(vertices), "type": "VEC3",
+            "min": [min(v[k] for v in vertices) for k in range(3)], "max": [max(v[k] for v in vertices) for k in range(3)]},
+           {"bufferView": 1, "componentType": 5126, "count": len(vertices), "type": "VEC3"},
+           {"bufferView": 2, "componentType": 5126, "count": len(vertices), "type": "VEC2"},
+           {"bufferView": 3, "componentType": 5125, "count": index_count or len(indices), "type": "SCALAR"}]
+    node = {"mesh": 0}
+    if matrix:
+        node["matrix"] = matrix
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [node],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3,
+                                       "material": 0, "mode": mode}]}],
+           "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}],
+           "textures": [{"source": 0}], "images": [{"bufferView": 4, "mimeType": "image/png"}],
+           "accessors": acc, "bufferViews": views, "buffers": [{"byteLength": len(buf)}]}
+    if not glb:
+        doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(buf).decode()
+        return json.dumps(doc).encode()
+    j = json.dumps(doc).encode()
+    j += b" " * (-len(j) % 4)
+    return (b"glTF" + struct.pack("<II", 2, 12 + 8 + len(j) + 8 + len(buf)) + struct.pack("<I", len(j)) + b"JSON" + j
+            + struct.pack("<I", len(buf)) + b"BIN\0" + buf)
+
+
+def mesh_seeds(out_dir):
+    nan = math.nan
+    v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0.5, 0.5, 1)]
+    f = [(0, 1, 2, 3), (0, 1, 4), (1, 2, 4)]
+    n = [(0, 0, 1)] * 5
+    c = [(255, 0, 0), (0, 255, 0), (0, 0, 255), (255, 255, 255), (10, 20, 30)]
+    tri = [((0, 0, 0), (1, 0, 0), (0, 1, 0)), ((1, 0, 0), (1, 1, 0), (0, 1, 0))]
+    seeds = {
+        "ascii.ply": ply(v, f, normals=n, colours=c),
+        "le.ply": ply(v, f, "binary_little_endian", normals=n, colours=c),
+        "be.ply": ply(v, f, "binary_big_endian"),
+        "concave.ply": ply([(0, 0, 0), (2, 0, 0), (2, 1, 0), (1, 1, 0), (1, 2, 0), (0, 2, 0)], [(0, 1, 2, 3, 4, 5)]),
+        "truncated.ply": ply(v, f, "binary_little_endian")[:-7],
+        "count-too-big.ply": ply(v, f, "binary_little_endian", count_override=900000000),
+        "index-past.ply": ply(v, [(0, 1, 9)], "binary_little_endian"),
+        "nan.ply": ply([(0, 0, 0), (nan, 0, 0), (0, 1, 0)], [(0, 1, 2)], "binary_little_endian"),
+        "points.ply": ply(v, []),
+        "binary.stl": stl_binary(tri),
+        "ascii.stl": stl_ascii(tri),
+        "truncated.stl": stl_binary(tri)[:-10],
+        "count-too-big.stl": stl_binary(tri, count=1000000),
+        "nan.stl": stl_binary([((0, 0, 0), (nan, 0, 0), (0, 1, 0))]),
+        "quad.glb": gltf(v[:4], [0, 1, 2, 0, 2, 3]),
+        "quad.gltf": gltf(v[:4], [0, 1, 2, 0, 2, 3], glb=False, matrix=[2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 1, 0, 0, 1]),
+        "strip.glb": gltf(v[:4], [0, 1, 3, 2], mode=5),
+        "lines.glb": gltf(v[:4], [0, 1, 1, 2], mode=1),
+        "truncated.glb": gltf(v[:4], [0, 1, 2, 0, 2, 3])[:-60],
+        "count-too-big.glb": gltf(v[:4], [0, 1, 2, 0, 2, 3], position_count=100000),
+        "index-past.glb": gltf(v[:4], [0, 1, 2, 0, 2, 9]),
+        "nan.glb": gltf([(0, 0, 0), (nan, 0, 0), (1, 1, 0), (0, 1, 0)], [0, 1, 2, 0, 2, 3]),
+    }
+    for name, data in seeds.items():
+        with open(os.path.join(out_dir, name), "wb") as out:
+            out.write(data)
+
+
 if __name__ == "__main__":
     kind, out = sys.argv[1], sys.argv[2]
     os.makedirs(out, exist_ok=True)
     if kind == "obj":
         model_heads(sys.argv[3], out)
+    elif kind == "mesh":
+        mesh_seeds(out)
     else:
         ray_seeds(out)

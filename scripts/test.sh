@@ -3,8 +3,9 @@
 # the end, also when a phase fails.
 #  1. release (gcc -O3): everything is built; the test suite, the CLI, bench and install tests.
 #  2. fuzz (clang 14, ASan + UBSan, libFuzzer coverage): the same tests under ASan + UBSan, then the
-#     two libFuzzer harnesses (OBJ loader, ray/hit readers) for ARBOR_FUZZ_SECONDS (default 60) each,
-#     side by side (scripts/fuzz.sh: seeds, and where a finding is saved).
+#     four libFuzzer harnesses (OBJ loader, mesh loader of every format, ray/hit readers, the
+#     viewer's message parser) in ARBOR_FUZZ_SECONDS (default 60) on two cores (scripts/fuzz.sh: how
+#     they share it, seeds, and where a finding is saved).
 #  3. tsan (gcc, ThreadSanitizer, with oneTBB built instrumented by scripts/tsan-tbb.sh): the tests
 #     of the parallel builders, of tracing in parallel and of the renderer (tests/CMakeLists.txt
 #     picks them).
@@ -41,9 +42,9 @@ phase "release: build" bash -c "cmake --preset release >/dev/null && cmake --bui
 phase "release: tests" ctest --preset release -j "$jobs"
 
 phase "asan+ubsan+fuzz: build" bash -c "cmake --preset fuzz >/dev/null && cmake --build --preset fuzz -j $jobs \
-  --target arbor_tests arbor arbor_bench arbor_fuzz_obj arbor_fuzz_rays"
+  --target arbor_tests arbor arbor_bench arbor_fuzz_obj arbor_fuzz_mesh arbor_fuzz_rays arbor_fuzz_view"
 phase "asan+ubsan: tests" ctest --preset fuzz -j "$jobs"
-phase "fuzz: ${fuzz_seconds} s per harness" scripts/fuzz.sh "$fuzz_seconds"
+phase "fuzz: ${fuzz_seconds} s on 2 cores" scripts/fuzz.sh "$fuzz_seconds"
 
 phase "tsan: instrumented oneTBB" scripts/tsan-tbb.sh
 phase "tsan: build" bash -c "cmake --preset tsan >/dev/null && cmake --build --preset tsan -j $jobs --target arbor_tests"

@@ -10,7 +10,8 @@
 # The source is Debian's own (`apt-get source`, the same version as the installed libtbb-dev, through
 # a private apt list folder: the system's apt configuration is not touched). The headers installed
 # with it are that same version, so arbor compiles against them exactly as against the system's.
-# Skipped when the prefix already holds that version.
+# Skipped when the prefix already holds that version. Only libtbb is built: with libhwloc-dev on the
+# machine (Open MPI brings it) oneTBB would also configure tbbbind, which the install then misses.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=build/tsan-tbb

@@ -278,6 +278,25 @@ assert open(w + "/out.PNG", "rb").read()[:4] == b"\x89PNG"
 PY
 # The image and its layers count against --max-memory: refused before rendering.
 expect_status 1 "--max-memory" "$ARBOR" render --width 4000 --height 4000 --layers z,n,a --max-memory 64M -o "$WORK/big.exr"
+# Mesh formats: PLY, STL and glTF load by content (the seeds of the mesh fuzzer, good and broken);
+# every broken one is a one-line error naming the file, exit 1; a PLY renders with --smooth.
+SEEDS=$(dirname "$0")/fuzz/seeds/mesh
+for f in "$SEEDS"/*; do
+  name=$(basename "$f")
+  case $name in
+    ascii.ply|le.ply|be.ply|concave.ply|binary.stl|ascii.stl|quad.glb|quad.gltf|strip.glb)
+      "$ARBOR" info "$f" --json >"$WORK/out" 2>"$WORK/err" || fail "info $name should load (exit $?): $(cat "$WORK/err")"
+      grep -q '"triangles":' "$WORK/out" || fail "info $name: no triangle count";;
+    *) expect_status 1 "$f: " "$ARBOR" info "$f";;
+  esac
+done
+cp "$SEEDS/le.ply" "$WORK/named-wrong.obj"
+"$ARBOR" info "$WORK/named-wrong.obj" >"$WORK/out" 2>&1 || fail "a PLY named .obj should load by its content: $(cat "$WORK/out")"
+grep -q "(PLY)" "$WORK/out" || fail "info names no format: $(cat "$WORK/out")"
+"$ARBOR" render "$SEEDS/le.ply" --smooth -o "$WORK/ply.png" --width 16 --height 12 --spp 1 -v >"$WORK/out" 2>&1 \
+  || fail "render of a PLY failed: $(cat "$WORK/out")"
+grep -q "normal(interpolated)" "$WORK/out" || fail "a PLY with normals should shade with them: $(head -1 "$WORK/out")"
+expect_status 1 "only points/lines" "$ARBOR" render "$SEEDS/points.ply" -o "$WORK/p.png"
 # --version and unknown subcommands
 "$ARBOR" --version >"$WORK/out" 2>&1 || fail "--version exited $?"
 grep -qE '^arbor [0-9]+\.[0-9]+\.[0-9]+$' "$WORK/out" || fail "--version: no 'arbor VERSION' line: $(cat "$WORK/out")"

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `mpirun -np N arbor render|converge` (spec/cli.md, "Across machines"): the image of N = 1, 2, 3
-# ranks equals the single-process image bit for bit (default scene, Cornell box path traced);
+# ranks equals the single-process image bit for bit (default scene and Cornell box, path traced;
+# converge, direct, on 2 and 3 ranks);
 # rank 0 alone prints and writes; a plain call loads no MPI; a rank that crashes, throws, runs out
 # of memory or is killed mid-frame stops the job with one line naming it, an exit status of
 # 1..127 and no output written or overwritten; a rank with another scene file or other settings is refused.
@@ -16,7 +17,7 @@ command -v mpirun >/dev/null || { echo "FAIL: mpirun not found (scripts/setup-de
 # A shared CI machine has 2 cores: 3 ranks need --oversubscribe.
 MPIRUN=(timeout 120 mpirun --oversubscribe)
 
-small=(--width 70 --height 45 --spp 2 -q)                                  # 5 x 3 tiles of 16
+small=(--width 70 --height 45 --spp 2 --integrator path -q)   # 5 x 3 tiles of 16; converge takes the size only
 cornell=(builtin:cornell --integrator path --width 64 --height 48 --spp 4 -q)
 
 # 1. Bit-identical images for N = 1, 2, 3 ranks.

@@ -49,10 +49,27 @@ TEST_CASE("fuzz regressions: OBJ inputs that once failed, and the seeds, load or
     if (!shared.empty()) replay(files_in(shared + "/bad"), arbor::fuzz::fuzz_obj);
 }
 
+TEST_CASE("fuzz regressions: mesh files of every format (seeds good and broken, regressions) load or fail cleanly") {
+    const auto seeds = files_in(fuzz_dir + "/seeds/mesh");
+    CHECK(seeds.size() >= 20);
+    replay(seeds, arbor::fuzz::fuzz_mesh);
+    replay(files_in(fuzz_dir + "/regressions/mesh"), arbor::fuzz::fuzz_mesh);
+    replay(files_in(fuzz_dir + "/seeds/obj"), arbor::fuzz::fuzz_mesh);
+    const std::string shared = arbor::testing::shared_scenes_dir();
+    if (!shared.empty()) replay(files_in(shared + "/bad"), arbor::fuzz::fuzz_mesh);
+}
+
 TEST_CASE("fuzz regressions: ray and hit files that once failed are read or refused cleanly") {
     const auto regressions = files_in(fuzz_dir + "/regressions/rays");
     CHECK(!regressions.empty());
     replay(regressions, arbor::fuzz::fuzz_rays);
+}
+
+TEST_CASE("fuzz regressions: the viewer's message seeds and regressions parse or are refused cleanly") {
+    const auto seeds = files_in(fuzz_dir + "/seeds/view");
+    CHECK(seeds.size() >= 4);
+    replay(seeds, arbor::fuzz::fuzz_view_message);
+    replay(files_in(fuzz_dir + "/regressions/view"), arbor::fuzz::fuzz_view_message);
 }
 
 TEST_CASE("fuzz targets: a broken contract is reported, not swallowed") {

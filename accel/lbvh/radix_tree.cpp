@@ -110,7 +110,8 @@ public:
 
     /// Writes the collapsed tree in the canonical layout.
     std::vector<BvhBuildNode> emit() const {
-        std::vector<BvhBuildNode> nodes(inner_[0].count);
+        std::vector<BvhBuildNode> nodes;
+        resize_prefaulted(nodes, inner_[0].count);  // every node is written by emit_node
         emit_node(nodes, 0, 0, n_ - 1, 0, 1);
         return nodes;
     }

@@ -3,10 +3,11 @@
 /// default-initializes on resize() and emplace_back() instead of value-initializing, so trivial
 /// elements get no zeroing pass before the layout builder writes every one of them.
 ///
-/// (Advising these arrays to use transparent huge pages, as ScratchArray does for build
-/// temporaries, was measured 2.5x slower for the 16-wide layout of a 2.5M-triangle scene on this
-/// machine, 950-1050 ms against 375-390 ms, A/B in one session: with THP defrag = madvise the first
-/// touch of an advised region waits for compaction.)
+/// (Their big arrays are advised to use transparent huge pages by prefault() when resized with
+/// resize_prefaulted. An earlier session measured that 2.5x slower for the 16-wide layout of a
+/// 2.5M-triangle scene, 950-1050 ms against 375-390 ms: with THP defrag = madvise the first touch
+/// of an advised region can wait for compaction. On 2026-12-02, in a fresh process, it made whole
+/// builds 30-40% cheaper in CPU time: perf/results/fresh-build-2026-12-02.md.)
 #include <cstddef>
 #include <memory>
 #include <new>

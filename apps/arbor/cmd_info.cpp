@@ -1,9 +1,9 @@
-/// `arbor info MODEL.obj [--json] [--accel NAME] [--leaf-size N] [--sah-bins N]`: counts, bounds, warnings; with --accel also the
+/// `arbor info MODEL [--json] [--accel NAME] [--leaf-size N] [--sah-bins N]`: counts, bounds, warnings; with --accel also the
 /// build statistics of that structure.
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "engine/log.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 
 #include <cstdio>
 #include <iostream>
@@ -38,13 +38,19 @@ std::size_t count_degenerate(const engine::Mesh& m) {
 
 int run_info(const InfoOptions& o) {
     engine::Warnings warnings;
-    const engine::Mesh mesh = engine::load_obj(o.model, warnings, o.build.max_memory);
+    engine::MeshFormat format{};
+    const engine::Mesh mesh = engine::load_mesh(o.model, warnings, o.build.max_memory, &format);
     nlohmann::json j;
     j["file"] = o.model;
+    j["format"] = engine::formats::format_name(format);
     j["triangles"] = mesh.triangle_count();
     j["vertices"] = mesh.vertex_count();
     j["degenerate_triangles"] = count_degenerate(mesh);
     j["materials"] = mesh.materials.size();
+    j["normals"] = mesh.normals.size();
+    j["texture_coordinates"] = mesh.uvs.size();
+    j["vertex_colors"] = !mesh.colors.empty();
+    j["textures"] = mesh.textures.size();
     j["bounds"] = {{"min", {mesh.bounds.lo.x, mesh.bounds.lo.y, mesh.bounds.lo.z}},
                    {"max", {mesh.bounds.hi.x, mesh.bounds.hi.y, mesh.bounds.hi.z}}};
     j["warnings"] = warnings.lines;
@@ -63,8 +69,11 @@ int run_info(const InfoOptions& o) {
         return 0;
     }
     engine::print_warnings(warnings);
-    std::printf("%s: %zu triangles (%zu degenerate), %zu vertices, %zu materials\n", o.model.c_str(),
-                mesh.triangle_count(), std::size_t(j["degenerate_triangles"]), mesh.vertex_count(), mesh.materials.size());
+    std::printf("%s (%s): %zu triangles (%zu degenerate), %zu vertices, %zu materials, %zu normals, %zu texture coordinates, "
+                "%zu textures%s\n",
+                o.model.c_str(), engine::formats::format_name(format), mesh.triangle_count(),
+                std::size_t(j["degenerate_triangles"]), mesh.vertex_count(), mesh.materials.size(), mesh.normals.size(),
+                mesh.uvs.size(), mesh.textures.size(), mesh.colors.empty() ? "" : ", vertex colours");
     std::printf("bounds: [%g %g %g] .. [%g %g %g]\n", mesh.bounds.lo.x, mesh.bounds.lo.y, mesh.bounds.lo.z,
                 mesh.bounds.hi.x, mesh.bounds.hi.y, mesh.bounds.hi.z);
     if (j.contains("accel"))
@@ -79,7 +88,7 @@ int run_info(const InfoOptions& o) {
 
 Run add_info(CLI::App& cmd) {
     auto o = std::make_shared<InfoOptions>();
-    cmd.add_option("MODEL", o->model, "OBJ file")->required();
+    cmd.add_option("MODEL", o->model, "mesh file: OBJ, PLY, STL or glTF 2.0 (.gltf, .glb), told by its content")->required();
     add_accel_option(cmd, o->accel);
     add_build_options(cmd, o->build);
     cmd.add_flag("--json", o->json, "one JSON object on standard output");

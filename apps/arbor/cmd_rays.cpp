@@ -6,7 +6,7 @@
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "engine/builtin_scenes.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 #include "engine/ray_gen.h"
 #include "engine/ray_views.h"
 #include "engine/rayfile.h"
@@ -35,7 +35,7 @@ int run_rays(const RaysOptions& o) {
     engine::Warnings warnings;
     const bool builtin = engine::is_builtin_scene(o.scene);
     const engine::Scene scene = builtin ? engine::make_builtin_scene(o.scene)
-                                        : engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
+                                        : engine::scene_from_mesh(engine::load_mesh(o.scene, warnings), o.scene);
     engine::RayGenConfig cfg;
     cfg.kind = *engine::parse_ray_kind(o.kind);
     cfg.order = *engine::parse_pixel_order(o.order);
@@ -86,7 +86,7 @@ int run_rays(const RaysOptions& o) {
 
 Run add_rays(CLI::App& cmd) {
     auto o = std::make_shared<RaysOptions>();
-    cmd.add_option("--scene", o->scene, "OBJ file or builtin:NAME")->required();
+    cmd.add_option("--scene", o->scene, "mesh file (OBJ, PLY, STL or glTF 2.0) or builtin:NAME")->required();
     cmd.add_option("--kind", o->kind, "primary, shadow, diffuse or random")
         ->check([](const std::string& v) -> std::string {
             return engine::parse_ray_kind(v) ? std::string()

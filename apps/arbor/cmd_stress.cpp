@@ -6,7 +6,7 @@
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "engine/error.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 #include "stress/run.h"
 
 #include <cstdio>
@@ -91,7 +91,7 @@ int run_stress(const StressOptions& o) {
     std::vector<stress::StressCase> cases;
     for (const std::string& path : o.models) {
         engine::Warnings w;
-        const engine::Mesh mesh = engine::load_obj(path, w);
+        const engine::Mesh mesh = engine::load_mesh(path, w);
         try {
             cases.push_back(stress::make_closed_model_case(mesh, std::filesystem::path(path).stem().string(), size));
         } catch (const std::invalid_argument& e) {

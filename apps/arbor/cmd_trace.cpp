@@ -6,7 +6,7 @@
 #include "apps/arbor/common.h"
 #include "engine/builtin_scenes.h"
 #include "engine/log.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
 #include "engine/rayfile.h"
 
 #include <tbb/global_control.h>
@@ -30,7 +30,7 @@ int run_trace(const TraceOptions& o) {
     const auto limit = limit_threads(o.threads);
     engine::Warnings warnings;
     const engine::Mesh mesh = engine::is_builtin_scene(o.scene) ? engine::make_builtin_scene(o.scene).mesh
-                                                                : engine::load_obj(o.scene, warnings, o.build.max_memory);
+                                                                : engine::load_mesh(o.scene, warnings, o.build.max_memory);
     const std::vector<accel::Ray> rays = engine::read_rays(o.rays, o.build.max_memory);
     // Only the layout the path reads is built (the path policy says which).
     const auto asked = *accel::parse_trace_path(o.path);
@@ -111,7 +111,7 @@ int run_trace(const TraceOptions& o) {
 
 Run add_trace(CLI::App& cmd) {
     auto o = std::make_shared<TraceOptions>();
-    cmd.add_option("--scene", o->scene, "OBJ file or builtin:NAME")->required();
+    cmd.add_option("--scene", o->scene, "mesh file (OBJ, PLY, STL or glTF 2.0) or builtin:NAME")->required();
     cmd.add_option("--rays", o->rays, ".rays file (spec/rayfile.md)")->required();
     cmd.add_option("--hits", o->hits, "write the answers to this .hits file");
     add_accel_option(cmd, o->accel)->capture_default_str();

@@ -22,6 +22,7 @@ Run add_render(CLI::App& app);
 Run add_rays(CLI::App& app);
 Run add_converge(CLI::App& app);
 Run add_stress(CLI::App& app);
+Run add_view(CLI::App& app);
 Run add_bench(CLI::App& app);  ///< when built with the benchmark library (ARBOR_HAVE_BENCH)
 
 }  // namespace arbor::app

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
     reg("stress", "the stiff-case suite: every structure and path against a double-precision oracle", arbor::app::add_stress);
     reg("render", "render a scene (the embedded default scene without SCENE)", arbor::app::add_render);
     reg("converge", "error against run time: renders at 1, 2, 4, ... spp against a reference", arbor::app::add_converge);
+    reg("view", "the live viewer: serves a page at http://127.0.0.1:8080/ that renders SCENE as you move", arbor::app::add_view);
 #ifdef ARBOR_HAVE_BENCH
     reg("bench", "the benchmark matrix: every structure, scene, ray kind and path, validated then timed (perf/README.md)",
         arbor::app::add_bench);

@@ -5,7 +5,8 @@
 #include "engine/builtin_scenes.h"
 #include "engine/error.h"
 #include "engine/log.h"
-#include "engine/obj_loader.h"
+#include "engine/mesh_loader.h"
+#include "engine/smooth_normals.h"
 
 #include <charconv>
 #include <cmath>
@@ -60,7 +61,7 @@ engine::Vec3f parse_vec3(const std::string& option, const std::string& text) {
 }
 
 void add_scene_options(CLI::App& cmd, SceneOptions& o) {
-    cmd.add_option("SCENE", o.scene, "OBJ file, or " + engine::builtin_scene_names() + " (default: builtin:default)");
+    cmd.add_option("SCENE", o.scene, "mesh file (OBJ, PLY, STL, glTF 2.0), or " + engine::builtin_scene_names() + " (default: builtin:default)");
     auto vec3 = [](const char* option) {
         return parse_check(option, [option](const std::string& v) { return parse_vec3(option, v); });
     };
@@ -71,6 +72,10 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o) {
     cmd.add_option("--light", o.lights, "add a point light x,y,z[,I | ,R,G,B] (radiant intensity, W/sr; repeatable)")
         ->check(parse_check("--light", parse_light));
     cmd.add_flag("--no-point-lights", o.no_point_lights, "remove the scene's point lights (emissive triangles stay)");
+    cmd.add_flag("--smooth", o.smooth, "smooth shading: vertex normals where the file has none (hard edges kept, --crease-angle)");
+    cmd.add_option("--crease-angle", o.crease_degrees, "with --smooth: triangles meeting at more than this many degrees keep a hard edge")
+        ->check(CLI::Range(0.0f, 180.0f))
+        ->capture_default_str();
     cmd.add_option("--background", o.background, "radiance of rays that leave the scene: V or R,G,B")
         ->check(parse_check("--background", parse_background));
 }
@@ -83,22 +88,34 @@ engine::Scene load_scene(const SceneOptions& o, bool print_warnings) {
         scene = engine::make_builtin_scene(o.scene);
     } else {
         engine::Warnings warnings;
-        scene = engine::scene_from_mesh(engine::load_obj(o.scene, warnings), o.scene);
+        scene = engine::scene_from_mesh(engine::load_mesh(o.scene, warnings), o.scene);
         if (print_warnings) engine::print_warnings(warnings);
     }
+    if (o.smooth) engine::compute_smooth_normals(scene.mesh, o.crease_degrees);
     engine::Camera& cam = scene.camera;
+    if (o.fov > 0.0f) cam.vfov_degrees = o.fov;
+    // A model framed on its bounds is framed again around --up (Z-up scans come out upright).
+    const bool framed = !o.scene.empty() && !engine::is_builtin_scene(o.scene);
+    if (framed && !o.up.empty() && o.eye.empty() && o.look_at.empty())
+        cam = engine::Camera::framing(scene.mesh.bounds, cam.vfov_degrees, parse_vec3("--up", o.up));
     if (!o.eye.empty()) cam.eye = parse_vec3("--eye", o.eye);
     if (!o.look_at.empty()) cam.look_at = parse_vec3("--look-at", o.look_at);
     if (!o.up.empty()) cam.up = parse_vec3("--up", o.up);
-    if (o.fov > 0.0f) cam.vfov_degrees = o.fov;
     const engine::Vec3f view = cam.look_at - cam.eye;
     if (!(simd::dot(view, view) > 0.0f)) throw OptionError("--look-at: the camera looks at its own position");
     const engine::Vec3f side = simd::cross(view, cam.up);
     if (!(simd::dot(side, side) > 1e-12f * simd::dot(view, view) * simd::dot(cam.up, cam.up)))
         throw OptionError("--up: the up vector is zero or parallel to the viewing direction");
+    if (!o.background.empty()) {
+        scene.background = parse_background(o.background);
+        scene.background_given = true;
+    }
+    // Lights the user gives replace the ones arbor made; with none given, the made light follows
+    // the camera (and the background lights as a sky).
+    if (o.no_point_lights || !o.lights.empty()) engine::remove_made_lights(scene);
+    else engine::light_from_camera(scene);
     if (o.no_point_lights) scene.lights.clear();
     for (const std::string& l : o.lights) scene.lights.push_back(parse_light(l));
-    if (!o.background.empty()) scene.background = parse_background(o.background);
     return scene;
 }
 

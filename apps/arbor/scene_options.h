@@ -1,7 +1,8 @@
 #pragma once
 /// The scene and camera options shared by `arbor render` and `arbor converge`: the SCENE argument
-/// (an OBJ file or builtin:NAME), the camera (--eye --look-at --up --fov, else the scene's own or
-/// one framed on the model), point lights (--light), --no-point-lights and --background.
+/// (a mesh file or builtin:NAME), the camera (--eye --look-at --up --fov, else the scene's own or
+/// one framed on the model, around --up), point lights (--light; without any, a model gets a key
+/// light that follows the camera and a dim sky), --no-point-lights, --background, --smooth.
 #include "engine/scene.h"
 
 #include <CLI/CLI.hpp>
@@ -18,6 +19,8 @@ struct SceneOptions {
     std::vector<std::string> lights;
     bool no_point_lights = false;
     std::string background;
+    bool smooth = false;          ///< compute vertex normals where the file has none
+    float crease_degrees = 60.0f;
 };
 
 /// Registers SCENE and the camera/light options on `cmd`.

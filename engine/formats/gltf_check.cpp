@@ -1,0 +1,99 @@
+#include "engine/formats/gltf_check.h"
+
+#include "engine/error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+
+namespace arbor::engine::formats {
+
+namespace {
+
+std::uint32_t u32(std::string_view b, std::size_t at) {
+    std::uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v |= std::uint32_t(static_cast<unsigned char>(b[at + std::size_t(k)])) << (8 * k);
+    return v;
+}
+
+/// The JSON chunk of a GLB (after checking the header and the chunk lengths).
+std::string_view glb_json(std::string_view b, const std::string& name) {
+    if (b.size() < 20) throw InputError(name, 0, "GLB file of " + std::to_string(b.size()) + " bytes is shorter than its headers");
+    const std::uint32_t version = u32(b, 4), length = u32(b, 8);
+    if (version != 2) throw InputError(name, 0, "GLB version " + std::to_string(version) + " (only glTF 2.0 is read)");
+    if (length != b.size())
+        throw InputError(name, 0, "GLB header says " + std::to_string(length) + " bytes, the file has " + std::to_string(b.size()) +
+                                      (length > b.size() ? " (truncated?)" : ""));
+    const std::uint32_t json_length = u32(b, 12);
+    if (std::memcmp(b.data() + 16, "JSON", 4) != 0) throw InputError(name, 0, "GLB: the first chunk is not JSON");
+    if (json_length > b.size() - 20) throw InputError(name, 0, "GLB: the JSON chunk runs past the end of the file");
+    std::size_t pos = 20 + std::size_t(json_length);
+    pos = (pos + 3) & ~std::size_t(3);
+    if (pos < b.size()) {
+        if (b.size() - pos < 8) throw InputError(name, 0, "GLB: a chunk header runs past the end of the file");
+        if (u32(b, pos) > b.size() - pos - 8) throw InputError(name, 0, "GLB: the binary chunk runs past the end of the file");
+    }
+    return b.substr(20, json_length);
+}
+
+std::uint64_t accessor_count(const nlohmann::json& accessors, const nlohmann::json& ref, const std::string& name) {
+    if (!ref.is_number_unsigned() || ref.get<std::uint64_t>() >= accessors.size())
+        throw InputError(name, 0, "glTF: a primitive refers to accessor " + ref.dump() + ", out of range");
+    const nlohmann::json& a = accessors[ref.get<std::size_t>()];
+    if (!a.is_object() || !a.contains("count") || !a["count"].is_number_unsigned())
+        throw InputError(name, 0, "glTF: accessor " + ref.dump() + " has no count");
+    return a["count"].get<std::uint64_t>();
+}
+
+}  // namespace
+
+bool looks_like_glb(std::string_view b) { return b.size() >= 4 && b.substr(0, 4) == "glTF"; }
+
+bool looks_like_json(std::string_view b) {
+    for (char c : b) {
+        if (c == ' ' || c == '\t' || c == '\r' || c == '\n') continue;
+        return c == '{';
+    }
+    return false;
+}
+
+GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
+    const std::string_view text = looks_like_glb(bytes) ? glb_json(bytes, name) : bytes;
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text.begin(), text.end());
+    } catch (const nlohmann::json::exception& e) {
+        std::string what = e.what();
+        for (char& c : what)
+            if (c == '\n' || c == '\r') c = ' ';
+        throw InputError(name, 0, "glTF JSON does not parse (" + what + ")");
+    }
+    if (!j.is_object() || !j.contains("asset") || !j["asset"].is_object() || !j["asset"].contains("version") ||
+        !j["asset"]["version"].is_string())
+        throw InputError(name, 0, "glTF: no asset.version (not a glTF file?)");
+    const std::string version = j["asset"]["version"];
+    if (version.rfind("2.", 0) != 0) throw InputError(name, 0, "glTF version " + version + " (only glTF 2.0 is read)");
+    GltfCounts c;
+    if (!j.contains("meshes")) return c;
+    const nlohmann::json empty = nlohmann::json::array();
+    const nlohmann::json& accessors = j.contains("accessors") && j["accessors"].is_array() ? j["accessors"] : empty;
+    if (!j["meshes"].is_array()) throw InputError(name, 0, "glTF: meshes is not an array");
+    for (const auto& mesh : j["meshes"]) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+            throw InputError(name, 0, "glTF: a mesh without a primitives array");
+        for (const auto& prim : mesh["primitives"]) {
+            if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object() ||
+                !prim["attributes"].contains("POSITION"))
+                throw InputError(name, 0, "glTF: a primitive without POSITION");
+            const int mode = prim.contains("mode") && prim["mode"].is_number_integer() ? prim["mode"].get<int>() : 4;
+            const std::uint64_t n = prim.contains("indices") ? accessor_count(accessors, prim["indices"], name)
+                                                              : accessor_count(accessors, prim["attributes"]["POSITION"], name);
+            if (mode == 4) c.triangles += n / 3;
+            else if (mode == 5 || mode == 6) c.triangles += n >= 3 ? n - 2 : 0;
+            else ++c.point_line_prims;
+        }
+    }
+    return c;
+}
+
+}  // namespace arbor::engine::formats

@@ -1,0 +1,90 @@
+#include "engine/mesh_loader.h"
+
+#include "engine/error.h"
+#include "engine/file_io.h"
+#include "engine/formats/assimp_import.h"
+#include "engine/formats/gltf_check.h"
+#include "engine/formats/ply_check.h"
+#include "engine/memory_budget.h"
+#include "engine/mesh_validate.h"
+#include "engine/obj_loader.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+namespace arbor::engine {
+
+using namespace formats;
+
+std::uint64_t mesh_load_bytes(MeshFormat format, std::uint64_t file_bytes) {
+    return format == MeshFormat::obj ? obj_load_bytes(file_bytes) : 8 * file_bytes;
+}
+
+Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std::string& base_dir, Warnings& warnings,
+                     bool read_other_files, MeshFormat* format_out) {
+    const MeshFormat format = detect_mesh_format(bytes, name);
+    if (format_out) *format_out = format;
+    if (format == MeshFormat::obj) {
+        Mesh m = load_obj_text(std::string(bytes), name, read_other_files ? base_dir : "/nonexistent-arbor-input/", warnings);
+        validate_mesh(m, name);
+        return m;
+    }
+    GltfCounts gltf;
+    switch (format) {
+    case MeshFormat::ply: {
+        const PlyHeader header = parse_ply_header(bytes, name);
+        check_ply_body(header, bytes, name);
+        // Assimp's own message would be "Unable to extract mesh data".
+        if (std::none_of(header.elements.begin(), header.elements.end(),
+                         [](const PlyElement& e) { return e.name == "vertex" && e.count > 0; }))
+            throw InputError(name, 0, "no triangles (the PLY file has no vertices)");
+        break;
+    }
+    case MeshFormat::stl_binary: check_stl_binary(bytes, name); break;
+    case MeshFormat::gltf:
+    case MeshFormat::glb: gltf = check_gltf(bytes, name); break;
+    default: break;
+    }
+    ImportCounts counts;
+    // Assimp reads other files relative to the folder; "" would mean the current one.
+    const std::string dir = base_dir.empty() ? "./" : base_dir;
+    Mesh m = import_with_assimp(bytes, format, name, read_other_files ? dir : "", warnings, counts);
+    if ((format == MeshFormat::gltf || format == MeshFormat::glb) && counts.polygons != gltf.triangles)
+        throw InputError(name, 0, "glTF: the accessors define " + std::to_string(gltf.triangles) + " triangles, Assimp read " +
+                                      std::to_string(counts.polygons) +
+                                      " (it drops those whose indices point past their primitive's vertices)");
+    const bool only_points = counts.polygons == 0 && (counts.point_line_faces > 0 || counts.vertices > 0);
+    validate_mesh(m, name, only_points ? ": the file holds only points/lines" : "");
+    return m;
+}
+
+Mesh load_mesh(const std::string& path, Warnings& warnings, std::uint64_t max_bytes, MeshFormat* format_out) {
+    std::error_code ec;
+    const auto size = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
+    const std::uint64_t budget = memory_budget(max_bytes);
+    if (!ec && size > 0) {
+        // The format from the first bytes alone (binary STL needs the size: it is read from the
+        // file), to pick the estimate before the whole file is read.
+        std::string head(std::min<std::uint64_t>(size, 4096), '\0');
+        if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+            head.resize(std::fread(head.data(), 1, head.size(), f));
+            std::fclose(f);
+        }
+        MeshFormat guess = detect_mesh_format(head, path);
+        if (guess == MeshFormat::obj && size > head.size() && stl_binary_count(head) >= 0 &&
+            84 + 50 * std::uint64_t(stl_binary_count(head)) == size)
+            guess = MeshFormat::stl_binary;
+        const std::uint64_t need = mesh_load_bytes(guess, size);
+        if (need > budget)
+            throw InputError(path, 0, "loading " + format_bytes(size) + " of " + format_name(guess) + " needs about " +
+                                          format_bytes(need) + ", more than the " + format_bytes(budget) +
+                                          (max_bytes ? " of --max-memory" : " of memory"));
+    }
+    const std::string bytes = read_file(path);
+    const auto slash = path.find_last_of('/');
+    const std::string base_dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+    return load_mesh_bytes(bytes, path, base_dir, warnings, true, format_out);
+}
+
+}  // namespace arbor::engine

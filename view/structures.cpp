@@ -1,0 +1,20 @@
+#include "view/structures.h"
+
+#include "accel/util/timer.h"
+
+namespace arbor::view {
+
+StructureCache::Entry StructureCache::get(accel::AccelKind kind, bool counting) {
+    const std::lock_guard lock(mutex_);
+    Slot& slot = slots_[{kind, counting}];
+    if (auto live = slot.accel.lock()) return {std::move(live), slot.build_ms, true};
+    accel::BuildConfig cfg = base_;
+    cfg.layouts = counting ? accel::Layouts::all : accel::Layouts::simd;
+    const accel::Timer timer;
+    std::shared_ptr<const accel::Accel> built = accel::make_accel(kind, tris_, cfg);
+    slot.build_ms = timer.ms();
+    slot.accel = built;
+    return {std::move(built), slot.build_ms, false};
+}
+
+}  // namespace arbor::view
