@@ -172,6 +172,8 @@ j = json.loads(open(sys.argv[1]).read())
 assert j["accel"] in ("brute", "bvh-median", "bvh-sah", "lbvh", "kdtree"), j["accel"]
 assert j["auto_reason"].startswith(j["accel"] + ":") and "\n" not in j["auto_reason"], j["auto_reason"]
 assert j["rays"] == 777 and j["auto_ms"] >= 0, j
+# auto's own work leaves out the build it handed over (that build is build_ms, paid anyway).
+assert 0 <= j["auto_own_ms"] <= j["auto_ms"], j
 # What decided: the cost model's prediction and margin, or the probe's figures.
 assert " model: predicted " in j["auto_reason"] or " probe: " in j["auto_reason"], j["auto_reason"]
 assert "margin" in j["auto_reason"] and isinstance(j["auto_probed"], bool), j

@@ -227,6 +227,7 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
         out.path = first.c.path;
         for (const Weighed& w : all) out.candidates.push_back(w.c);
         out.auto_ms = timer.ms();
+        out.own_ms = out.auto_ms;
         out.reason = pick_words(first.c) + " model: predicted " + describe(first.c, rays) +
                      job_line + next + why + "; auto " + human_ms(out.auto_ms);
         return std::move(out);
@@ -320,10 +321,13 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
     std::size_t sample_rays = 0;
     for (const ProbeGroup& g : probe_groups) sample_rays += g.rays.size();
     out.auto_ms = timer.ms();
+    const double handed_ms = out.built ? probe.build_ms[std::size_t(s - structures.begin())] : 0.0;
+    out.own_ms = std::max(0.0, out.auto_ms - handed_ms);
     std::string r = pick_words(pick) + " probe: " + describe(pick, rays);
     for (std::size_t i = 1; i < measured.size(); ++i) r += (i == 1 ? "; next " : ", ") + describe(measured[i], rays);
     r += " (" + std::to_string(sample_rays) + " rays timed" + job_line + "); the model had " + describe(first.c, rays) +
-         next + within + "; auto " + human_ms(out.auto_ms) + " (" + percent(out.auto_ms / first.c.total_ms) + " of the job)";
+         next + within + "; auto " + human_ms(out.own_ms) + " (" + percent(out.own_ms / (pick.total_ms + out.own_ms)) +
+         " of the job)" + (out.built ? " + the pick's build " + human_ms(handed_ms) + ", handed over" : "");
     out.reason = std::move(r);
     return out;
 }

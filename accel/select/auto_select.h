@@ -78,6 +78,9 @@ struct AccelPick {
     std::string reason;                 ///< auto's one line (empty when a structure was named)
     std::unique_ptr<Accel> built;       ///< the pick, when the probe built it with AutoJob::build
     double auto_ms = 0.0;               ///< wall time auto spent: shapes, model, probe
+    /// auto_ms less the build of the pick it handed over (`built`), which the job needs anyway:
+    /// auto's own work, what it costs over a fixed choice of the same structure.
+    double own_ms = 0.0;
     bool probed = false;                ///< a probe ran
     std::vector<AutoCandidate> candidates;  ///< every configuration, smallest total first
 };

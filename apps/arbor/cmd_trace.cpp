@@ -71,6 +71,7 @@ int run_trace(const TraceOptions& o) {
     if (accel::parse_accel_kind(o.accel) == accel::AccelKind::automatic) {
         j["auto_reason"] = pick.reason;
         j["auto_ms"] = pick.auto_ms;
+        j["auto_own_ms"] = pick.own_ms;
         j["auto_probed"] = pick.probed;
     }
     j["path"] = accel::to_string(path);
