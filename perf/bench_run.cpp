@@ -363,8 +363,10 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
         const std::size_t kind_from = out.rows.size();
         // --accel auto on these rays for each budget, decided afresh in every repeat (bench_auto.h),
         // with the build settings of the timed structures (so a structure its probe built is theirs).
+        // Not where no fixed configuration is timed (every build skipped as too slow): nothing to
+        // judge auto against, and each decision on such a scene may build whole structures.
         std::optional<AutoEvaluator> autos;
-        if (o.evaluate_auto) autos.emplace(view, in.rays, in.query, accel::BuildConfig{}, o.budgets);
+        if (o.evaluate_auto && !configs.empty()) autos.emplace(view, in.rays, in.query, accel::BuildConfig{}, o.budgets);
         run_kind(in, built, configs, brute, o, scene_threads, log, autos ? &*autos : nullptr, out);
         if (autos) autos->judge(in.scene->name, std::string(engine::to_string(kind)), kind_from, out);
     }
