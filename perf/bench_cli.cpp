@@ -23,7 +23,7 @@ struct BenchCommand {
     std::vector<double> budgets;
     std::size_t rays = 0;
     int repeats = 0, build_repeats = 0, scaling_max = 0;
-    bool no_embree = false, no_variants = false, time_brute = false, quiet = false;
+    bool no_embree = false, no_variants = false, time_brute = false, quiet = false, no_auto = false;
     std::uint64_t seed = 1;
 };
 
@@ -68,6 +68,7 @@ std::shared_ptr<BenchCommand> add_bench_options(CLI::App& app) {
     app.add_flag("--no-embree", c->no_embree, "leave the Embree peer out");
     app.add_flag("--no-embree-variants", c->no_variants, "only Embree's default mode (not HIGH, not ROBUST)");
     app.add_flag("--time-brute", c->time_brute, "also time brute (tiny scenes only)");
+    app.add_flag("--no-auto", c->no_auto, "do not evaluate --accel auto (e.g. a run that only feeds perf/model/fit_auto_model.py)");
     app.add_flag("-q,--quiet", c->quiet, "no progress lines");
     return c;
 }
@@ -88,6 +89,7 @@ BenchOptions bench_options(const BenchCommand& c) {
     o.embree = !c.no_embree;
     if (c.no_variants) o.embree_variants = false;
     o.time_brute = c.time_brute;
+    if (c.no_auto) o.evaluate_auto = false;
     o.verbose = !c.quiet;
     return o;
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace arbor::perf {
@@ -59,37 +60,35 @@ struct BenchRow {
     std::vector<double> total_ms;     ///< build + trace time for each ray budget of the run
     /// The same from the fastest build and the median CPU-time trace (trace_cpu_ms).
     std::vector<double> total_cpu_ms;
-
-    // --accel auto on this row's (scene, kind, threads): filled on the auto rows only.
+    /// What --accel auto knows of this (scene, kind) before building (accel/select/job_shape.h):
+    /// the numbers its cost model reads, so that the model can be fitted from this output.
+    std::vector<std::pair<std::string, double>> shape;
 };
 
-/// One decision of --accel auto against the measured matrix, for a (scene, kind, threads, budget).
+/// One (scene, kind, threads, budget) row of --accel auto against the measured matrix
+/// (perf/bench_auto.h): the whole job by the wall clock, auto's own work counted.
 struct AutoRow {
     std::string scene, kind;
     int threads = 0;
     double budget = 0.0;
-    std::string picked, best;   ///< structure auto picked, structure with the smallest measured total
-    std::string picked_path, best_path;  ///< the path auto picked with the structure; the best row's path
-    /// picked_ms: the picked structure on the picked path (the row `arbor trace --accel auto` runs);
-    /// best_ms: the smallest total of any arbor (structure, path) row.
-    double picked_ms = 0.0, best_ms = 0.0;
-    double regret = 0.0;        ///< picked_ms / best_ms - 1 (NaN: auto picked a structure not timed)
-    /// The same against the picked structure's fastest measured path.
-    double regret_any_path = 0.0;
-    /// The regret had the pick run on the path TracePath::best takes (its coherence rule).
-    double regret_best_path = 0.0;
-    double overhead_ms = 0.0;   ///< auto's own calibration: builds on the (sub)scene + sample traces
-    double regret_with_overhead = 0.0;  ///< (picked_ms + overhead_ms) / best_ms - 1
-    /// The regret with totals from the fastest build and trace repeats instead of the medians (less
-    /// sensitive to other work on a shared machine).
-    double regret_fastest = 0.0;
-    /// The regret with totals from total_cpu_ms (CPU time of the traces / threads, fastest build).
+    std::string picked, picked_path;  ///< auto's pick (of the median trial) and the path it runs
+    std::string best, best_path;      ///< the fixed (structure, path) with the smallest total
+    double auto_ms = 0.0;             ///< auto's own wall time (median of the trials)
+    double auto_total_ms = 0.0;       ///< median over the trials of auto's time + its pick's build and trace
+    double best_ms = 0.0;             ///< the smallest build + trace total of any fixed (structure, path)
+    double default_ms = 0.0;          ///< the default's total: bvh-sah on the path best takes
+    double regret = 0.0;              ///< auto_total_ms / best_ms - 1: THE measure
+    double regret_without_auto = 0.0; ///< the same without auto's own time (the pick alone)
+    /// By CPU time: auto's CPU time / threads + the pick's fastest build + budget x its median
+    /// trace CPU time / threads, over the smallest such total of any fixed choice, - 1.
     double regret_cpu = 0.0;
-    double oracle_split_regret_cpu = 0.0;  ///< the noise floor of regret_cpu
-    /// Noise floor: the regret of an oracle that picks on half of the repeats and is judged on the
-    /// other half. Where this is above 10%, no predictor can be reliably within 10% in this run.
-    double oracle_split_regret = 0.0;
-    std::string reason;
+    double probed = 0.0;              ///< share of the trials in which a probe ran
+    /// Noise floors: an oracle that picks on half of the repeats, judged on the other half (its
+    /// regret); and whether the best fixed choice measured twice (even and odd repeats) is within
+    /// 10% of itself. Wall clock and CPU time.
+    double oracle_split_regret = 0.0, oracle_split_regret_cpu = 0.0;
+    bool same_twice = false, same_twice_cpu = false;
+    std::string reason;  ///< auto's reason (median trial)
 };
 
 struct BenchResult {

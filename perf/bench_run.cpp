@@ -1,10 +1,11 @@
 #include "perf/bench_run.h"
 
-#include "accel/select/auto_select.h"
+#include "accel/select/job_shape.h"
 #include "accel/brute/brute_accel.h"
 #include "accel/util/timer.h"
 #include "engine/error.h"
 #include "engine/ray_gen.h"
+#include "perf/bench_auto.h"
 #include "perf/bench_build.h"
 #include "perf/bench_plan.h"
 
@@ -16,6 +17,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <optional>
 #include <ctime>
 #include <iterator>
 #include <unistd.h>
@@ -112,11 +114,19 @@ struct KindInput {
     bool coherent;
     std::vector<Ray> rays;                                    ///< validated (all of them)
     std::function<std::vector<Ray>(std::size_t)> make_rays;  ///< the same kind and seed, another count
+    std::vector<std::pair<std::string, double>> shape;        ///< BenchRow::shape
 };
+
+/// The numbers of BenchRow::shape: the scene's and the rays' shape (accel/select/job_shape.h).
+std::vector<std::pair<std::string, double>> shape_values(const accel::SceneShape& s, const accel::RayShape& r) {
+    return {{"triangles", double(s.triangles)}, {"overlap", s.overlap},     {"spread", s.spread},
+            {"size_tail", s.size_tail},         {"thinness", s.thinness},   {"coherent", r.coherent},
+            {"together", r.together},           {"any_hit", r.query == Query::any ? 1.0 : 0.0}};
+}
 
 void run_kind(const KindInput& in, const std::vector<Built>& built, const std::vector<TraceConfig>& configs,
               const accel::BruteAccel& brute, const BenchOptions& o, const std::vector<int>& threads,
-              const Progress& log, BenchResult& out) {
+              const Progress& log, AutoEvaluator* autos, BenchResult& out) {
     const std::vector<Ray>& rays = in.rays;
     const std::size_t n = rays.size(), tris = in.scene->scene.mesh.triangle_count();
     const std::string kind_name(engine::to_string(in.kind));
@@ -201,8 +211,14 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
         std::vector<std::vector<double>> ms(configs.size()), cpu(configs.size());
         for (int rep = 0; rep < o.repeats; ++rep) {
-            for (std::size_t j = 0; j < configs.size(); ++j) {
-                const std::size_t c = (j + std::size_t(rep)) % configs.size();
+            // --accel auto's decisions take one turn of the round-robin, at a place that moves too.
+            const std::size_t turns = configs.size() + (autos ? 1 : 0);
+            for (std::size_t j = 0; j < turns; ++j) {
+                const std::size_t c = (j + std::size_t(rep)) % turns;
+                if (c == configs.size()) {
+                    autos->run(t);
+                    continue;
+                }
                 const double cpu0 = process_cpu_ms();
                 const accel::Timer timer;
                 std::size_t passes = 0;
@@ -232,6 +248,7 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             r.triangles = tris;
             r.rays = nt;
             r.validated_rays = n;
+            r.shape = in.shape;
             const auto bt = b.build_ms.find(t);
             if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second), r.build_samples = bt->second;
             r.trace_ms = summarize(ms[c]);
@@ -265,113 +282,6 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     }
     log("  %s: %zu rays validated (brute sample %zu), %zu timed, %zu configurations", kind_name.c_str(), n,
         sample.size(), nt, configs.size());
-}
-
-/// --accel auto against the measured rows of one (scene, kind), rows [from, end): for each thread
-/// count and budget, what auto picks when calibrated on this kind's rays, and its regret over the
-/// structure with the smallest measured build + trace total (best path). The overhead is what auto
-/// itself spent: its calibration builds plus tracing the sample.
-/// The noise floor of the measurement: the structure with the smallest total on the even-numbered
-/// repeats, judged by the odd-numbered ones (its regret there). NaN with fewer than 2 repeats.
-double split_half_regret(const std::vector<BenchRow>& rows, std::size_t from, int threads, double budget, bool cpu = false) {
-    std::map<std::string, std::pair<double, double>> half;  // structure -> (even total, odd total), best path
-    for (std::size_t i = from; i < rows.size(); ++i) {
-        const BenchRow& r = rows[i];
-        const std::vector<double>& samples = cpu ? r.trace_cpu_samples : r.trace_samples;
-        if (r.embree || r.threads != threads || samples.size() < 2) continue;
-        std::vector<double> even, odd;
-        for (std::size_t k = 0; k < samples.size(); ++k) (k % 2 ? odd : even).push_back(samples[k]);
-        auto total = [&](const std::vector<double>& v) {
-            return (cpu ? r.build_ms.min : r.build_ms.median) + budget * summarize(v).median / double(r.rays);
-        };
-        const std::pair<double, double> t{total(even), total(odd)};
-        auto [it, fresh] = half.emplace(r.structure, t);
-        if (!fresh) it->second = {std::min(it->second.first, t.first), std::min(it->second.second, t.second)};
-    }
-    if (half.empty()) return nan_value;
-    const auto pick = std::min_element(half.begin(), half.end(), [](const auto& x, const auto& y) {
-        return x.second.first < y.second.first;
-    });
-    double best = pick->second.second;
-    for (const auto& [s, t] : half) best = std::min(best, t.second);
-    return pick->second.second / best - 1.0;
-}
-
-struct AutoState {
-    std::unique_ptr<accel::AutoSelector> selector;
-    double construct_ms = 0.0;
-};
-
-void evaluate_auto(const KindInput& in, std::map<int, AutoState>& autos, std::size_t from, const BenchOptions& o,
-                   BenchResult& out) {
-    for (auto& [t, st] : autos) {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-        const double before = st.selector->calibration_ms();
-        const bool any = in.query == Query::any;
-        std::vector<accel::AutoPrediction> preds;  // computed when a budget is not tiny
-        for (std::size_t bi = 0; bi < o.budgets.size(); ++bi) {
-            // As `arbor trace --accel auto` would run it: the tiny-budget shortcut first, then the
-            // predictions (made once per kind), refined for this budget.
-            accel::AutoChoice choice = st.selector->choose_tiny(in.rays, any, o.budgets[bi]);
-            if (choice.predictions.empty()) {
-                if (preds.empty()) preds = st.selector->predict(in.rays, any);
-                preds = st.selector->refine(preds, in.rays, any, o.budgets[bi]);
-                choice = st.selector->pick(preds, o.budgets[bi]);
-            }
-            const double overhead = st.construct_ms + (st.selector->calibration_ms() - before);
-            // on_pick, fastest_pick, cpu_pick: the row of the (structure, path) auto picked (medians,
-            // fastest repeats, CPU time); per structure: the path best takes, and its fastest path.
-            const std::string pick_name(accel::to_string(choice.kind)), pick_path(accel::to_string(choice.path));
-            double on_pick = nan_value, fastest_pick = nan_value, cpu_pick = nan_value;
-            std::map<std::string, double> on_best_path, any_path;
-            double cpu_best = 0.0;
-            double best_ms = 0.0, fastest_best = 0.0;
-            std::string best_name, best_row_path;
-            for (std::size_t i = from; i < out.rows.size(); ++i) {
-                const BenchRow& r = out.rows[i];
-                if (r.embree || r.threads != t || bi >= r.total_ms.size()) continue;
-                const double fast = r.build_ms.min + o.budgets[bi] / (r.mrays.max * 1e6) * 1e3;
-                if (best_name.empty() || r.total_ms[bi] < best_ms) best_ms = r.total_ms[bi], best_name = r.structure, best_row_path = r.path;
-                if (fastest_best == 0.0 || fast < fastest_best) fastest_best = fast;
-                if (bi < r.total_cpu_ms.size() && (cpu_best == 0.0 || r.total_cpu_ms[bi] < cpu_best)) cpu_best = r.total_cpu_ms[bi];
-                auto [it, fresh] = any_path.emplace(r.structure, r.total_ms[bi]);
-                if (!fresh) it->second = std::min(it->second, r.total_ms[bi]);
-                if (r.structure == pick_name && r.path == pick_path) {
-                    on_pick = r.total_ms[bi];
-                    fastest_pick = fast;
-                    if (bi < r.total_cpu_ms.size()) cpu_pick = r.total_cpu_ms[bi];
-                }
-                if (r.best_path) {
-                    on_best_path[r.structure] = r.total_ms[bi];
-                }
-            }
-            if (best_name.empty()) continue;
-            AutoRow a;
-            a.scene = in.scene->name;
-            a.kind = std::string(engine::to_string(in.kind));
-            a.threads = t;
-            a.budget = o.budgets[bi];
-            a.picked = pick_name;
-            a.picked_path = pick_path;
-            a.best = best_name;
-            a.best_path = best_row_path;
-            a.best_ms = best_ms;
-            a.picked_ms = on_pick;
-            a.regret = a.picked_ms / a.best_ms - 1.0;
-            const auto on_best = on_best_path.find(a.picked);
-            a.regret_best_path = on_best == on_best_path.end() ? nan_value : on_best->second / a.best_ms - 1.0;
-            const auto picked_any = any_path.find(a.picked);
-            a.regret_any_path = picked_any == any_path.end() ? nan_value : picked_any->second / a.best_ms - 1.0;
-            a.overhead_ms = overhead;
-            a.regret_with_overhead = (a.picked_ms + overhead) / a.best_ms - 1.0;
-            a.regret_fastest = fastest_pick / fastest_best - 1.0;
-            a.regret_cpu = cpu_best <= 0 ? nan_value : cpu_pick / cpu_best - 1.0;
-            a.reason = choice.reason;
-            a.oracle_split_regret = split_half_regret(out.rows, from, t, o.budgets[bi]);
-            a.oracle_split_regret_cpu = split_half_regret(out.rows, from, t, o.budgets[bi], true);
-            out.autos.push_back(std::move(a));
-        }
-    }
 }
 
 /// Ratio of each row's median Mrays/s to the best call of Embree's default mode on the same
@@ -426,20 +336,7 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
     };
     const engine::RayGenScene gscene = engine::ray_gen_scene(bs.scene, bs.use_scene_camera);
 
-    // --accel auto, calibrated once per thread count (as a run of `arbor trace --accel auto` would).
-    std::map<int, AutoState> autos;
-    if (o.evaluate_auto) {
-        for (const int t : scene_threads) {
-            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-            AutoState st;
-            accel::AutoConfig ac;
-            ac.seed = o.seed;
-            st.selector = std::make_unique<accel::AutoSelector>(view, ac);
-            st.construct_ms = st.selector->calibration_ms();
-            autos.emplace(t, std::move(st));
-        }
-    }
-
+    const accel::SceneShape scene_shape = accel::scene_shape(view);
     const std::size_t first_row = out.rows.size();
     for (const std::string& kname : o.kinds) {
         const engine::RayKind kind = *engine::parse_ray_kind(kname);
@@ -449,7 +346,7 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
         rc.count = scaling ? o.scaling_rays : o.rays;
         rc.seed = o.seed;
         KindInput in{&bs, kind, kind == engine::RayKind::shadow ? Query::any : Query::closest,
-                     kind == engine::RayKind::primary || kind == engine::RayKind::shadow, {}, {}};
+                     kind == engine::RayKind::primary || kind == engine::RayKind::shadow, {}, {}, {}};
         in.make_rays = [&gscene, rc, &tracer](std::size_t count) {
             engine::RayGenConfig c = rc;
             c.count = count;
@@ -461,9 +358,17 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
             out.notes.push_back(bs.name + " " + kname + ": " + e.what());
             continue;
         }
+        const float diag = simd::length(scene_shape.bounds.extent());
+        in.shape = shape_values(scene_shape, accel::ray_shape(in.rays, double(in.rays.size()), in.query, diag));
         const std::size_t kind_from = out.rows.size();
-        run_kind(in, built, configs, brute, o, scene_threads, log, out);
-        evaluate_auto(in, autos, kind_from, o, out);
+        // --accel auto on these rays for each budget, decided afresh in every repeat (bench_auto.h),
+        // with the build settings of the timed structures (so a structure its probe built is theirs).
+        // Not where no fixed configuration is timed (every build skipped as too slow): nothing to
+        // judge auto against, and each decision on such a scene may build whole structures.
+        std::optional<AutoEvaluator> autos;
+        if (o.evaluate_auto && !configs.empty()) autos.emplace(view, in.rays, in.query, accel::BuildConfig{}, o.budgets);
+        run_kind(in, built, configs, brute, o, scene_threads, log, autos ? &*autos : nullptr, out);
+        if (autos) autos->judge(in.scene->name, std::string(engine::to_string(kind)), kind_from, out);
     }
     fill_embree_ratios(out.rows, first_row);
 }

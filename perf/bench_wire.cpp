@@ -13,12 +13,11 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BenchRow, scene, family, kind, query, structu
                                    host, rank, triangles, rays, validated_rays, build_ms, trace_ms, mrays,
                                    build_samples, trace_samples, trace_cpu_samples, trace_cpu_ms, nodes, leaves,
                                    max_depth, sah_cost, bytes_per_triangle, nodes_per_ray, tris_per_ray, brute_sample,
-                                   err_brute, err_scalar, err_embree, ratio_embree, total_ms, total_cpu_ms)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AutoRow, scene, kind, threads, budget, picked, best, picked_path, best_path,
-                                   picked_ms, best_ms, regret, regret_any_path, regret_best_path, overhead_ms,
-                                   regret_with_overhead, regret_fastest, regret_cpu, oracle_split_regret_cpu,
-                                   oracle_split_regret, reason)
-static_assert(sizeof(BenchRow) == 576, "BenchRow changed: list the new field in bench_wire.cpp, then update this size");
+                                   err_brute, err_scalar, err_embree, ratio_embree, total_ms, total_cpu_ms, shape)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AutoRow, scene, kind, threads, budget, picked, picked_path, best, best_path, auto_ms,
+                                   auto_total_ms, best_ms, default_ms, regret, regret_without_auto, regret_cpu, probed,
+                                   oracle_split_regret, oracle_split_regret_cpu, same_twice, same_twice_cpu, reason)
+static_assert(sizeof(BenchRow) == 600, "BenchRow changed: list the new field in bench_wire.cpp, then update this size");
 static_assert(sizeof(AutoRow) == 328, "AutoRow changed: list the new field in bench_wire.cpp, then update this size");
 
 std::string to_wire(const BenchResult& r) {

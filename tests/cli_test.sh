@@ -173,9 +173,37 @@ j = json.loads(open(sys.argv[1]).read())
 assert j["accel"] in ("brute", "bvh-median", "bvh-sah", "lbvh", "kdtree"), j["accel"]
 assert j["auto_reason"].startswith(j["accel"] + ":") and "\n" not in j["auto_reason"], j["auto_reason"]
 assert j["rays"] == 777 and j["auto_ms"] >= 0, j
+# auto's own work leaves out the build it handed over (that build is build_ms, paid anyway).
+assert 0 <= j["auto_own_ms"] <= j["auto_ms"], j
+# What decided: the cost model's prediction and margin, or the probe's figures.
+assert " model: predicted " in j["auto_reason"] or " probe: " in j["auto_reason"], j["auto_reason"]
+assert "margin" in j["auto_reason"] and isinstance(j["auto_probed"], bool), j
 PY
 else
   fail "trace --accel auto exited $?: $(cat "$WORK/err")"
+fi
+# render and converge ask the one decision about the same job (4 samples per pixel of the direct
+# integrator at 32x24: one render of 4 spp, or converge's 1 + 2 spp and a 1-spp reference) and give
+# the same pick for the same reason (up to auto's own time; when a probe ran, the model's part).
+if "$ARBOR" render "$WORK/quad.obj" --accel auto --width 32 --height 24 --spp 4 -o "$WORK/auto.png" -q >"$WORK/r.out" 2>"$WORK/err" &&
+   ARBOR_PYTHON=/nonexistent/python3 "$ARBOR" converge "$WORK/quad.obj" --accel auto --width 32 --height 24 --max-spp 2 \
+     --ref-spp 1 --out "$WORK/conv-auto" >"$WORK/c.out" 2>>"$WORK/err"; then
+  python3 - "$WORK/r.out" "$WORK/c.out" <<'PY' || fail "render and converge decided differently: $(cat "$WORK/r.out" "$WORK/c.out")"
+import sys
+r = open(sys.argv[1]).read()
+c = open(sys.argv[2]).read()
+rr = r[r.index("(auto: ") + 7:r.index(") built in")]
+cr = next(l[6:] for l in c.splitlines() if l.startswith("auto: "))
+def decided(reason):
+    if " probe: " in reason:
+        return reason[reason.index("the model had "):reason.rindex("; auto ")]
+    return reason[:reason.rindex("; auto ")]
+assert " model: predicted " in rr or " probe: " in rr, rr
+assert decided(rr) == decided(cr), (rr, cr)
+assert rr.split(":")[0] == cr.split(":")[0]
+PY
+else
+  fail "render/converge --accel auto exited $?: $(cat "$WORK/err")"
 fi
 
 # `arbor stress`: one JSON line with a row per structure and path, exit 0 when nothing failed;

@@ -1,12 +1,16 @@
-// --accel auto (accel/select/auto_select.h): the pick is the smallest predicted total among the
-// structures this build has (up to the tie rule, tested on fixed predictions), the reason is one
-// line, a tiny budget picks the cheapest build without calibrating the others and a huge budget
-// the fastest tracer (by the selector's own predictions), calibration times every SIMD path and keeps the faster,
-// subset calibration builds only the anchor whole until refine() builds the contenders, and the
-// structure handed over traces correctly.
-#include "accel/select/auto_select.h"
+// --accel auto (accel/select/auto_select.h): the decision is deterministic and explains itself (the
+// model's prediction and margin, or the probe's figures); a tiny job takes no probe; a job whose
+// contenders the model cannot tell apart is probed when it can pay for it, and the probe's pick is
+// handed over built and traces like brute; the cost model's text format refuses malformed files by
+// line; the path policy's expected offers match what the structures offer once built; the engine
+// describes render and converge jobs the same way for the same rays.
 #include "accel/brute/brute_accel.h"
+#include "accel/select/auto_model.h"
+#include "accel/select/auto_select.h"
+#include "accel/select/path_policy.h"
 #include "engine/procedural.h"
+#include "engine/render_job.h"
+#include "engine/scene.h"
 #include "perf/scenes.h"
 #include "testing.h"
 
@@ -18,183 +22,234 @@
 using namespace arbor;
 
 namespace {
-bool sorted_by_total(const accel::AutoChoice& c) {
-    return std::is_sorted(c.predictions.begin(), c.predictions.end(),
-                          [](const auto& a, const auto& b) { return a.total_ms < b.total_ms; });
+
+/// The text of a model whose lbvh traces at `lbvh_ns` per ray on both paths, bvh-sah at `sah_ns`
+/// (packets) and `sah_single_ns` (single rays; 0: sah_ns), and both build in 1 ms per 1k triangles,
+/// with `margin`.
+std::string flat_model(double lbvh_ns, double sah_ns, double margin, double sah_single_ns = 0.0) {
+    const double ln2 = std::log(2.0);
+    auto line = [&](const char* s, const char* p, double ns) {
+        return "trace " + std::string(s) + " " + p + " " + std::to_string(std::log(ns)) + " 0\n";
+    };
+    return "arbor-auto-model 1\nsource test\ntrace_features one coherent\nbuild_features one log2_triangles\nmargin " +
+           std::to_string(margin) + "\nbuild lbvh " + std::to_string(-10 * ln2) + " " + std::to_string(ln2) +
+           "\nbuild bvh-sah " + std::to_string(-10 * ln2) + " " + std::to_string(ln2) + "\n" +
+           line("lbvh", "packet", lbvh_ns) + line("lbvh", "single", lbvh_ns) + line("bvh-sah", "packet", sah_ns) +
+           line("bvh-sah", "single", sah_single_ns > 0.0 ? sah_single_ns : sah_ns);
 }
+
 }  // namespace
 
-TEST_CASE("auto: whole-scene calibration picks the smallest predicted total") {
-    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 3);  // 5120 triangles
-    const auto view = mesh.view();
-    accel::AutoSelector sel(view);
-    const auto rays = testing::random_rays_into(mesh.bounds, 2000, 4);
-    for (const double budget : {1e6, 1e12}) {
-        const auto c = sel.choose(rays, false, budget);
-        REQUIRE_FALSE(c.predictions.empty());
-        CHECK(sorted_by_total(c));
-        const auto& front = c.predictions.front();
-        const auto chosen = std::find_if(c.predictions.begin(), c.predictions.end(),
-                                         [&](const auto& p) { return p.kind == c.kind; });
-        REQUIRE(chosen != c.predictions.end());
-        CHECK(chosen->total_ms <= front.total_ms * (1.0 + accel::AutoConfig{}.tie));  // the front, or tied with it
-        CHECK(c.kind != accel::AccelKind::automatic);
-        CHECK(c.path != accel::TracePath::best);
-        CHECK(c.reason.find('\n') == std::string::npos);
-        CHECK(c.reason.rfind(std::string(accel::to_string(c.kind)) + ": " + std::string(accel::to_string(c.path)) + " path", 0) == 0);
-        CHECK(c.reason.find("calibrated on all") != std::string::npos);
-        for (const auto& p : c.predictions) {
-            CHECK(p.built_whole);
-            CHECK(p.build_ms >= 0.0);
-            CHECK(p.ns_per_ray > 0.0);
-            CHECK(p.kind != accel::AccelKind::brute);  // 5120 triangles: brute is no candidate
-        }
-        if (budget == 1e12) {  // tracing dominates: the fastest tracer is the front
-            for (const auto& p : c.predictions) CHECK(front.ns_per_ray <= p.ns_per_ray);
-        }
+TEST_CASE("auto: the built-in model parses and predicts every structure the benchmark times") {
+    const accel::AutoModel& m = accel::builtin_auto_model();
+    CHECK_FALSE(m.source().empty());
+    CHECK(m.margin() > 0.0);
+    const auto kinds = m.structures();
+    for (const auto k : {accel::AccelKind::bvh_sah, accel::AccelKind::lbvh, accel::AccelKind::bvh_median, accel::AccelKind::kdtree}) {
+        INFO(accel::to_string(k));
+        CHECK(std::find(kinds.begin(), kinds.end(), k) != kinds.end());
+        CHECK(m.has(k, accel::TracePath::packet));
+        CHECK(m.has(k, accel::TracePath::single));
     }
-    CHECK(sel.calibration_ms() > 0.0);
-    // The pick was built on the whole scene: it is handed over once, and it answers like brute.
-    const auto c = sel.choose({}, false, 1e6);
-    auto built = sel.take_built(c.kind);
-    REQUIRE(built);
-    CHECK(built->kind() == c.kind);
-    CHECK_FALSE(sel.take_built(c.kind));
-    accel::BruteAccel brute(view);
-    std::vector<accel::Hit> a(rays.size()), b(rays.size());
-    built->trace(rays, a, {accel::Query::closest, accel::TracePath::best});
-    brute.trace(rays, b, {accel::Query::closest, accel::TracePath::scalar});
-    CHECK(testing::count_disagreements(a, b) == 0);
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 3);
+    const accel::SceneShape s = accel::scene_shape(mesh.view());
+    CHECK(s.triangles == 5120);
+    CHECK(s.sampled == 4096);
+    CHECK(s.overlap > 0.0);
+    accel::RayShape r;
+    r.coherent = r.together = 1.0;
+    for (const auto k : kinds) {
+        const double ns = m.ns_per_ray(k, accel::TracePath::packet, s, r, 1.0);
+        CHECK(std::isfinite(ns));
+        CHECK(ns > 0.0);
+        CHECK(m.build_ms(k, s, 1.0) > 0.0);
+        // More triangles build slower (the model is fitted, but not that wrong).
+        accel::SceneShape big = s;
+        big.triangles = 1 << 20;
+        CHECK(m.build_ms(k, big, 1.0) > m.build_ms(k, s, 1.0));
+    }
 }
 
-TEST_CASE("auto: calibration times each structure on its SIMD paths and keeps the faster one") {
+TEST_CASE("auto: a malformed model is refused with the line that is wrong") {
+    auto refuses = [](const std::string& text, const std::string& what) {
+        INFO(text);
+        try {
+            (void)accel::AutoModel::parse(text);
+            FAIL("parsed");
+        } catch (const std::invalid_argument& e) {
+            CHECK(std::string(e.what()).find(what) != std::string::npos);
+        }
+    };
+    const std::string head = "arbor-auto-model 1\ntrace_features one coherent\nbuild_features one\n";
+    refuses("", "empty");
+    refuses("arbor-auto-model 2\n", "line 1");
+    refuses(head + "trace lbvh packet 1\nbuild lbvh 0\n", "line 4: 1 coefficients for 2 features");
+    refuses(head + "trace lbvh packet 1 x\n", "line 4: a coefficient is not a number");
+    refuses(head + "trace octree packet 1 2\n", "line 4: unknown structure 'octree'");
+    refuses(head + "trace lbvh best 1 2\n", "line 4: unknown path 'best'");
+    refuses(head + "clamp colour 0 1\n", "line 4: unknown feature 'colour'");
+    refuses(head + "frobnicate\n", "line 4: unknown keyword");
+    refuses(head + "trace lbvh packet 1 2\n", "no structure has both");
+    CHECK_NOTHROW((void)accel::AutoModel::parse(flat_model(100, 100, 0.2)));
+}
+
+TEST_CASE("auto: the decision is deterministic and names the model's prediction and margin") {
+    const auto scene = perf::replicated(20000);
+    const auto view = scene.scene.mesh.view();
+    const auto rays = testing::camera_rays(scene.scene.mesh.bounds, 64, 32);
+    for (const double budget : {1e3, 1e6, 1e9}) {
+        accel::AutoJob job = accel::trace_job(view, rays, budget, accel::Query::closest);
+        job.allow_probe = false;
+        const auto a = accel::pick_accel(accel::AccelKind::automatic, job);
+        const auto b = accel::pick_accel(accel::AccelKind::automatic, job);
+        CAPTURE(a.reason);
+        CHECK(a.kind == b.kind);
+        CHECK(a.path == b.path);
+        // Equal up to auto's own time, the last item.
+        CHECK(a.reason.substr(0, a.reason.rfind("; auto ")) == b.reason.substr(0, b.reason.rfind("; auto ")));
+        CHECK(a.kind != accel::AccelKind::automatic);
+        CHECK((a.path == accel::TracePath::packet || a.path == accel::TracePath::single));
+        CHECK(a.reason.rfind(std::string(accel::to_string(a.kind)) + ": " + std::string(accel::to_string(a.path)) + " path, model: predicted ", 0) == 0);
+        CHECK(a.reason.find("margin") != std::string::npos);
+        CHECK(a.reason.find('\n') == std::string::npos);
+        CHECK_FALSE(a.probed);
+        CHECK_FALSE(a.built);
+        REQUIRE_FALSE(a.candidates.empty());
+        CHECK(std::is_sorted(a.candidates.begin(), a.candidates.end(),
+                             [](const auto& x, const auto& y) { return x.total_ms < y.total_ms; }));
+        CHECK(a.candidates.front().kind == a.kind);
+        for (const auto& c : a.candidates) CHECK(c.total_ms == doctest::Approx(c.build_ms + c.trace_ms));
+    }
+    // A named structure is taken as it is, with no reason.
+    const auto named = accel::pick_accel(accel::AccelKind::lbvh, accel::trace_job(view, rays, 1e6, accel::Query::closest));
+    CHECK(named.kind == accel::AccelKind::lbvh);
+    CHECK(named.reason.empty());
+}
+
+TEST_CASE("auto: a tiny job takes no probe, whatever the model's doubt") {
+    const auto scene = perf::replicated(20000);
+    const auto view = scene.scene.mesh.view();
+    const auto rays = testing::random_rays_into(scene.scene.mesh.bounds, 1000, 5);
+    // The two structures predicted equal: contenders, but 1000 rays cannot pay for a probe.
+    const auto model = accel::AutoModel::parse(flat_model(200, 200, 0.5));
+    accel::AutoJob job = accel::trace_job(view, rays, 1000.0, accel::Query::closest);
+    job.model = &model;
+    const auto p = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(p.reason);
+    CHECK_FALSE(p.probed);
+    CHECK_FALSE(p.built);
+    CHECK(p.reason.find("(within the model's 50% margin), no probe: it would cost") != std::string::npos);
+    // With the built-in model too: the 1000-ray job of the issue is decided by the model alone.
+    const auto q = accel::pick_accel(accel::AccelKind::automatic, accel::trace_job(view, rays, 1000.0, accel::Query::closest));
+    CAPTURE(q.reason);
+    CHECK_FALSE(q.probed);
+    CHECK(q.reason.find(" model: predicted ") != std::string::npos);
+}
+
+TEST_CASE("auto: a large job the model cannot decide is probed, and the probe's pick is handed over") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 3);
     const auto view = mesh.view();
-    const auto coherent = testing::camera_rays(mesh.bounds, 64, 32);        // 2048 rays, one camera
-    const auto incoherent = testing::random_rays_into(mesh.bounds, 2048, 7);  // scattered origins
-    for (const auto* rays : {&coherent, &incoherent}) {
-        accel::AutoSelector sel(view);
-        const auto preds = sel.predict(*rays, false);
-        for (const auto& p : preds) {
-            INFO(accel::to_string(p.kind));
-            auto built = sel.take_built(p.kind);
-            REQUIRE(built);
-            CHECK(built->offer().has(p.path));
-            if (built->offer().has(accel::TracePath::single))  // a SIMD structure runs a SIMD path
-                CHECK((p.path == accel::TracePath::packet || p.path == accel::TracePath::single));
-            else
-                CHECK(p.path == accel::choose_path(built->offer(), *rays, {}).path);
-            CHECK(std::isfinite(p.ns_per_ray));
-            CHECK(p.ns_per_ray > 0.0);
+    const auto rays = testing::random_rays_into(mesh.bounds, 3000, 9);
+    const auto model = accel::AutoModel::parse(flat_model(200, 200, 0.5));
+    accel::AutoJob job = accel::trace_job(view, rays, 1e9, accel::Query::closest);
+    job.model = &model;
+    auto p = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(p.reason);
+    CHECK(p.probed);
+    CHECK(p.reason.find(" path, probe: ") != std::string::npos);
+    CHECK(p.reason.find("3000 rays timed") != std::string::npos);
+    CHECK(p.reason.find("the model had ") != std::string::npos);
+    REQUIRE(p.built);
+    CHECK(p.built->kind() == p.kind);
+    // Four configurations were probed (two structures x two paths), their totals measured.
+    std::size_t probed = 0;
+    for (const auto& c : p.candidates) probed += c.probed;
+    CHECK(probed == 4);
+    CHECK(p.candidates.front().probed);
+    CHECK(p.candidates.front().kind == p.kind);
+    accel::BruteAccel brute(view);
+    std::vector<accel::Hit> a(rays.size()), b(rays.size());
+    p.built->trace(rays, a, {accel::Query::closest, p.path});
+    brute.trace(rays, b, {accel::Query::closest, accel::TracePath::scalar});
+    CHECK(testing::count_disagreements(a, b) == 0);
+    // Outside the margin (bvh-sah's packets predicted 4x faster than anything else), the same job
+    // is the model's alone.
+    const auto clear = accel::AutoModel::parse(flat_model(800, 200, 0.5, 800));
+    job.model = &clear;
+    const auto q = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(q.reason);
+    CHECK_FALSE(q.probed);
+    CHECK(q.kind == accel::AccelKind::bvh_sah);
+    CHECK(q.path == accel::TracePath::packet);
+    CHECK(q.reason.find("outside the model's 50% margin") != std::string::npos);
+    // And no probe when it is not allowed.
+    job.model = &model;
+    job.allow_probe = false;
+    CHECK_FALSE(accel::pick_accel(accel::AccelKind::automatic, job).probed);
+}
+
+TEST_CASE("auto: a scalar-only build is decided on the scalar path") {
+    const engine::Mesh mesh = engine::make_box({0, 0, 0}, {1, 1, 1});
+    accel::BuildConfig cfg;
+    cfg.layouts = accel::Layouts::scalar;
+    const auto rays = accel::rays_into_bounds(mesh.bounds, 64, 9);
+    const auto p = accel::pick_accel(accel::AccelKind::automatic,
+                                     accel::trace_job(mesh.view(), rays, 1e6, accel::Query::any, accel::TracePath::scalar, cfg));
+    CAPTURE(p.reason);
+    for (const auto& c : p.candidates) CHECK(c.path == accel::TracePath::best);  // the group's path is fixed
+    CHECK(p.path == accel::TracePath::best);
+    for (const auto& r : rays) CHECK(accel::BruteAccel(mesh.view()).trace_one(r, accel::Query::closest).is_hit());
+}
+
+TEST_CASE("auto: the path policy's expected offer is what each structure offers once built") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2, 0.1f, 3);
+    for (const auto layouts : {accel::Layouts::all, accel::Layouts::scalar, accel::Layouts::simd})
+        for (const auto k : {accel::AccelKind::brute, accel::AccelKind::bvh_median, accel::AccelKind::bvh_sah,
+                             accel::AccelKind::lbvh, accel::AccelKind::kdtree}) {
+            accel::BuildConfig cfg;
+            cfg.layouts = layouts;
+            const auto built = accel::make_accel(k, mesh.view(), cfg);
+            const accel::PathOffer want = built->offer(), got = accel::expected_offer(k, cfg);
+            INFO(accel::to_string(k), " layouts ", int(layouts));
+            for (unsigned p = 0; p < accel::trace_path_count; ++p) CHECK(got.queries[p] == want.queries[p]);
+            CHECK(got.packets_pay == want.packets_pay);
+            CHECK(got.simd_skipped == want.simd_skipped);
+            CHECK(got.counts == want.counts);
         }
-    }
 }
 
-TEST_CASE("auto: a tiny budget picks the cheapest build without calibrating the others") {
-    const auto scene = perf::replicated(20000);
-    const auto view = scene.scene.mesh.view();
-    accel::AutoSelector sel(view);
-    const auto c = sel.choose({}, false, 1.0);  // one ray: the build is everything
-    CHECK(c.kind == accel::AccelKind::lbvh);
-    REQUIRE(c.predictions.size() == 1);
-    CHECK(c.reason.find("tiny budget") != std::string::npos);
-    CHECK(c.reason.find('\n') == std::string::npos);
-    CHECK_FALSE(sel.take_built(accel::AccelKind::bvh_sah));  // never built
-    CHECK_FALSE(sel.take_built(accel::AccelKind::kdtree));
-    // A budget whose trace time is far above the build calibrates everything (no shortcut).
-    CHECK(sel.choose_tiny({}, false, 1e12).predictions.empty());
-    auto built = sel.take_built(accel::AccelKind::lbvh);
-    REQUIRE(built);
-    CHECK(built->kind() == accel::AccelKind::lbvh);
-}
-
-TEST_CASE("auto: pick on fixed predictions: smallest total, tie rule, tiny and huge budgets") {
-    const engine::Mesh box = engine::make_box({0, 0, 0}, {1, 1, 1});
-    accel::AutoSelector sel(box.view());
-    using accel::AccelKind;
-    auto pred = [](AccelKind k, double build_ms, double ns) {
-        accel::AutoPrediction p;
-        p.kind = k, p.build_ms = build_ms, p.ns_per_ray = ns, p.built_whole = true;
-        return p;
-    };
-    // Clear answers: a budget of 0 rays picks the cheapest build, a huge one the fastest tracer.
-    const std::vector<accel::AutoPrediction> clear{pred(AccelKind::kdtree, 500, 100), pred(AccelKind::lbvh, 20, 400),
-                                                   pred(AccelKind::bvh_sah, 80, 200)};
-    CHECK(sel.pick(clear, 0.0).kind == AccelKind::lbvh);
-    CHECK(sel.pick(clear, 1e12).kind == AccelKind::kdtree);
-    // 1e6 rays: kdtree 600 ms, lbvh 420, bvh-sah 280: no tie, the smallest total.
-    const auto mid = sel.pick(clear, 1e6);
-    CHECK(mid.kind == AccelKind::bvh_sah);
-    CHECK(mid.predictions.front().kind == AccelKind::bvh_sah);
-    CHECK(mid.predictions.front().total_ms == doctest::Approx(280.0));
-    CHECK(mid.reason.find("tie") == std::string::npos);
-    // Build-bound tie (totals 100 and 102 ms, builds 100 and 60): the cheaper build.
-    const auto b = sel.pick({pred(AccelKind::kdtree, 100, 0.0), pred(AccelKind::lbvh, 60, 42e3)}, 1000.0);
-    CHECK(b.kind == AccelKind::lbvh);
-    CHECK(b.predictions.front().kind == AccelKind::kdtree);  // still sorted by total
-    CHECK(b.reason.find("tie within 5% with kdtree: cheaper build") != std::string::npos);
-    // Trace-bound tie (1e9 rays, 100 vs 103 ns): the robust tree, bvh-sah.
-    const auto t = sel.pick({pred(AccelKind::lbvh, 1, 100), pred(AccelKind::bvh_sah, 5, 103)}, 1e9);
-    CHECK(t.kind == AccelKind::bvh_sah);
-    CHECK(t.reason.find("the robust tree") != std::string::npos);
-    // Outside the tie (120 ns: 20% slower): the smallest total.
-    CHECK(sel.pick({pred(AccelKind::lbvh, 1, 100), pred(AccelKind::bvh_sah, 5, 120)}, 1e9).kind == AccelKind::lbvh);
-    CHECK_THROWS_AS(sel.pick({}, 1.0), std::invalid_argument);
-}
-
-TEST_CASE("auto: subset calibration builds only the anchor whole and extrapolates the others") {
-    const auto scene = perf::replicated(20000);
-    const auto view = scene.scene.mesh.view();
-    accel::AutoConfig cfg;
-    cfg.full_triangles = 2000;
-    cfg.sample_rays = 500;
-    accel::AutoSelector sel(view, cfg);
-    const auto preds = sel.predict({}, true);
-    const auto c = sel.pick(preds, 1e7);
-    REQUIRE_FALSE(c.predictions.empty());
-    CHECK(sorted_by_total(c));
-    CHECK(c.reason.find("of 20k triangles") != std::string::npos);
-    std::size_t whole = 0;
-    for (const auto& p : preds) {
-        whole += p.built_whole;
-        CHECK(std::isfinite(p.build_ms));
-        CHECK(p.build_ms > 0.0);
-        CHECK(std::isfinite(p.ns_per_ray));
-        CHECK(p.ns_per_ray > 0.0);
+TEST_CASE("auto: render and converge describe the same rays the same way, so they decide alike") {
+    const engine::Scene scene = engine::make_default_scene();
+    const engine::LightSet lights(scene);
+    engine::RenderSettings set;
+    set.width = 64, set.height = 48, set.spp = 6;
+    set.integrator = engine::IntegratorKind::path;
+    const engine::RenderPlan plan = engine::make_plan(scene, lights, set);
+    engine::RenderSettings one = set;
+    one.spp = 1;
+    const engine::RenderRays a = engine::render_rays(scene, plan, set);
+    const engine::RenderRays b = engine::render_rays(scene, engine::make_plan(scene, lights, one), one, 6.0);
+    REQUIRE(a.groups.size() == b.groups.size());
+    CHECK(a.groups.size() >= 3);  // camera, shadow, bounce
+    CHECK(a.groups.front().shape.rays == doctest::Approx(64.0 * 48.0 * 6.0));
+    CHECK(a.groups.front().sample.size() == 12 * 16 * 16);  // 12 whole tiles of 16x16 at 64x48
+    for (std::size_t g = 0; g < a.groups.size(); ++g) {
+        CHECK(a.groups[g].shape.rays == doctest::Approx(b.groups[g].shape.rays));
+        CHECK(a.groups[g].shape.query == b.groups[g].shape.query);
+        CHECK(a.groups[g].shape.hint == b.groups[g].shape.hint);
     }
-    CHECK(whole == 1);  // the anchor (lbvh when available)
-    // A small budget refines nothing (every build would cost more than 10% of the total) ...
-    CHECK(sel.refine(preds, {}, true, 10.0).size() == preds.size());
-    for (const auto& p : sel.refine(preds, {}, true, 10.0)) CHECK(p.built_whole == (p.kind == accel::AccelKind::lbvh));
-    // ... a huge one builds every contender whole and times it there (margin opened to all).
-    {
-        accel::AutoConfig all = cfg;
-        all.refine_margin = 1e9;
-        accel::AutoSelector wide(view, all);
-        const auto refined = wide.refine(wide.predict({}, true), {}, true, 1e12);
-        for (const auto& p : refined) CHECK(p.built_whole);
-        CHECK(wide.pick(refined, 1e12).reason.find("refined") != std::string::npos);
-    }
-    // A given sample longer than sample_rays is cut into runs of consecutive rays (any size works).
-    const auto rays = testing::camera_rays(scene.scene.mesh.bounds, 64, 48);
-    for (const std::size_t n : {std::size_t(1), std::size_t(100), std::size_t(600), rays.size()}) {
-        const auto c2 = sel.choose(std::span(rays).first(n), false, 1e6);
-        const std::size_t expect = n <= 500 ? n : 512;  // 2 runs of 256
-        // (", N rays" after a pick; "; N rays" when the tiny-budget shortcut took lbvh, which a
-        // loaded machine's slow build can make happen.)
-        CAPTURE(c2.reason);
-        CHECK(c2.reason.find(" " + std::to_string(expect) + " rays, ") != std::string::npos);
-    }
-}
-
-TEST_CASE("auto: brute is a candidate for tiny scenes only") {
-    const engine::Mesh box = engine::make_box({0, 0, 0}, {1, 1, 1});
-    accel::AutoSelector sel(box.view());
-    const auto c = sel.choose({}, false, 100.0);
-    CHECK(std::any_of(c.predictions.begin(), c.predictions.end(),
-                      [](const auto& p) { return p.kind == accel::AccelKind::brute; }));
-    const auto rays = accel::rays_into_bounds(box.bounds, 64, 9);
-    REQUIRE(rays.size() == 64);
-    accel::BruteAccel brute(box.view());
-    for (const auto& r : rays) CHECK(brute.trace_one(r, accel::Query::closest).is_hit());  // aimed into the box
+    accel::BuildConfig build;
+    build.layouts = accel::Layouts::simd;
+    accel::AutoJob ja = engine::render_job(scene, a, build), jb = engine::render_job(scene, b, build);
+    ja.allow_probe = jb.allow_probe = false;
+    const auto pa = accel::pick_accel(accel::AccelKind::automatic, ja), pb = accel::pick_accel(accel::AccelKind::automatic, jb);
+    CHECK(pa.kind == pb.kind);
+    CHECK(pa.reason.substr(0, pa.reason.rfind("; auto ")) == pb.reason.substr(0, pb.reason.rfind("; auto ")));
+    CHECK(pa.path == accel::TracePath::best);  // the renderer's hints choose the paths
+    // No light, no shadow group: the plan's skips reach auto.
+    engine::Scene dark = scene;
+    dark.lights.clear();
+    const engine::LightSet none(dark);
+    const engine::RenderRays d = engine::render_rays(dark, engine::make_plan(dark, none, set), set);
+    for (const auto& g : d.groups) CHECK(g.name != "shadow");
 }

@@ -189,9 +189,12 @@ TEST_CASE("bench: a tiny run validates every row against brute and writes consis
     for (const auto& a : r.autos) {
         INFO(a.kind, " ", a.budget, " ", a.reason);
         CHECK_FALSE(a.picked_path.empty());
-        CHECK(a.regret >= -1e-12);  // best_ms is the smallest total of any row
-        CHECK(a.regret_any_path <= a.regret + 1e-12);
+        CHECK(a.regret_without_auto >= -1e-12);  // best_ms is the smallest total of any row
+        CHECK(std::isfinite(a.regret));          // auto's pick was one of the timed rows
+        CHECK(a.auto_ms > 0.0);
         CHECK(a.best_ms > 0.0);
+        CHECK(a.default_ms >= a.best_ms * (1.0 - 1e-12));
+        CHECK(a.auto_total_ms > 0.0);
     }
     const auto j = nlohmann::json::parse(perf::to_json(r));
     CHECK(j["rows"].size() == r.rows.size());

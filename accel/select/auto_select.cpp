@@ -1,16 +1,17 @@
 #include "accel/select/auto_select.h"
 
+#include "accel/select/auto_model.h"
+#include "accel/select/auto_probe.h"
+#include "accel/select/path_policy.h"
 #include "accel/util/splitmix64.h"
 #include "accel/util/timer.h"
-#include "accel/trace.h"
 
 #include <tbb/global_control.h>
-#include <tbb/info.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <limits>
 #include <stdexcept>
 
@@ -20,26 +21,12 @@ namespace {
 
 float u01(std::uint64_t seed, std::uint64_t i) { return unit_float24(splitmix64(seed ^ splitmix64(i))); }
 
-constexpr AccelKind candidates[] = {AccelKind::brute, AccelKind::bvh_median, AccelKind::bvh_sah, AccelKind::lbvh,
-                                    AccelKind::kdtree};
-
-/// CPU time of the whole process, ms (all threads).
-double process_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
-
-/// Threads a parallel trace runs on now (the global_control limit, at most the hardware's).
-double active_threads() {
-    const auto limit = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
-    return double(std::max<std::size_t>(1, std::min<std::size_t>(limit, std::size_t(tbb::info::default_concurrency()))));
-}
-
 std::string human_ms(double ms) {
     char buf[32];
     if (ms >= 1000.0) std::snprintf(buf, sizeof buf, "%.2f s", ms * 1e-3);
-    else std::snprintf(buf, sizeof buf, "%.1f ms", ms);
+    else if (ms >= 10.0) std::snprintf(buf, sizeof buf, "%.0f ms", ms);
+    else if (ms >= 0.1) std::snprintf(buf, sizeof buf, "%.2f ms", ms);
+    else std::snprintf(buf, sizeof buf, "%.3f ms", ms);
     return buf;
 }
 
@@ -52,7 +39,105 @@ std::string human_count(double n) {
     return buf;
 }
 
+std::string percent(double f) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.0f%%", 100.0 * f);
+    return buf;
+}
+
+/// A configuration being weighed: the candidate plus the path and predicted ns of each group.
+struct Weighed {
+    AutoCandidate c;
+    std::vector<TracePath> paths;  // per group
+    std::vector<double> ns;        // per group, predicted
+};
+
+std::string config_name(const AutoCandidate& c) {
+    std::string s(to_string(c.kind));
+    if (c.path != TracePath::best) s.append("/").append(to_string(c.path));
+    return s;
+}
+
+/// The reason's start: "bvh-sah: packet path," (the path left out when the groups' paths are fixed).
+std::string pick_words(const AutoCandidate& c) {
+    std::string s(to_string(c.kind));
+    s += ":";
+    if (c.path != TracePath::best) s.append(" ").append(to_string(c.path)).append(" path,");
+    return s;
+}
+
+/// "lbvh/single 2.05 s (build 8.0 ms + 170 ns/ray)": a candidate's total and its parts; ns/ray is
+/// the trace time over all the job's rays.
+std::string describe(const AutoCandidate& c, double rays) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.0f ns/ray", rays > 0 ? c.trace_ms * 1e6 / rays : 0.0);
+    return config_name(c) + " " + human_ms(c.total_ms) + " (build " + human_ms(c.build_ms) + " + " + buf + ")";
+}
+
+/// Every structure of the model that this build config can run the job on, with each free path.
+std::vector<Weighed> predict_all(const AutoModel& model, const SceneShape& scene, const std::vector<RayGroup>& groups,
+                                 const BuildConfig& build, double threads) {
+    std::vector<Weighed> out;
+    bool free = false;
+    for (const RayGroup& g : groups) free |= g.shape.path == TracePath::best && g.shape.hint == RayHint::unknown;
+    for (const AccelKind kind : model.structures()) {
+        const PathOffer offer = expected_offer(kind, build);
+        std::vector<TracePath> choices{TracePath::best};
+        if (free) {
+            choices.clear();
+            for (const TracePath p : {TracePath::packet, TracePath::single})
+                if (offer.has(p)) choices.push_back(p);
+            if (choices.empty() && offer.has(TracePath::scalar)) choices.push_back(TracePath::scalar);
+        }
+        for (const TracePath choice : choices) {
+            Weighed w;
+            w.c.kind = kind;
+            w.c.path = free ? choice : TracePath::best;
+            bool ok = true;
+            for (const RayGroup& g : groups) {
+                TracePath p = choice;
+                if (!(g.shape.path == TracePath::best && g.shape.hint == RayHint::unknown))
+                    p = choose_path(offer, {}, {g.shape.query, g.shape.path, g.shape.hint}).path;
+                if (!model.has(kind, p) || !offer.runs(p, g.shape.query)) {
+                    ok = false;
+                    break;
+                }
+                const double ns = model.ns_per_ray(kind, p, scene, g.shape, threads);
+                w.paths.push_back(p);
+                w.ns.push_back(ns);
+                w.c.trace_ms += g.shape.rays * ns * 1e-6;
+            }
+            if (!ok) continue;
+            w.c.build_ms = model.build_ms(kind, scene, threads);
+            w.c.total_ms = w.c.build_ms + w.c.trace_ms;
+            out.push_back(std::move(w));
+        }
+    }
+    // Smallest total first; equal totals keep the model's order (deterministic).
+    std::stable_sort(out.begin(), out.end(), [](const Weighed& a, const Weighed& b) { return a.c.total_ms < b.c.total_ms; });
+    return out;
+}
+
+/// At most `n` consecutive-run samples of `rays`: runs of 256 consecutive rays spread evenly over
+/// them (rays of one image tile stay together, so coherent rays are timed as coherent).
+std::span<const Ray> cut_sample(std::span<const Ray> rays, std::size_t n, std::vector<Ray>& store) {
+    if (rays.size() <= n) return rays;
+    const std::size_t run = std::min<std::size_t>(256, n), runs = std::max<std::size_t>(n / run, 1);
+    store.clear();
+    for (std::size_t r = 0; r < runs; ++r) {
+        const std::size_t first = runs > 1 ? r * (rays.size() - run) / (runs - 1) : 0;
+        store.insert(store.end(), rays.begin() + std::ptrdiff_t(first), rays.begin() + std::ptrdiff_t(first + run));
+    }
+    return store;
+}
+
 }  // namespace
+
+int active_trace_threads() {
+    const auto limit = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    const int arena = tbb::this_task_arena::max_concurrency();
+    return std::max(1, std::min(int(std::min<std::size_t>(limit, 1u << 20)), arena));
+}
 
 std::vector<Ray> rays_into_bounds(const Bounds& b, std::size_t n, std::uint64_t seed) {
     std::vector<Ray> rays(n);
@@ -70,354 +155,175 @@ std::vector<Ray> rays_into_bounds(const Bounds& b, std::size_t n, std::uint64_t 
     return rays;
 }
 
-struct AutoSelector::Impl {
-    struct Candidate {
-        AccelKind kind;
-        std::unique_ptr<Accel> whole, sub;  // built on the whole scene / on the subset
-        double whole_ms = -1.0, sub_ms = -1.0;
-        bool taken = false;  // whole handed over by take_built
-    };
-    /// One timing of a structure on the sample.
-    struct Timed {
-        double ns = 0.0;
-        TracePath path = TracePath::scalar;
-    };
-
-    TriangleView tris, subset;
-    AutoConfig cfg;
-    std::size_t n = 0, m = 0;  // triangles of the scene and of the subset (0: calibrated whole)
-    std::vector<std::uint32_t> subset_indices;
-    Bounds bounds;
-    std::vector<Candidate> cands;
-    std::size_t anchor = 0;   // index into cands
-    bool calibrated = false;  // every candidate built (whole or on the subset)
-    double spent_ms = 0.0;
-    std::size_t last_sample = 0;  // rays of the last predict()
-    std::size_t refined = 0;      // candidates built whole by refine()
-
-    /// Trace time per ray, ns, of each structure on its fastest path: each SIMD path it has
-    /// (packet, single; the scalar path where it has none) is timed, and the faster one is the
-    /// structure's path, the one a trace with --accel auto then runs. A time is the fastest of
-    /// cfg.repeats timings of `rays` (process CPU time / threads), the repeats of all (structure,
-    /// path) pairs interleaved so that a burst of other work does not hit one alone. One timing
-    /// traces the sample as often as it takes to fill cfg.min_timed_ms.
-    std::vector<Timed> time(const std::vector<const Accel*>& accels, std::span<const Ray> rays, bool any_hit) const {
-        std::vector<Timed> out(accels.size());
-        if (rays.empty()) {
-            for (std::size_t i = 0; i < accels.size(); ++i)
-                out[i].path = choose_path(accels[i]->offer(), rays, {any_hit ? Query::any : Query::closest}).path;
-            return out;
-        }
-        struct Config {
-            std::size_t accel;
-            TracePath path;
-            double ns = std::numeric_limits<double>::infinity();
-        };
-        std::vector<Config> configs;
-        for (std::size_t i = 0; i < accels.size(); ++i) {
-            const std::size_t before = configs.size();
-            for (const TracePath p : {TracePath::packet, TracePath::single})
-                if (accels[i]->offer().has(p)) configs.push_back({i, p});
-            if (configs.size() == before)
-                configs.push_back({i, choose_path(accels[i]->offer(), rays, {any_hit ? Query::any : Query::closest}).path});
-        }
-        std::vector<Hit> hits(rays.size());
-        const double threads = active_threads();
-        for (int r = 0; r < std::max(cfg.repeats, 1); ++r)
-            for (Config& c : configs) {
-                const Timer t;
-                const double cpu0 = process_cpu_ms();
-                std::size_t traced = 0;
-                do {
-                    trace_parallel(*accels[c.accel], rays, hits, any_hit ? Query::any : Query::closest, c.path);
-                    traced += rays.size();
-                } while (t.ms() < cfg.min_timed_ms);
-                // CPU time / threads: the wall time on an idle machine, not the time other jobs
-                // held the cores (the same on an idle machine, far steadier on a shared one).
-                const double ms = (process_cpu_ms() - cpu0) / threads;
-                c.ns = std::min(c.ns, ms * 1e6 / double(traced));
-            }
-        for (std::size_t i = 0; i < accels.size(); ++i) out[i].ns = std::numeric_limits<double>::infinity();
-        for (const Config& c : configs)  // the first of equal times: deterministic order
-            if (c.ns < out[c.accel].ns) out[c.accel] = {c.ns, c.path};
-        return out;
-    }
-
-    /// Builds `kind` over `view`, timed; a build faster than cfg.rebuild_below_ms is built once
-    /// more and the faster time kept (the first build of a scene pays for cold caches and page
-    /// faults, and one short timing on a shared machine may have waited a whole scheduler slice).
-    std::unique_ptr<Accel> timed_build(AccelKind kind, const TriangleView& view, double& ms) const {
-        const Timer t;
-        std::unique_ptr<Accel> a = make_accel(kind, view, cfg.build);
-        ms = t.ms();
-        if (ms < cfg.rebuild_below_ms) {
-            a.reset();
-            const Timer t2;
-            a = make_accel(kind, view, cfg.build);
-            ms = std::min(ms, t2.ms());
-        }
-        return a;
-    }
-
-    /// Builds every candidate but the anchor (whole, or on the subset), and the anchor on the subset.
-    void calibrate() {
-        if (calibrated) return;
-        calibrated = true;
-        const AccelKind anchor_kind = cands[anchor].kind;
-        std::vector<Candidate> kept;
-        for (auto& c : cands) {
-            try {
-                if (m) c.sub = timed_build(c.kind, subset, c.sub_ms);
-                else if (!c.whole) c.whole = timed_build(c.kind, tris, c.whole_ms);
-            } catch (const std::invalid_argument&) {
-                if (c.kind != anchor_kind) continue;  // not in this build
-            }
-            kept.push_back(std::move(c));
-        }
-        cands = std::move(kept);
-        for (std::size_t i = 0; i < cands.size(); ++i)
-            if (cands[i].kind == anchor_kind) anchor = i;
-    }
-
-    /// The calibration rays: the sample, or runs of consecutive rays spread over a longer one.
-    std::vector<Ray> sample_rays(std::span<const Ray> sample) const {
-        std::vector<Ray> rays;
-        if (sample.empty()) return rays_into_bounds(bounds, cfg.sample_rays, cfg.seed);
-        if (sample.size() <= cfg.sample_rays) return {sample.begin(), sample.end()};
-        // Runs of consecutive rays spread over the sample: rays from one image tile stay together,
-        // so coherent rays are timed as coherent (a strided pick would make them incoherent).
-        const std::size_t run = std::clamp<std::size_t>(cfg.sample_rays, 1, 256);  // < sample.size()
-        const std::size_t runs = (cfg.sample_rays + run - 1) / run;
-        for (std::size_t r = 0; r < runs; ++r) {
-            const std::size_t first = r * (sample.size() - run) / std::max<std::size_t>(runs - 1, 1);
-            rays.insert(rays.end(), sample.begin() + std::ptrdiff_t(first), sample.begin() + std::ptrdiff_t(first + run));
-        }
-        return rays;
-    }
-};
-
-AutoSelector::AutoSelector(const TriangleView& tris, const AutoConfig& cfg) : impl_(std::make_unique<Impl>()) {
-    const Timer timer;
-    Impl& s = *impl_;
-    s.tris = tris;
-    s.cfg = cfg;
-    s.n = tris.triangle_count();
-    for (std::size_t t = 0; t < s.n; ++t)
-        if (tris.triangle_is_finite(t)) s.bounds.grow(tris.triangle_bounds(t));
-
-    if (s.n > cfg.full_triangles && cfg.full_triangles > 0) {
-        // Stratified random subset: one triangle from each of m equal runs of the numbering.
-        s.m = cfg.full_triangles;
-        s.subset_indices.reserve(3 * s.m);
-        for (std::size_t j = 0; j < s.m; ++j) {
-            const double pos = (double(j) + double(u01(cfg.seed ^ 0xABCDull, j))) * double(s.n) / double(s.m);
-            const std::size_t t = std::min(s.n - 1, std::size_t(pos));
-            for (int k = 0; k < 3; ++k) s.subset_indices.push_back(tris.indices[3 * t + std::size_t(k)]);
-        }
-        s.subset = {tris.x, tris.y, tris.z, s.subset_indices};
-    }
-    for (const AccelKind k : candidates)
-        if (k != AccelKind::brute || s.n <= cfg.brute_triangles) s.cands.push_back({k, nullptr, nullptr});
-
-    // The anchor, built whole now: lbvh (the cheapest build), else the first candidate that builds.
-    std::vector<std::size_t> order;
-    for (std::size_t i = 0; i < s.cands.size(); ++i)
-        if (s.cands[i].kind == AccelKind::lbvh) order.push_back(i);
-    for (std::size_t i = 0; i < s.cands.size(); ++i)
-        if (s.cands[i].kind != AccelKind::lbvh) order.push_back(i);
-    bool built = false;
-    for (const std::size_t i : order) {
-        try {
-            s.cands[i].whole = s.timed_build(s.cands[i].kind, tris, s.cands[i].whole_ms);
-            s.anchor = i;
-            built = true;
-            break;
-        } catch (const std::invalid_argument&) {
-        }
-    }
-    if (!built) throw std::invalid_argument("auto: no acceleration structure can be built");
-    s.spent_ms = timer.ms();
+AutoJob trace_job(const TriangleView& tris, std::span<const Ray> sample, double count, Query query, TracePath path,
+                  const BuildConfig& build) {
+    AutoJob job;
+    job.tris = tris;
+    job.build = build;
+    RayGroup g;
+    g.sample = sample;
+    g.shape.rays = count;
+    g.shape.query = query;
+    g.shape.path = path;
+    job.groups.push_back(g);
+    return job;
 }
 
-AutoSelector::~AutoSelector() = default;
-
-double AutoSelector::calibration_ms() const { return impl_->spent_ms; }
-
-std::unique_ptr<Accel> AutoSelector::take_built(AccelKind kind) {
-    for (auto& c : impl_->cands)
-        if (c.kind == kind && c.whole) {
-            c.taken = true;
-            return std::move(c.whole);
-        }
-    return nullptr;
-}
-
-AutoChoice AutoSelector::choose_tiny(std::span<const Ray> sample, bool any_hit, double budget) {
-    Impl& s = *impl_;
-    budget = std::max(budget, 0.0);
-    Impl::Candidate& a = s.cands[s.anchor];
-    if (!a.whole || a.kind != AccelKind::lbvh || s.n <= s.cfg.brute_triangles) return {};
-    // lbvh's trace time for the budget is a small part of its build, and every other build is
-    // slower, so no structure can beat lbvh by more than that part.
-    const Timer timer;
-    const std::vector<Ray> rays = s.sample_rays(sample);
-    const Impl::Timed t = s.time({a.whole.get()}, rays, any_hit).front();
-    s.spent_ms += timer.ms();
-    const double trace_ms = budget * t.ns * 1e-6;
-    if (trace_ms > s.cfg.tiny_trace_fraction * a.whole_ms) return {};
-    AutoChoice out;
-    out.kind = a.kind;
-    out.path = t.path;
-    out.predictions = {{a.kind, a.whole_ms, t.ns, a.whole_ms + trace_ms, true, t.path}};
-    out.calibration_ms = s.spent_ms;
-    out.reason = std::string(to_string(a.kind)) + ": " + std::string(to_string(t.path)) + " path, tiny budget: " +
-                 human_count(budget) + " rays trace in " + human_ms(trace_ms) + " <= " +
-                 std::to_string(int(std::lround(100 * s.cfg.tiny_trace_fraction))) + "% of its build (" +
-                 human_ms(a.whole_ms) + "), the cheapest; the others not calibrated; " + std::to_string(rays.size()) +
-                 " rays, " + human_ms(s.spent_ms);
-    return out;
-}
-
-AutoChoice AutoSelector::choose(std::span<const Ray> sample, bool any_hit, double budget) {
-    AutoChoice tiny = choose_tiny(sample, any_hit, budget);
-    if (!tiny.predictions.empty()) return tiny;
-    return pick(refine(predict(sample, any_hit), sample, any_hit, budget), budget);
-}
-
-std::vector<AutoPrediction> AutoSelector::predict(std::span<const Ray> sample, bool any_hit) {
-    const Timer timer;
-    Impl& s = *impl_;
-    s.calibrate();
-    const std::vector<Ray> rays = s.sample_rays(sample);
-    s.last_sample = rays.size();
-
-    // Every structure built whole is timed whole; in subset mode, every candidate without a whole
-    // build is timed on the subset, and so is the anchor (the ratio's denominator).
-    std::vector<const Accel*> timed;
-    std::vector<std::ptrdiff_t> whole_at(s.cands.size(), -1), sub_at(s.cands.size(), -1);
-    for (std::size_t i = 0; i < s.cands.size(); ++i) {
-        const auto& c = s.cands[i];
-        if (c.whole) whole_at[i] = std::ptrdiff_t(timed.size()), timed.push_back(c.whole.get());
-        if (c.sub && (!c.whole || i == s.anchor)) sub_at[i] = std::ptrdiff_t(timed.size()), timed.push_back(c.sub.get());
-    }
-    const std::vector<Impl::Timed> ts = s.time(timed, rays, any_hit);
-
-    std::vector<AutoPrediction> out;
-    const double inf = std::numeric_limits<double>::infinity();
-    const double anchor_whole = whole_at[s.anchor] >= 0 ? ts[std::size_t(whole_at[s.anchor])].ns : inf;
-    const double anchor_sub = sub_at[s.anchor] >= 0 ? ts[std::size_t(sub_at[s.anchor])].ns : 0.0;
-    const Impl::Candidate& a = s.cands[s.anchor];
-    // Build time: subset time x N/m (x log N / log m for top-down builders), corrected by how
-    // the anchor's own build scaled from the subset to the whole scene (caches, threads).
-    const double ratio = s.m ? double(s.n) / double(s.m) : 1.0;
-    const double correction = s.m && a.sub_ms > 0 && a.whole_ms > 0 ? a.whole_ms / (a.sub_ms * ratio) : 1.0;
-    const double log_ratio = s.m ? std::log2(double(s.n)) / std::log2(double(s.m)) : 1.0;
-    for (std::size_t i = 0; i < s.cands.size(); ++i) {
-        const auto& c = s.cands[i];
-        AutoPrediction p{c.kind, 0.0, inf, 0.0, c.whole != nullptr, TracePath::scalar};
-        if (whole_at[i] >= 0) {
-            p.build_ms = c.whole_ms;
-            p.ns_per_ray = ts[std::size_t(whole_at[i])].ns;
-            p.path = ts[std::size_t(whole_at[i])].path;
-        } else if (sub_at[i] >= 0) {
-            p.build_ms = c.sub_ms * ratio * correction * (c.kind == AccelKind::lbvh ? 1.0 : log_ratio);
-            const double sub = ts[std::size_t(sub_at[i])].ns;
-            p.ns_per_ray = anchor_sub > 0 && std::isfinite(anchor_whole) ? anchor_whole * sub / anchor_sub : sub;
-            p.path = ts[std::size_t(sub_at[i])].path;
-        } else {
-            p.build_ms = c.whole_ms;  // taken: can no longer be timed
-        }
-        out.push_back(p);
-    }
-    s.spent_ms += timer.ms();
-    return out;
-}
-
-std::vector<AutoPrediction> AutoSelector::refine(std::vector<AutoPrediction> predictions, std::span<const Ray> sample,
-                                                 bool any_hit, double budget) {
-    Impl& s = *impl_;
-    if (!s.m || predictions.empty()) return predictions;
-    const Timer timer;
-    auto total = [&](const AutoPrediction& p) { return p.build_ms + std::max(budget, 0.0) * p.ns_per_ray * 1e-6; };
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& p : predictions) best = std::min(best, total(p));
-    bool built = false;
-    for (const auto& p : predictions) {
-        if (p.built_whole || total(p) > (1.0 + s.cfg.refine_margin) * best || p.build_ms > s.cfg.refine_fraction * best)
-            continue;
-        for (auto& c : s.cands) {
-            if (c.kind != p.kind || c.whole || c.taken) continue;
-            c.whole = s.timed_build(c.kind, s.tris, c.whole_ms);
-            built = true;
-            ++s.refined;
-        }
-    }
-    s.spent_ms += timer.ms();
-    return built ? predict(sample, any_hit) : predictions;
-}
-
-AutoChoice AutoSelector::pick(std::vector<AutoPrediction> predictions, double budget) const {
-    const Impl& s = *impl_;
-    budget = std::max(budget, 0.0);
-    AutoChoice out;
-    out.predictions = std::move(predictions);
-    if (out.predictions.empty()) throw std::invalid_argument("auto: no predictions to pick from");
-    for (auto& p : out.predictions) p.total_ms = p.build_ms + budget * p.ns_per_ray * 1e-6;
-    std::stable_sort(out.predictions.begin(), out.predictions.end(),
-                     [](const AutoPrediction& a, const AutoPrediction& b) { return a.total_ms < b.total_ms; });
-    // The tie rule: totals within cfg.tie of the smallest cannot be told apart by the calibration.
-    // When the build is most of the total, the cheapest build among them; else bvh-sah when tied.
-    const AutoPrediction& first = out.predictions.front();
-    const AutoPrediction* chosen = &first;
-    std::string tie_note;
-    std::size_t tied = 0;
-    for (const auto& p : out.predictions) tied += p.total_ms <= first.total_ms * (1.0 + s.cfg.tie);
-    if (tied > 1) {
-        const bool build_bound = first.build_ms >= 0.5 * first.total_ms;
-        for (std::size_t i = 0; i < tied; ++i) {
-            const AutoPrediction& p = out.predictions[i];
-            if (build_bound ? p.build_ms < chosen->build_ms : p.kind == AccelKind::bvh_sah) chosen = &p;
-        }
-        if (chosen != &first)
-            tie_note = std::string("; tie within ") + std::to_string(int(std::lround(100 * s.cfg.tie))) + "% with " +
-                       std::string(to_string(first.kind)) + ": " + (build_bound ? "cheaper build" : "the robust tree");
-    }
-    const AutoPrediction best = *chosen;
-    out.kind = best.kind;
-    out.path = best.path;
-    out.calibration_ms = s.spent_ms;
-
-    std::string r = std::string(to_string(best.kind)) + ": " + std::string(to_string(best.path)) + " path, predicted " +
-                    human_ms(best.total_ms) + " for " + human_count(budget) + " rays (build " + human_ms(best.build_ms) +
-                    " + " + human_count(best.ns_per_ray > 0 ? 1e3 / best.ns_per_ray * 1e6 : 0.0) + " rays/s)";
-    for (const auto& next : out.predictions)
-        if (next.kind != best.kind) {
-            r += "; next " + std::string(to_string(next.kind)) + " " + human_ms(next.total_ms);
-            break;
-        }
-    r += tie_note;
-    r += s.m ? "; calibrated on " + human_count(double(s.m)) + " of " + human_count(double(s.n)) + " triangles + whole " +
-                   std::string(to_string(s.cands[s.anchor].kind)) +
-                   (s.refined ? " and " + std::to_string(s.refined) + " refined" : std::string())
-             : "; calibrated on all " + human_count(double(s.n)) + " triangles";
-    r += ", " + std::to_string(s.last_sample) + " rays, " + human_ms(s.spent_ms);
-    out.reason = r;
-    return out;
-}
-
-AccelPick pick_accel(AccelKind kind, const TriangleView& tris, const AutoWork& work) {
+AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
     AccelPick out;
     out.kind = kind;
     if (kind != AccelKind::automatic) return out;
-    AutoConfig cfg;
-    cfg.build = work.build;
-    AutoSelector selector(tris, cfg);
-    AutoChoice choice = selector.choose(work.sample, work.query == Query::any, work.budget);
-    out.kind = choice.kind;
-    out.path = choice.path;
-    out.reason = std::move(choice.reason);
-    out.built = selector.take_built(choice.kind);
-    out.calibration_ms = choice.calibration_ms;
+    // (Asked before the timer starts: the first TBB call of a process starts the library, a cost the
+    // job's first parallel build or trace pays anyway.)
+    const double threads = job.threads > 0 ? double(job.threads) : double(active_trace_threads());
+    const Timer timer;
+    const AutoModel& model = job.model ? *job.model : builtin_auto_model();
+    const SceneShape scene = scene_shape(job.tris);
+    const float diagonal = simd::length(scene.bounds.extent());
+
+    // The groups with their shapes measured where the caller gave rays but no coherence.
+    std::vector<RayGroup> groups = job.groups;
+    std::vector<Ray> default_rays;
+    if (groups.empty()) {
+        default_rays = rays_into_bounds(scene.bounds, 4096, 1);
+        RayGroup g;
+        g.sample = default_rays;
+        g.shape.rays = AutoJob::default_rays;
+        groups.push_back(g);
+    }
+    double rays = 0.0;
+    for (RayGroup& g : groups) {
+        if (g.shape.coherent < 0.0 || g.shape.together < 0.0) {
+            const RayShape s = ray_shape(g.sample, g.shape.rays, g.shape.query, diagonal);
+            if (g.shape.coherent < 0.0) g.shape.coherent = s.coherent;
+            if (g.shape.together < 0.0) g.shape.together = s.together;
+        }
+        rays += g.shape.rays;
+    }
+
+    std::vector<Weighed> all = predict_all(model, scene, groups, job.build, threads);
+    if (all.empty()) throw std::invalid_argument("auto: no structure of the cost model can run this job with these build settings");
+    const Weighed& first = all.front();
+    const double margin = model.margin();
+    std::vector<std::size_t> contenders;  // indices into all
+    for (std::size_t i = 0; i < all.size(); ++i)
+        if (all[i].c.total_ms <= first.c.total_ms * (1.0 + margin)) contenders.push_back(i);
+
+    const std::string job_line = " for " + human_count(rays) + " rays";
+    std::string next;  // the best configuration of another structure, or the other path
+    for (const Weighed& w : all)
+        if (&w != &first) {
+            next = "; next " + describe(w.c, rays) + ", +" + percent(w.c.total_ms / first.c.total_ms - 1.0);
+            break;
+        }
+    const std::string margin_text = percent(margin);
+    auto finish_model = [&](const std::string& why) {
+        out.kind = first.c.kind;
+        out.path = first.c.path;
+        for (const Weighed& w : all) out.candidates.push_back(w.c);
+        out.auto_ms = timer.ms();
+        out.own_ms = out.auto_ms;
+        out.reason = pick_words(first.c) + " model: predicted " + describe(first.c, rays) +
+                     job_line + next + why + "; auto " + human_ms(out.auto_ms);
+        return std::move(out);
+    };
+    if (contenders.size() == 1) return finish_model(" (outside the model's " + margin_text + " margin)");
+    const std::string within = " (within the model's " + margin_text + " margin)";
+    if (!job.allow_probe) return finish_model(within + ", probe not allowed");
+
+    // The probe: samples of each group (up to 4096 rays), structures in the order of their best
+    // prediction, the costliest builds dropped until the probe fits its cap.
+    std::vector<std::vector<Ray>> stores(groups.size());
+    std::vector<ProbeGroup> probe_groups(groups.size());
+    for (std::size_t g = 0; g < groups.size(); ++g)
+        probe_groups[g] = {cut_sample(groups[g].sample, 4096, stores[g]), groups[g].shape.query};
+    const double cap = job.probe_share * first.c.total_ms;
+    const int rounds = 2;
+    std::vector<AccelKind> structures;
+    for (const std::size_t i : contenders)
+        if (std::find(structures.begin(), structures.end(), all[i].c.kind) == structures.end()) structures.push_back(all[i].c.kind);
+    auto cost_of = [&](const std::vector<AccelKind>& s) {
+        double cost = 0.0;
+        for (std::size_t k = 1; k < s.size(); ++k) cost += model.build_ms(s[k], scene, threads);
+        for (const std::size_t i : contenders) {
+            if (std::find(s.begin(), s.end(), all[i].c.kind) == s.end()) continue;
+            for (std::size_t g = 0; g < groups.size(); ++g)
+                if (!probe_groups[g].rays.empty())
+                    cost += rounds * std::max(job.min_timing_ms, double(probe_groups[g].rays.size()) * all[i].ns[g] * 1e-6);
+        }
+        return cost;
+    };
+    double cost = cost_of(structures);
+    while (cost > cap && structures.size() > 1) {
+        auto costliest = std::max_element(structures.begin() + 1, structures.end(), [&](AccelKind a, AccelKind b) {
+            return model.build_ms(a, scene, threads) < model.build_ms(b, scene, threads);
+        });
+        structures.erase(costliest);
+        cost = cost_of(structures);
+    }
+    std::size_t probed_configs = 0;
+    for (const std::size_t i : contenders)
+        probed_configs += std::find(structures.begin(), structures.end(), all[i].c.kind) != structures.end();
+    bool sampled = false;
+    for (const ProbeGroup& g : probe_groups) sampled |= !g.rays.empty();
+    if (cost > cap || probed_configs < 2 || !sampled)
+        return finish_model(within + ", no probe: " +
+                            (!sampled ? std::string("no rays to time")
+                                      : "it would cost " + human_ms(cost) + ", more than " + percent(job.probe_share) +
+                                            " of the job (" + human_ms(cap) + ")"));
+
+    std::vector<ProbeConfig> configs;
+    std::vector<std::size_t> config_of;  // index into all
+    for (const std::size_t i : contenders) {
+        const auto s = std::find(structures.begin(), structures.end(), all[i].c.kind);
+        if (s == structures.end()) continue;
+        configs.push_back({std::size_t(s - structures.begin()), all[i].paths});
+        config_of.push_back(i);
+    }
+    ProbeResult probe = run_probe(job.tris, job.build, structures, configs, probe_groups, rounds, job.min_timing_ms, threads);
+
+    // Measured totals: the probe's build, and per group its measured ns (unsampled groups: the
+    // prediction scaled by the configuration's mean measured/predicted ratio).
+    std::vector<AutoCandidate> measured;
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+        const Weighed& w = all[config_of[c]];
+        double log_ratio = 0.0;
+        int n = 0;
+        for (std::size_t g = 0; g < groups.size(); ++g)
+            if (!probe_groups[g].rays.empty()) log_ratio += std::log(probe.ns[c][g] / w.ns[g]), ++n;
+        const double scale = n ? std::exp(log_ratio / n) : 1.0;
+        AutoCandidate m = w.c;
+        m.probed = true;
+        m.build_ms = probe.build_ms[configs[c].structure];
+        m.trace_ms = 0.0;
+        for (std::size_t g = 0; g < groups.size(); ++g)
+            m.trace_ms += groups[g].shape.rays * (probe_groups[g].rays.empty() ? w.ns[g] * scale : probe.ns[c][g]) * 1e-6;
+        m.total_ms = m.build_ms + m.trace_ms;
+        measured.push_back(m);
+    }
+    std::stable_sort(measured.begin(), measured.end(),
+                     [](const AutoCandidate& a, const AutoCandidate& b) { return a.total_ms < b.total_ms; });
+    const AutoCandidate& pick = measured.front();
+    out.kind = pick.kind;
+    out.path = pick.path;
+    out.probed = true;
+    const auto s = std::find(structures.begin(), structures.end(), pick.kind);
+    out.built = std::move(probe.built[std::size_t(s - structures.begin())]);
+    out.candidates = measured;
+    for (const Weighed& w : all)
+        if (std::none_of(measured.begin(), measured.end(), [&](const AutoCandidate& m) { return m.kind == w.c.kind && m.path == w.c.path; }))
+            out.candidates.push_back(w.c);
+    std::size_t sample_rays = 0;
+    for (const ProbeGroup& g : probe_groups) sample_rays += g.rays.size();
+    out.auto_ms = timer.ms();
+    const double handed_ms = out.built ? probe.build_ms[std::size_t(s - structures.begin())] : 0.0;
+    out.own_ms = std::max(0.0, out.auto_ms - handed_ms);
+    std::string r = pick_words(pick) + " probe: " + describe(pick, rays);
+    for (std::size_t i = 1; i < measured.size(); ++i) r += (i == 1 ? "; next " : ", ") + describe(measured[i], rays);
+    r += " (" + std::to_string(sample_rays) + " rays timed" + job_line + "); the model had " + describe(first.c, rays) +
+         next + within + "; auto " + human_ms(out.own_ms) + " (" + percent(out.own_ms / (pick.total_ms + out.own_ms)) +
+         " of the job)" + (out.built ? " + the pick's build " + human_ms(handed_ms) + ", handed over" : "");
+    out.reason = std::move(r);
     return out;
 }
 

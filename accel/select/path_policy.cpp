@@ -79,7 +79,7 @@ std::string path_reason(const PathChoice& c) {
     std::string why;
     switch (c.why) {
     case PathChoice::Why::forced: return "forced with --path";
-    case PathChoice::Why::calibrated: why = "the faster path in auto's calibration"; break;
+    case PathChoice::Why::calibrated: why = "auto's pick (auto_reason says why)"; break;
     case PathChoice::Why::only_path: why = "the only path of this structure"; break;
     case PathChoice::Why::only_scalar_built: why = "only the scalar layout was built"; break;
     case PathChoice::Why::packets_do_not_pay:
@@ -110,6 +110,29 @@ std::string path_reason(const PathChoice& c) {
     if (c.not_offered != TracePath::best)
         return "no " + std::string(to_string(c.not_offered)) + " path here, took best: " + why;
     return why;
+}
+
+PathOffer expected_offer(AccelKind kind, const BuildConfig& cfg) {
+    PathOffer o;
+    const bool simd = cfg.layouts != Layouts::scalar, scalar = cfg.layouts != Layouts::simd;
+    switch (kind) {
+    case AccelKind::brute:
+        o.add(TracePath::scalar), o.counts = true;
+        break;
+    case AccelKind::bvh_median:
+    case AccelKind::bvh_sah:
+    case AccelKind::lbvh:
+        if (scalar) o.add(TracePath::scalar);
+        o.counts = scalar, o.simd_skipped = !simd;
+        if (simd) o.add(TracePath::single), o.add(TracePath::packet), o.packets_pay = true;
+        break;
+    case AccelKind::kdtree:  // the scalar path reads the tree itself, which every build makes
+        o.add(TracePath::scalar), o.counts = true, o.simd_skipped = !simd;
+        if (simd) o.add(TracePath::single), o.add(TracePath::packet);
+        break;
+    default: break;
+    }
+    return o;
 }
 
 Layouts layouts_for(TracePath path) { return path == TracePath::scalar ? Layouts::scalar : Layouts::simd; }

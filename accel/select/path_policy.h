@@ -7,7 +7,7 @@
 ///
 /// The rule, in order:
 ///   1. an offered path that answers the query, asked for by name, is taken ("forced");
-///   2. a path auto's calibration timed fastest on these rays (TraceRequest::calibrated);
+///   2. the path --accel auto picked for these rays (TraceRequest::calibrated; its reason says why);
 ///   3. a structure with one path takes it (brute; a build with the scalar layout only);
 ///   4. a structure whose packets do not pay (the kd-tree, measured) takes `single`;
 ///   5. a hint decides: coherent batches take `packet`, incoherent ones `single`;
@@ -48,6 +48,12 @@ struct PathChoice {
 /// The path for `rays` on a structure offering `offer`, asked as `req` (query, path, hint,
 /// calibrated path; req.counters is not read). Cheap: at most 16 groups of rays are looked at.
 PathChoice choose_path(const PathOffer& offer, std::span<const Ray> rays, const TraceRequest& req);
+
+/// What a build of `kind` with `cfg` will offer, as far as the path policy reads it (paths and
+/// queries, counts, packets_pay, simd_skipped), known before building: --accel auto asks the
+/// policy with it which path a structure would take for a hint (tests check it against the
+/// structures' own offer()).
+PathOffer expected_offer(AccelKind kind, const BuildConfig& cfg);
 
 /// One line saying why (`arbor trace --json`'s path_reason).
 std::string path_reason(const PathChoice& c);

@@ -12,6 +12,7 @@
 #include "engine/file_io.h"
 #include "engine/image.h"
 #include "engine/image_metrics.h"
+#include "engine/render_job.h"
 #include "engine/renderer.h"
 #include "plot_script.h"
 
@@ -60,6 +61,26 @@ std::string make_plot(const std::filesystem::path& dir, const std::string& title
     return "plot skipped: the plot script failed (exit " + std::to_string(code) + "), see " + log.string();
 }
 
+/// The rays a converge run renders with one structure, per integrator: 1 + 2 + 4 + ... + max_spp
+/// samples per pixel, each --repeat times, and the reference when this structure renders it.
+std::vector<engine::RenderRays> converge_rays(const ConvergeCommand& o, const engine::Scene& scene,
+                                              const engine::LightSet& lights,
+                                              const std::vector<engine::IntegratorKind>& integrators, bool renders_reference) {
+    double spp_total = 0.0;
+    for (int spp = 1; spp <= o.max_spp; spp *= 2) {
+        spp_total += double(spp) * double(o.repeat);
+        if (spp > o.max_spp / 2) break;
+    }
+    std::vector<engine::RenderRays> out;
+    for (const engine::IntegratorKind k : integrators) {
+        engine::RenderSettings set = to_settings(o.render, k);
+        set.spp = 1;
+        const double ref = renders_reference && o.reference.empty() ? double(o.ref_spp > 0 ? o.ref_spp : 8 * o.max_spp) : 0.0;
+        out.push_back(engine::render_rays(scene, engine::make_plan(scene, lights, set), set, spp_total + ref));
+    }
+    return out;
+}
+
 int run_converge(ConvergeCommand& o) {
     const auto limit = limit_threads(o.threads);
     Cluster* const cluster = Cluster::join(o.mpi);  // mpirun: every rank renders, rank 0 writes
@@ -106,15 +127,29 @@ int run_converge(ConvergeCommand& o) {
     std::vector<engine::Image> references(integrators.size());
     std::string csv = "accel,integrator,spp,seconds,rays,rmse,rel_mse,mean,mrays_per_s,build_ms,threads,width,height\n";
     std::printf("%-10s %-8s %6s %10s %12s %12s %12s\n", "accel", "integr.", "spp", "seconds", "rays", "rmse", "rel_mse");
+    accel::BuildConfig build = o.build;
+    build.layouts = accel::layouts_for(accel::TracePath::best);  // the renderer traces the SIMD paths only
     for (std::size_t a = 0; a < kinds.size(); ++a) {
-        // Under MPI rank 0 alone resolves --accel auto (its calibration is timed: ranks could differ).
-        auto kind = writer ? resolve_accel(std::string(accel::to_string(kinds[a])), scene.mesh.view()).kind : kinds[a];
-        if (cluster) kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(kind))));
+        // --accel auto decides once for everything this structure renders here (converge_rays).
+        // Under MPI rank 0 alone resolves it (a probe measures: ranks could differ).
+        accel::AccelPick pick;
+        pick.kind = kinds[a];
+        if (writer) {
+            std::vector<engine::RenderRays> job_rays;
+            if (kinds[a] == accel::AccelKind::automatic) job_rays = converge_rays(o, scene, lights, integrators, a == 0);
+            accel::AutoJob job;
+            job.tris = scene.mesh.view();
+            job.build = build;
+            for (const engine::RenderRays& r : job_rays) job.groups.insert(job.groups.end(), r.groups.begin(), r.groups.end());
+            pick = accel::pick_accel(kinds[a], job);
+            if (!pick.reason.empty()) std::printf("auto: %s\n", pick.reason.c_str());
+        }
+        if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
+        const auto kind = pick.kind;
         const accel::Timer build_timer;
-        accel::BuildConfig build = o.build;
-        build.layouts = accel::layouts_for(accel::TracePath::best);  // the renderer traces the SIMD paths only
-        const auto structure = accel::make_accel(kind, scene.mesh.view(), build);
-        const double build_ms = build_timer.ms();
+        const bool prebuilt = pick.built != nullptr;
+        const auto structure = prebuilt ? std::move(pick.built) : accel::make_accel(kind, scene.mesh.view(), build);
+        const double build_ms = prebuilt ? structure->stats().build_ms : build_timer.ms();
         for (std::size_t i = 0; i < integrators.size(); ++i) {
             engine::RenderSettings set = to_settings(o.render, integrators[i]);
             const std::string iname(engine::to_string(integrators[i]));

@@ -55,9 +55,11 @@ int run_info(const InfoOptions& o) {
                    {"max", {mesh.bounds.hi.x, mesh.bounds.hi.y, mesh.bounds.hi.z}}};
     j["warnings"] = warnings.lines;
     if (!o.accel.empty()) {
-        const auto kind = resolve_accel(o.accel, mesh.view()).kind;
-        const auto accel = accel::make_accel(kind, mesh.view(), o.build);
+        accel::AccelPick pick = resolve_accel(o.accel, mesh.view(), o.build);
+        const auto kind = pick.kind;
+        const auto accel = pick.built ? std::move(pick.built) : accel::make_accel(kind, mesh.view(), o.build);
         j["accel"] = accel::to_string(kind);
+        if (!pick.reason.empty()) j["auto_reason"] = pick.reason;
         j["build_ms"] = accel->stats().build_ms;
         j["leaf_size"] = o.build.bvh.max_leaf_size;
         put_stats(j, accel->stats());

@@ -48,7 +48,9 @@ int run_rays(const RaysOptions& o) {
     std::unique_ptr<accel::Accel> tracer;
     if (cfg.kind == engine::RayKind::shadow || cfg.kind == engine::RayKind::diffuse) {
         tracer = o.accel.empty() ? engine::make_ray_gen_tracer(gen.tris)
-                                 : accel::make_accel(resolve_accel(o.accel, gen.tris).kind, gen.tris);
+                                 : accel::make_accel(resolve_accel(o.accel, accel::trace_job(gen.tris, {}, double(o.count),
+                                                                                             accel::Query::closest)).kind,
+                                                     gen.tris);
     }
     const std::vector<accel::Ray> rays = engine::generate_rays(gen, cfg, tracer.get());
     engine::write_rays(o.out, rays);

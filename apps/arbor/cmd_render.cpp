@@ -11,6 +11,7 @@
 #include "accel/core/memory_estimate.h"
 #include "engine/image_output.h"
 #include "engine/memory_budget.h"
+#include "engine/render_job.h"
 #include "engine/renderer.h"
 
 #include <cstdio>
@@ -62,20 +63,18 @@ int run_render(const RenderCommand& o) {
     set.progress = !o.quiet;
     const engine::Scene scene = load_scene(o.scene, writer);
     if (cluster) cluster->require_same(scene, settings_text(set));
-    accel::AutoWork work;  // about (1 primary + 1 shadow per light + bounces) rays per sample
-    work.budget = double(set.width) * double(set.height) * double(set.spp) *
-                  double(1 + scene.lights.size() + set.depth());
     // The renderer traces the SIMD paths (packets and single rays): the scalar layout is not built.
     accel::BuildConfig build = o.build;
     build.layouts = accel::layouts_for(accel::TracePath::best);
-    work.build = build;
-    // Under MPI rank 0 alone resolves --accel (auto calibrates by timing: ranks could differ).
-    accel::AccelPick pick;
-    if (writer) pick = resolve_accel(o.accel, scene.mesh.view(), work);
-    if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
-    const auto kind = pick.kind;
     const engine::LightSet lights(scene);
     engine::RenderPlan plan = engine::make_plan(scene, lights, set);
+    // --accel auto decides for the plan's ray mix (engine/render_job.h). Under MPI rank 0 alone
+    // resolves --accel (a probe measures: ranks could differ); the others take its choice.
+    const engine::RenderRays job_rays = engine::render_rays(scene, plan, set);
+    accel::AccelPick pick;
+    if (writer) pick = resolve_accel(o.accel, engine::render_job(scene, job_rays, build));
+    if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
+    const auto kind = pick.kind;
     for (const std::string& s : accel::skipped_by_build(kind, build)) plan.skipped.push_back("the structure's " + s);
     check_render_memory(o, scene, kind, build, plan);
     const std::string accel_name(accel::to_string(kind));
@@ -83,9 +82,11 @@ int run_render(const RenderCommand& o) {
     if (o.verbose) std::printf("%s", plan.skipped_lines().c_str());
     std::fflush(stdout);
 
+    // With auto, its probe may have built the pick already (with these settings).
     const accel::Timer build_timer;
-    const auto structure = accel::make_accel(kind, scene.mesh.view(), build);
-    const double build_ms = build_timer.ms();
+    const bool prebuilt = pick.built != nullptr;
+    const auto structure = prebuilt ? std::move(pick.built) : accel::make_accel(kind, scene.mesh.view(), build);
+    const double build_ms = prebuilt ? structure->stats().build_ms : build_timer.ms();
     engine::RenderStats stats;
     const auto tiles = cluster ? cluster->frame_tiles() : nullptr;
     const engine::Image img = engine::render(scene, lights, plan, *structure, set, &stats, tiles.get());

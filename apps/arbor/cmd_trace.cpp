@@ -37,9 +37,11 @@ int run_trace(const TraceOptions& o) {
     const auto query = o.occluded ? accel::Query::any : accel::Query::closest;
     accel::BuildConfig build = o.build;
     build.layouts = accel::layouts_for(asked);
-    accel::AccelPick pick = resolve_accel(o.accel, mesh.view(), {rays, query, double(rays.size()) * double(o.repeat), build});
+    // The job auto decides for: these rays, traced --repeat times, on the path asked (best: auto's).
+    accel::AccelPick pick =
+        resolve_accel(o.accel, accel::trace_job(mesh.view(), rays, double(rays.size()) * double(o.repeat), query, asked, build));
 
-    // With auto, calibration may have built the pick already: then its own build time counts.
+    // With auto, its probe may have built the pick already: then its own build time counts.
     const bool was_prebuilt = pick.built != nullptr;
     const accel::Timer build_timer;
     const auto structure = was_prebuilt ? std::move(pick.built) : accel::make_accel(pick.kind, mesh.view(), build);
@@ -68,7 +70,9 @@ int run_trace(const TraceOptions& o) {
     j["accel"] = accel::to_string(kind);
     if (accel::parse_accel_kind(o.accel) == accel::AccelKind::automatic) {
         j["auto_reason"] = pick.reason;
-        j["auto_ms"] = pick.calibration_ms;
+        j["auto_ms"] = pick.auto_ms;
+        j["auto_own_ms"] = pick.own_ms;
+        j["auto_probed"] = pick.probed;
     }
     j["path"] = accel::to_string(path);
     j["path_reason"] = path_reason;

@@ -77,10 +77,17 @@ int active_threads() {
     return int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
-accel::AccelPick resolve_accel(const std::string& name, const accel::TriangleView& tris, const accel::AutoWork& work) {
+accel::AccelPick resolve_accel(const std::string& name, const accel::AutoJob& job) {
     const auto kind = accel::parse_accel_kind(name);
     if (!kind) throw OptionError("--accel: unknown structure '" + name + "'");
-    return accel::pick_accel(*kind, tris, work);
+    return accel::pick_accel(*kind, job);
+}
+
+accel::AccelPick resolve_accel(const std::string& name, const accel::TriangleView& tris, const accel::BuildConfig& build) {
+    accel::AutoJob job;
+    job.tris = tris;
+    job.build = build;
+    return resolve_accel(name, job);
 }
 
 void put_stats(nlohmann::json& j, const accel::BuildStats& s) {

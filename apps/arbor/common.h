@@ -58,9 +58,11 @@ CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 int active_threads();
 
-/// Resolves an --accel name (accel::pick_accel): a named structure as is; `auto` calibrates on
-/// `work` and picks the structure with the smallest predicted build + trace time.
-accel::AccelPick resolve_accel(const std::string& name, const accel::TriangleView& tris, const accel::AutoWork& work = {});
+/// Resolves an --accel name (accel::pick_accel): a named structure as is; `auto` decides for `job`
+/// (accel/select/auto_select.h: the cost model, a probe when the job can pay for one).
+accel::AccelPick resolve_accel(const std::string& name, const accel::AutoJob& job);
+/// The same for a job auto knows nothing of but the triangles: 1M rays into the scene's bounds.
+accel::AccelPick resolve_accel(const std::string& name, const accel::TriangleView& tris, const accel::BuildConfig& build = {});
 
 /// Build statistics as JSON fields (nodes, leaves, max_depth, sah_cost, bytes_per_triangle, ...).
 void put_stats(nlohmann::json& j, const accel::BuildStats& s);

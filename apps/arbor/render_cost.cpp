@@ -2,6 +2,7 @@
 
 #include "accel/util/timer.h"
 #include "apps/arbor/common.h"
+#include "engine/render_job.h"
 #include "engine/cost_sheet.h"
 #include "engine/image.h"
 #include "engine/image_output.h"
@@ -83,19 +84,18 @@ int run_cost_render(const CostRenderOptions& o) {
     // renderer's SIMD paths: both are built (the BVHs then without the SIMD leaf floor).
     accel::BuildConfig build = o.build;
     build.layouts = accel::Layouts::all;
-    accel::AutoWork work;
-    work.budget = double(set.width) * double(set.height) * double(set.spp);
-    work.build = build;
+    const engine::LightSet lights(scene);
+    const engine::RenderPlan plan = engine::make_plan(scene, lights, set);
+    // --accel auto decides for the camera rays this render traces (engine/render_job.h).
+    const engine::RenderRays job_rays = engine::render_rays(scene, plan, set);
     std::vector<accel::AccelKind> kinds;
     std::vector<std::string> names, reasons;
     for (const std::string& n : split_list(o.accels)) {
-        accel::AccelPick pick = resolve_accel(n, scene.mesh.view(), work);
+        accel::AccelPick pick = resolve_accel(n, engine::render_job(scene, job_rays, build));
         kinds.push_back(pick.kind);
         names.emplace_back(accel::to_string(kinds.back()));
         reasons.push_back(std::move(pick.reason));
     }
-    const engine::LightSet lights(scene);
-    const engine::RenderPlan plan = engine::make_plan(scene, lights, set);
     std::string joined;
     for (const std::string& n : names) joined += (joined.empty() ? "" : ",") + n;
     std::printf("%s\n", plan.line(joined).c_str());

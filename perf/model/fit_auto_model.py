@@ -1,0 +1,236 @@
+#!/usr/bin/python3
+"""Fits the cost model of `--accel auto` (accel/select/auto_model.h) on the benchmark's output.
+
+usage: perf/model/fit_auto_model.py BENCH.json [BENCH.json ...] [-o perf/model/auto_model.txt]
+       perf/model/fit_auto_model.py perf/model/auto_model_data.csv      # refit from the kept table
+
+Reads every arbor row (not Embree) of arbor_bench's bench.json that carries the job's shape
+(rows[].shape: what auto knows before building, accel/select/job_shape.h) and fits, by ridge
+regression on logarithms:
+  trace: ln(ns per ray) per (structure, path) over TRACE_FEATURES, from the rows' trace CPU time /
+         threads (median of the repeats: the time of an otherwise idle machine);
+  build: ln(build ms) per structure over BUILD_FEATURES, from the fastest build of each scene.
+Writes the model (the file CMake compiles into the library), the table it was fitted on
+(auto_model_data.csv beside it, so the fit can be rerun and checked without the benchmark), and
+prints how the model alone would pick on those rows: in-sample and leave-one-scene-out (every
+scene predicted by a model fitted without it: how auto does on a scene it never saw).
+
+The margin (when two predicted totals are too close for the model to tell apart) is the smallest
+that, leave-one-scene-out, leaves a configuration more than 10% better than everything within the
+margin outside it on at most MISS_RATE of the (scene, kind, threads, budget) rows: a perfect probe
+of the configurations within the margin would then be within 10% of the best on the other rows.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+from collections import defaultdict
+
+import numpy as np
+
+TRACE_FEATURES = ["one", "log2_triangles", "log_overlap", "log_spread", "log_size_tail", "log_thinness",
+                  "coherent", "together", "any_hit", "log2_threads"]
+BUILD_FEATURES = ["one", "log2_triangles", "log2_threads", "log_overlap", "log_thinness"]
+RIDGE = 0.5           # on the standardised features (not on the intercept)
+MISS_RATE = 0.10
+MARGINS = [0.05 * i for i in range(1, 61)]
+SHAPE_KEYS = ["triangles", "overlap", "spread", "size_tail", "thinness", "coherent", "together", "any_hit"]
+
+
+def feature(name, shape, threads):
+    log = lambda v: math.log(max(v, 1e-6))
+    return {
+        "one": 1.0,
+        "log2_triangles": math.log2(max(shape["triangles"], 1.0)),
+        "log_overlap": log(shape["overlap"]),
+        "log_spread": log(shape["spread"]),
+        "log_size_tail": log(shape["size_tail"]),
+        "log_thinness": log(shape["thinness"]),
+        "coherent": shape["coherent"],
+        "together": shape["together"],
+        "any_hit": shape["any_hit"],
+        "log2_threads": math.log2(max(threads, 1)),
+    }[name]
+
+
+def load(paths):
+    """Rows of the training table: one per (scene, kind, threads, structure, path)."""
+    table = []
+    for path in paths:
+        if path.endswith(".csv"):
+            with open(path) as f:
+                for r in csv.DictReader(f):
+                    row = {k: (v if k in ("scene", "kind", "structure", "path", "source") else float(v)) for k, v in r.items()}
+                    row["threads"] = int(row["threads"])
+                    table.append(row)
+            continue
+        data = json.load(open(path))
+        for r in data["rows"]:
+            if r["embree"] or not r.get("shape") or r["trace_cpu_ms"]["median"] is None or r["build_ms"]["min"] is None:
+                continue
+            row = {"source": os.path.basename(os.path.dirname(os.path.abspath(path))) or path,
+                   "scene": r["scene"], "kind": r["kind"], "structure": r["structure"], "path": r["path"],
+                   "threads": int(r["threads"]), "rays": float(r["rays"]),
+                   "ns_cpu": 1e6 * r["trace_cpu_ms"]["median"] / r["rays"],
+                   "ns_wall": 1e6 * r["trace_ms"]["median"] / r["rays"],
+                   "build_ms_min": r["build_ms"]["min"], "build_ms_median": r["build_ms"]["median"]}
+            for k in SHAPE_KEYS:
+                row[k] = float(r["shape"][k])
+            table.append(row)
+    if not table:
+        sys.exit("fit_auto_model: no arbor rows with a shape in " + ", ".join(paths) + " (a bench.json from before shapes?)")
+    return table
+
+
+def design(rows, features):
+    return np.array([[feature(f, r, r["threads"]) for f in features] for r in rows])
+
+
+def ridge(X, y, lam=RIDGE):
+    """Ridge regression on standardised columns (the intercept, column 0, unpenalised)."""
+    mu = X[:, 1:].mean(axis=0)
+    sd = X[:, 1:].std(axis=0)
+    sd[sd < 1e-9] = 1.0
+    Z = np.hstack([np.ones((len(X), 1)), (X[:, 1:] - mu) / sd])
+    P = lam * np.eye(Z.shape[1])
+    P[0, 0] = 0.0
+    w = np.linalg.solve(Z.T @ Z + P, Z.T @ y)
+    coef = np.empty_like(w)
+    coef[1:] = w[1:] / sd
+    coef[0] = w[0] - np.sum(w[1:] * mu / sd)
+    return coef
+
+
+def fit(rows):
+    trace = {}
+    for key in sorted({(r["structure"], r["path"]) for r in rows}):
+        sel = [r for r in rows if (r["structure"], r["path"]) == key]
+        trace[key] = ridge(design(sel, TRACE_FEATURES), np.log([r["ns_cpu"] for r in sel]))
+    build = {}
+    for s in sorted({r["structure"] for r in rows}):
+        seen, sel = set(), []
+        for r in rows:
+            if r["structure"] == s and (r["scene"], r["threads"], r["source"]) not in seen:
+                seen.add((r["scene"], r["threads"], r["source"]))
+                sel.append(r)
+        build[s] = ridge(design(sel, BUILD_FEATURES), np.log([max(r["build_ms_min"], 1e-3) for r in sel]))
+    clamps = {}
+    for f in TRACE_FEATURES + BUILD_FEATURES:
+        if f == "one":
+            continue
+        v = [feature(f, r, r["threads"]) for r in rows]
+        clamps[f] = (min(v), max(v))
+    return {"trace": trace, "build": build, "clamps": clamps}
+
+
+def predict(model, r, structure, path):
+    def val(f):
+        v = feature(f, r, r["threads"])
+        lo, hi = model["clamps"].get(f, (-1e300, 1e300))
+        return min(max(v, lo), hi)
+    ns = math.exp(sum(c * val(f) for c, f in zip(model["trace"][(structure, path)], TRACE_FEATURES)))
+    build = math.exp(sum(c * val(f) for c, f in zip(model["build"][structure], BUILD_FEATURES)))
+    return build, ns
+
+
+def groups_of(rows):
+    g = defaultdict(list)
+    for r in rows:
+        g[(r["source"], r["scene"], r["kind"], r["threads"])].append(r)
+    return g
+
+
+def evaluate(rows, models_for, budgets=(1e6, 16e6, 256e6)):
+    """How the model alone picks (no probe): within 10% of the best total (CPU time), and the
+    errors of predicted ratios between configurations (for the margin). models_for(scene) gives
+    the model to judge that scene with."""
+    picks, ratio_errors = [], []
+    misses = [0] * len(MARGINS)
+    for key, g in groups_of(rows).items():
+        model = models_for(key[1])
+        g = [r for r in g if r["path"] != "scalar"]
+        pred = {(r["structure"], r["path"]): predict(model, r, r["structure"], r["path"]) for r in g}
+        for i, a in enumerate(g):
+            for b in g[i + 1:]:
+                pa, pb = pred[(a["structure"], a["path"])][1], pred[(b["structure"], b["path"])][1]
+                ratio_errors.append(abs(math.log(pa / pb) - math.log(a["ns_cpu"] / b["ns_cpu"])))
+        for budget in budgets:
+            tot = {(r["structure"], r["path"]): r["build_ms_min"] + budget * r["ns_cpu"] * 1e-6 for r in g}
+            ptot = {k: p[0] + budget * p[1] * 1e-6 for k, p in pred.items()}
+            pick = min(ptot, key=ptot.get)
+            picks.append(tot[pick] / min(tot.values()) - 1.0)
+            for i, m in enumerate(MARGINS):
+                inside = min(tot[k] for k in tot if ptot[k] <= ptot[pick] * (1 + m))
+                misses[i] += min(tot.values()) * 1.10 < inside
+    within = sum(p <= 0.10 for p in picks) / max(len(picks), 1)
+    miss_rates = [m / max(len(picks), 1) for m in misses]
+    return within, max(picks, default=0.0), sorted(ratio_errors), miss_rates
+
+
+def write(model, margin, out, sources, rows, notes):
+    lines = ["arbor-auto-model 1",
+             "# The cost model of --accel auto (accel/select/auto_model.h). Written by",
+             "# perf/model/fit_auto_model.py; do not edit: rerun the benchmark and the script.",
+             f"source {', '.join(sources)} ({len(rows)} rows)"]
+    lines += ["# " + n for n in notes]
+    lines.append("trace_features " + " ".join(TRACE_FEATURES))
+    lines.append("build_features " + " ".join(BUILD_FEATURES))
+    for f, (lo, hi) in sorted(model["clamps"].items()):
+        lines.append(f"clamp {f} {lo:.6g} {hi:.6g}")
+    lines.append(f"margin {margin:.4f}")
+    for s, coef in model["build"].items():
+        lines.append(f"build {s} " + " ".join(f"{c:.6g}" for c in coef))
+    for (s, p), coef in model["trace"].items():
+        lines.append(f"trace {s} {p} " + " ".join(f"{c:.6g}" for c in coef))
+    tmp = out + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    os.replace(tmp, out)
+
+
+def write_table(rows, out):
+    keys = ["source", "scene", "kind", "structure", "path", "threads", "rays", "ns_cpu", "ns_wall",
+            "build_ms_min", "build_ms_median"] + SHAPE_KEYS
+    tmp = out + ".tmp"
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k]) for k in keys})
+    os.replace(tmp, out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("inputs", nargs="+", help="bench.json files, or a table written by this script")
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap.add_argument("-o", "--out", default=os.path.join(here, "auto_model.txt"))
+    ap.add_argument("--table", default=None, help="where to write the training table (default: beside --out)")
+    a = ap.parse_args()
+    rows = load(a.inputs)
+    model = fit(rows)
+    scenes = sorted({r["scene"] for r in rows})
+    loso = {s: fit([r for r in rows if r["scene"] != s]) for s in scenes}
+    in_within, in_worst, in_err, _ = evaluate(rows, lambda s: model)
+    cv_within, cv_worst, cv_err, cv_miss = evaluate(rows, lambda s: loso[s])
+    margin = next((m for m, r in zip(MARGINS, cv_miss) if r <= MISS_RATE), MARGINS[-1])
+    miss_at = cv_miss[MARGINS.index(margin)]
+    sources = sorted({r["source"] for r in rows})
+    notes = [f"model alone, within 10% of the best build + trace total (CPU time; budgets 1M, 16M, 256M rays):",
+             f"  in-sample {100 * in_within:.1f}% (worst {100 * in_worst:.0f}% over), "
+             f"leave-one-scene-out {100 * cv_within:.1f}% (worst {100 * cv_worst:.0f}% over)",
+             f"ratio errors between configurations: median {math.exp(cv_err[len(cv_err) // 2]) - 1:.3f} "
+             f"(leave-one-scene-out), {math.exp(in_err[len(in_err) // 2]) - 1:.3f} (in-sample)",
+             f"margin {margin:.2f}: leave-one-scene-out, a configuration more than 10% better than all within it lies "
+             f"outside it on {100 * miss_at:.1f}% of the rows (target <= {100 * MISS_RATE:.0f}%)"]
+    write(model, margin, a.out, sources, rows, notes)
+    write_table(rows, a.table or os.path.join(os.path.dirname(os.path.abspath(a.out)), "auto_model_data.csv"))
+    print(f"{a.out}: {len(rows)} rows from {', '.join(sources)}; margin {margin:.3f}")
+    for n in notes:
+        print(n)
+
+
+if __name__ == "__main__":
+    main()
