@@ -154,7 +154,7 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
         } else {
             // The command line's decision (accel::pick_accel, as `arbor trace --accel auto`) for
             // closest hits of 2^20 rays like those into the scene's bounds.
-            pick = accel::pick_accel(*kind, view, {{}, accel::Query::closest, double(1 << 20), cfg});
+            pick = accel::pick_accel(*kind, accel::trace_job(view, {}, double(1 << 20), accel::Query::closest, accel::TracePath::best, cfg));
         }
         accel = pick.built ? std::move(pick.built) : accel::make_accel(pick.kind, view, cfg);
     });
