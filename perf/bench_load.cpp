@@ -6,6 +6,9 @@
 // order of the readers rotated every round so that drift on a shared machine spreads over all of
 // them. With --arbor, each round also times a fresh `arbor info FILE` process (the wall clock a
 // user feels: reading the file from the page cache, loading, counting, exiting).
+// The accuracy figure beside each speed: every reader's triangle count and the largest difference
+// between its triangles' corner positions and the replicated mesh's, triangle by triangle (outside
+// the timed region; the fresh processes report only their triangle count, parsed from `arbor info`).
 //
 //   bench_load [--model PATH] [--triangles N] [--repeat K] [--dir DIR] [--arbor PATH] [--keep]
 #include "accel/util/timer.h"
@@ -19,6 +22,8 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -38,6 +43,53 @@ struct Reader {
     std::string name, file;
     enum { arbor_loader, assimp, process } how;
 };
+
+/// Largest |difference| of a corner coordinate between triangle t of `got` and of `want`, over all
+/// triangles; infinity when the triangle counts differ.
+double max_corner_error(const engine::Mesh& got, const engine::Mesh& want) {
+    if (got.triangle_count() != want.triangle_count()) return HUGE_VAL;
+    double e = 0;
+    for (std::size_t k = 0; k < want.indices.size(); ++k) {
+        const std::uint32_t a = got.indices[k], b = want.indices[k];
+        e = std::max({e, std::fabs(double(got.x[a]) - want.x[b]), std::fabs(double(got.y[a]) - want.y[b]),
+                      std::fabs(double(got.z[a]) - want.z[b])});
+    }
+    return e;
+}
+
+/// The same for Assimp's scene: its meshes' faces in order (non-triangles count as a mismatch).
+double max_corner_error(const aiScene& s, const engine::Mesh& want, std::size_t& triangles) {
+    triangles = 0;
+    for (unsigned m = 0; m < s.mNumMeshes; ++m) triangles += s.mMeshes[m]->mNumFaces;
+    if (triangles != want.triangle_count()) return HUGE_VAL;
+    double e = 0;
+    std::size_t k = 0;
+    for (unsigned m = 0; m < s.mNumMeshes; ++m)
+        for (unsigned f = 0; f < s.mMeshes[m]->mNumFaces; ++f) {
+            const aiFace& face = s.mMeshes[m]->mFaces[f];
+            if (face.mNumIndices != 3) return HUGE_VAL;
+            for (unsigned c = 0; c < 3; ++c, ++k) {
+                const aiVector3D& p = s.mMeshes[m]->mVertices[face.mIndices[c]];
+                const std::uint32_t b = want.indices[k];
+                e = std::max({e, std::fabs(double(p.x) - want.x[b]), std::fabs(double(p.y) - want.y[b]), std::fabs(double(p.z) - want.z[b])});
+            }
+        }
+    return e;
+}
+
+/// Triangle count from the first line of `arbor info FILE` ("FILE (FORMAT): N triangles ...").
+std::size_t info_triangles(const std::string& cmd) {
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) throw std::runtime_error("cannot run: " + cmd);
+    char line[4096] = {};
+    const bool got = std::fgets(line, sizeof line, p) != nullptr;
+    char rest[4096];
+    while (std::fgets(rest, sizeof rest, p)) {
+    }
+    if (::pclose(p) != 0 || !got) throw std::runtime_error("failed: " + cmd);
+    const char* at = std::strstr(line, "): ");
+    return at ? std::strtoull(at + 3, nullptr, 10) : 0;
+}
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -91,34 +143,46 @@ int main(int argc, char** argv) {
                                          std::pair{"arbor info, GLB (fresh process)", glb}})
             readers.push_back({name, file, Reader::process});
     std::map<std::string, std::vector<double>> seconds;
+    std::map<std::string, double> error;
+    std::map<std::string, std::size_t> counted;
     for (int round = 0; round < repeat; ++round)
         for (std::size_t k = 0; k < readers.size(); ++k) {
             const Reader& r = readers[(k + std::size_t(round)) % readers.size()];
-            const accel::Timer t;
+            accel::Timer t;
+            double seconds_taken = 0, err = HUGE_VAL;
             std::size_t triangles = 0;
             if (r.how == Reader::arbor_loader) {
                 engine::Warnings lw;
-                triangles = engine::load_mesh(r.file, lw).triangle_count();
+                const engine::Mesh got = engine::load_mesh(r.file, lw);
+                seconds_taken = t.seconds();
+                triangles = got.triangle_count();
+                err = max_corner_error(got, mesh);
             } else if (r.how == Reader::assimp) {
                 Assimp::Importer importer;
                 const aiScene* s = importer.ReadFile(r.file, 0);
+                seconds_taken = t.seconds();
                 if (!s) throw std::runtime_error(std::string("Assimp: ") + importer.GetErrorString());
-                for (unsigned m = 0; m < s->mNumMeshes; ++m) triangles += s->mMeshes[m]->mNumFaces;
+                err = max_corner_error(*s, mesh, triangles);
             } else {
-                const std::string cmd = "'" + arbor_binary + "' info '" + r.file + "' >/dev/null";
-                if (std::system(cmd.c_str()) != 0) throw std::runtime_error("failed: " + cmd);
-                triangles = mesh.triangle_count();
+                triangles = info_triangles("'" + arbor_binary + "' info '" + r.file + "'");
+                seconds_taken = t.seconds();
             }
-            seconds[r.name].push_back(t.seconds());
+            seconds[r.name].push_back(seconds_taken);
+            error[r.name] = std::max(error.count(r.name) ? error[r.name] : 0.0, err);
+            counted[r.name] = triangles;
             if (triangles != mesh.triangle_count())
                 std::fprintf(stderr, "%s read %zu triangles, expected %zu\n", r.name.c_str(), triangles, mesh.triangle_count());
         }
-    std::printf("\n| reader | file | s per M triangles (median of %d) | min - max | whole file, median s |\n|---|---|---:|---:|---:|\n", repeat);
+    std::printf("\n| reader | file | s per M triangles (median of %d) | min - max | whole file, median s | triangles read | max corner error |\n"
+                "|---|---|---:|---:|---:|---:|---:|\n", repeat);
     for (const Reader& r : readers) {
         const auto& v = seconds[r.name];
         const double med = median(v);
-        std::printf("| %s | %s | %.3f | %.3f - %.3f | %.2f |\n", r.name.c_str(), std::filesystem::path(r.file).extension().c_str(),
-                    med / tri_m, *std::min_element(v.begin(), v.end()) / tri_m, *std::max_element(v.begin(), v.end()) / tri_m, med);
+        char err[32] = "not read back";
+        if (r.how != Reader::process) std::snprintf(err, sizeof err, "%.3g", error[r.name]);
+        std::printf("| %s | %s | %.3f | %.3f - %.3f | %.2f | %zu | %s |\n", r.name.c_str(), std::filesystem::path(r.file).extension().c_str(),
+                    med / tri_m, *std::min_element(v.begin(), v.end()) / tri_m, *std::max_element(v.begin(), v.end()) / tri_m, med,
+                    counted[r.name], err);
     }
     if (!keep) std::filesystem::remove_all(dir);
     return 0;
