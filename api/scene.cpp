@@ -58,7 +58,7 @@ std::vector<Ray> read_rays(const std::string& path) {
         const std::vector<accel::Ray> in = engine::read_rays(path);
         static_assert(sizeof(Ray) == sizeof(accel::Ray), "the record of rayfile.md");
         std::vector<Ray> out(in.size());
-        if (!in.empty()) std::memcpy(out.data(), in.data(), in.size() * sizeof(Ray));
+        if (!in.empty()) std::memcpy(static_cast<void*>(out.data()), in.data(), in.size() * sizeof(Ray));
         return out;
     });
 }

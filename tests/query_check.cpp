@@ -23,7 +23,7 @@ std::vector<NamedAccel> query_structures(const accel::TriangleView& v, bool ever
         for (std::uint32_t w : widths) {
             accel::BuildConfig cfg;
             cfg.layouts = accel::Layouts::simd;
-            cfg.bvh_width = w;
+            cfg.wide.width = w;
             out.push_back({name + "/w" + std::to_string(w), accel::make_accel(kind, v, cfg)});
         }
         accel::BuildConfig cfg;

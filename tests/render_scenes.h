@@ -56,6 +56,14 @@ private:
         inner_->trace(rays, hits, {query, counters ? accel::TracePath::scalar : path_, {}, {}, counters});
     }
 
+public:
+    void trace_all(std::span<const accel::Ray> rays, accel::HitSink& sink) const override { inner_->trace_all(rays, sink); }
+    void closest_points(std::span<const accel::Vec3f> points, float max_distance,
+                        std::span<accel::PointHit> out) const override {
+        inner_->closest_points(points, max_distance, out);
+    }
+
+private:
     std::unique_ptr<accel::Accel> inner_;
     accel::TracePath path_;
 };

@@ -105,6 +105,16 @@ private:
         }
     }
 
+public:  // the list and point queries are not what the ray harness checks: passed through
+    void trace_all(std::span<const arbor::accel::Ray> rays, arbor::accel::HitSink& sink) const override {
+        inner_->trace_all(rays, sink);
+    }
+    void closest_points(std::span<const arbor::accel::Vec3f> points, float max_distance,
+                        std::span<arbor::accel::PointHit> out) const override {
+        inner_->closest_points(points, max_distance, out);
+    }
+
+private:
     std::unique_ptr<arbor::accel::Accel> inner_;
     Break break_;
 };
