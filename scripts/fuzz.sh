@@ -11,6 +11,7 @@
 # them all), then fix the bug.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+export LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"  # third-party leaks only (tests/lsan.supp)
 seconds=${1:-60}
 shared=${ARBOR_SHARED_SCENES:-../shared/scenes}
 build=build/fuzz
