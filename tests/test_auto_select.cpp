@@ -146,6 +146,34 @@ TEST_CASE("auto: a tiny job takes no probe, whatever the model's doubt") {
     CHECK(q.reason.find(" model: predicted ") != std::string::npos);
 }
 
+TEST_CASE("auto: two paths of one structure are probed only when their traces are worth the probe") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 3);
+    const auto rays = testing::random_rays_into(mesh.bounds, 1000, 7);
+    // lbvh's two paths predicted equal (contenders), bvh-sah 10x slower; every build 1 s, so 2% of
+    // the job would pay for timing 1,000 rays, but the paths' 0.2 ms of tracing cannot.
+    const std::string model_text = "arbor-auto-model 1\nsource test\ntrace_features one\nbuild_features one\nmargin 0.5\n"
+                                   "build lbvh " + std::to_string(std::log(1000.0)) + "\nbuild bvh-sah " +
+                                   std::to_string(std::log(1000.0)) + "\ntrace lbvh packet " + std::to_string(std::log(200.0)) +
+                                   "\ntrace lbvh single " + std::to_string(std::log(200.0)) + "\ntrace bvh-sah packet " +
+                                   std::to_string(std::log(2000.0)) + "\ntrace bvh-sah single " + std::to_string(std::log(2000.0)) + "\n";
+    const auto model = accel::AutoModel::parse(model_text);
+    accel::AutoJob job = accel::trace_job(mesh.view(), rays, 1000.0, accel::Query::closest);
+    job.model = &model;
+    const auto p = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(p.reason);
+    CHECK_FALSE(p.probed);
+    CHECK(p.kind == accel::AccelKind::lbvh);
+    CHECK(p.reason.find("no probe: it would cost") != std::string::npos);
+    CHECK(p.reason.find("of what it can win") != std::string::npos);
+    CHECK(p.reason.find("the margin x the trace") != std::string::npos);
+    // The same rays standing for 1e8 rays: 20 s of tracing, worth a probe of both paths.
+    job.groups.front().shape.rays = 1e8;
+    const auto q = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(q.reason);
+    CHECK(q.probed);
+    CHECK(q.kind == accel::AccelKind::lbvh);
+}
+
 TEST_CASE("auto: a large job the model cannot decide is probed, and the probe's pick is handed over") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 3);
     const auto view = mesh.view();

@@ -1,9 +1,12 @@
 #pragma once
 /// The probe of `--accel auto` (auto_select.h, step 3): builds a few structures whole and times a
-/// sample of the job's rays on each of the configurations it is asked about. The timings are the
-/// process CPU time divided by the threads (on an idle machine the wall time; on a shared one it
-/// leaves out the time other jobs held the cores), the smallest of `rounds` rounds run over all
-/// configurations in turn, so that a burst of other work does not hit one configuration alone.
+/// sample of the job's rays on each of the configurations it is asked about. Each timing traces the
+/// sample on the calling thread and reads that thread's CPU clock, divided by the job's threads:
+/// neither the time other processes hold the core (this machine is shared) nor TBB workers'
+/// idle spinning around a short parallel loop counts (a parallel timing of a few thousand rays was
+/// mostly the latter on a loaded machine, and ranked packets and single rays unlike the full run).
+/// The smallest of `rounds` rounds run over all configurations in turn, so that a burst of other
+/// work does not hit one configuration alone.
 /// Builds are timed by the wall clock (the job pays them so).
 #include "accel/accel.h"
 
@@ -31,13 +34,15 @@ struct ProbeResult {
 };
 
 /// Builds `structures` over `tris` with `cfg` (in that order) and times every configuration on
-/// every group: each timing traces its group's sample once, and again until `min_timing_ms` of
-/// wall time have passed. `threads` divides the CPU time.
+/// every group: each timing traces its group's sample once on the calling thread, and again until
+/// `min_timing_ms` of wall time have passed. `threads` divides the thread's CPU time.
 ProbeResult run_probe(const TriangleView& tris, const BuildConfig& cfg, const std::vector<AccelKind>& structures,
                       const std::vector<ProbeConfig>& configs, const std::vector<ProbeGroup>& groups, int rounds,
                       double min_timing_ms, double threads);
 
 /// CPU time of the whole process, ms (all threads).
 double process_cpu_ms();
+/// CPU time of the calling thread, ms.
+double thread_cpu_ms();
 
 }  // namespace arbor::accel

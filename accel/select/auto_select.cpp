@@ -237,7 +237,16 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
     std::vector<ProbeGroup> probe_groups(groups.size());
     for (std::size_t g = 0; g < groups.size(); ++g)
         probe_groups[g] = {cut_sample(groups[g].sample, 4096, stores[g]), groups[g].shape.query};
-    const double cap = job.probe_share * first.c.total_ms;
+    // Two caps: a share of the job, and a share of what the probe can win. The model cannot order
+    // its contenders within its margin, so its pick is off by about the margin times the part of
+    // the job they do not share: a build that every probed contender needs (all of one structure:
+    // the first's, which is never dropped) is paid whatever the probe finds, and two paths of one
+    // structure differ in their traces only.
+    const double job_cap = job.probe_share * first.c.total_ms;
+    auto stake_of = [&](const std::vector<AccelKind>& s) {
+        return margin * (first.c.total_ms - (s.size() == 1 ? first.c.build_ms : 0.0));
+    };
+    auto cap_of = [&](const std::vector<AccelKind>& s) { return std::min(job_cap, job.stake_share * stake_of(s)); };
     const int rounds = 2;
     std::vector<AccelKind> structures;
     for (const std::size_t i : contenders)
@@ -249,12 +258,13 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
             if (std::find(s.begin(), s.end(), all[i].c.kind) == s.end()) continue;
             for (std::size_t g = 0; g < groups.size(); ++g)
                 if (!probe_groups[g].rays.empty())
-                    cost += rounds * std::max(job.min_timing_ms, double(probe_groups[g].rays.size()) * all[i].ns[g] * 1e-6);
+                    cost += rounds * std::max(job.min_timing_ms,
+                                              double(probe_groups[g].rays.size()) * all[i].ns[g] * threads * 1e-6);
         }
         return cost;
     };
     double cost = cost_of(structures);
-    while (cost > cap && structures.size() > 1) {
+    while (cost > cap_of(structures) && structures.size() > 1) {
         auto costliest = std::max_element(structures.begin() + 1, structures.end(), [&](AccelKind a, AccelKind b) {
             return model.build_ms(a, scene, threads) < model.build_ms(b, scene, threads);
         });
@@ -266,11 +276,16 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
         probed_configs += std::find(structures.begin(), structures.end(), all[i].c.kind) != structures.end();
     bool sampled = false;
     for (const ProbeGroup& g : probe_groups) sampled |= !g.rays.empty();
+    const double cap = cap_of(structures), stake = stake_of(structures), stake_cap = job.stake_share * stake;
     if (cost > cap || probed_configs < 2 || !sampled)
         return finish_model(within + ", no probe: " +
                             (!sampled ? std::string("no rays to time")
-                                      : "it would cost " + human_ms(cost) + ", more than " + percent(job.probe_share) +
-                                            " of the job (" + human_ms(cap) + ")"));
+                             : job_cap <= stake_cap
+                                 ? "it would cost " + human_ms(cost) + ", more than " + percent(job.probe_share) +
+                                       " of the job (" + human_ms(cap) + ")"
+                                 : "it would cost " + human_ms(cost) + ", more than " + percent(job.stake_share) +
+                                       " of what it can win (" + human_ms(cap) + " of " + human_ms(stake) + ": the margin x " +
+                                       (structures.size() == 1 ? "the trace" : "the job") + ")"));
 
     std::vector<ProbeConfig> configs;
     std::vector<std::size_t> config_of;  // index into all

@@ -10,10 +10,12 @@
 ///  2. Configurations predicted within the model's margin of the best are its contenders. When there
 ///     is one, it is the pick ("model").
 ///  3. Else, when the job is large enough, a probe settles it: the contenders' structures are built
-///     whole and a sample of the rays is timed on each contender (process CPU time / threads, the
-///     faster of two interleaved rounds), and the pick is the smallest measured build + trace total.
+///     whole and a sample of the rays is timed on each contender (on the calling thread, its CPU
+///     time / threads, the faster of two interleaved rounds: auto_probe.h), and the pick is the smallest measured build + trace total.
 ///     The probe is capped at AutoJob::probe_share (2%) of the job's predicted time, counted as the
-///     builds the pick will not reuse plus the sample traces; contenders whose builds do not fit
+///     builds the pick will not reuse plus the sample traces, and at AutoJob::stake_share (1/4) of
+///     what it can win (the margin times the contenders' unshared part of the job: when they are
+///     two paths of one structure, the trace alone); contenders whose builds do not fit
 ///     are dropped (costliest first), and a job whose cap cannot pay for timings long enough to
 ///     measure (AutoJob::min_timing_ms each) is decided by the model alone: a tiny job takes no
 ///     calibration at all. The pick's structure, when the probe built it, is handed over (built).
@@ -52,6 +54,10 @@ struct AutoJob {
     double probe_share = 0.02;
     /// A timing of the probe traces at least this long (predicted) to be worth measuring.
     double min_timing_ms = 0.25;
+    /// The probe's second cap, as a share of what it can win: the model's margin times the part of
+    /// the job its contenders do not share (a build every contender needs is paid whatever the
+    /// probe finds). Two paths of one structure on 1,000 rays differ by microseconds: no probe.
+    double stake_share = 0.25;
     bool allow_probe = true;
     /// The model; null: builtin_auto_model().
     const AutoModel* model = nullptr;
