@@ -27,6 +27,10 @@ public:
     /// One decision per budget at `threads` (the caller's thread limit), each timed.
     void run(int threads);
 
+    /// The rays the decisions are about from now on: the ones the fixed configurations are timed
+    /// on, when that is a smaller set (a coarser image) than the validated rays.
+    void set_rays(std::span<const accel::Ray> rays) { rays_ = rays; }
+
     /// Judges the decisions made at each thread count against rows [from, end) of `out` (this
     /// scene and kind) and appends one AutoRow per (threads, budget) to out.autos.
     void judge(const std::string& scene, const std::string& kind, std::size_t from, BenchResult& out) const;

@@ -114,7 +114,8 @@ struct KindInput {
     bool coherent;
     std::vector<Ray> rays;                                    ///< validated (all of them)
     std::function<std::vector<Ray>(std::size_t)> make_rays;  ///< the same kind and seed, another count
-    std::vector<std::pair<std::string, double>> shape;        ///< BenchRow::shape
+    std::vector<std::pair<std::string, double>> shape;        ///< BenchRow::shape (of `rays`)
+    accel::SceneShape scene_shape;                            ///< for the shape of fewer timed rays
 };
 
 /// The numbers of BenchRow::shape: the scene's and the rays' shape (accel/select/job_shape.h).
@@ -193,6 +194,15 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
     }
     const std::vector<Ray>& timed = fewer.empty() ? rays : fewer;
     const std::size_t nt = timed.size();
+    // The rows' times are of the timed rays: their shape goes with them (the cost model is fitted
+    // on it), and auto is asked about them, not about the finer image's more coherent rays that
+    // were validated (it was, and its packets were judged by the coarser image's times).
+    std::vector<std::pair<std::string, double>> timed_shape = in.shape;
+    if (!fewer.empty()) {
+        const float diag = simd::length(in.scene_shape.bounds.extent());
+        timed_shape = shape_values(in.scene_shape, accel::ray_shape(fewer, double(nt), in.query, diag));
+        if (autos) autos->set_rays(fewer);
+    }
     std::vector<Hit> scratch(nt);
     // The path TracePath::best takes, per arbor structure: the majority over the trace chunks.
     std::map<const Built*, accel::TracePath> best_of;
@@ -248,7 +258,7 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             r.triangles = tris;
             r.rays = nt;
             r.validated_rays = n;
-            r.shape = in.shape;
+            r.shape = timed_shape;
             const auto bt = b.build_ms.find(t);
             if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second), r.build_samples = bt->second;
             r.trace_ms = summarize(ms[c]);
@@ -346,7 +356,7 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
         rc.count = scaling ? o.scaling_rays : o.rays;
         rc.seed = o.seed;
         KindInput in{&bs, kind, kind == engine::RayKind::shadow ? Query::any : Query::closest,
-                     kind == engine::RayKind::primary || kind == engine::RayKind::shadow, {}, {}, {}};
+                     kind == engine::RayKind::primary || kind == engine::RayKind::shadow, {}, {}, {}, {}};
         in.make_rays = [&gscene, rc, &tracer](std::size_t count) {
             engine::RayGenConfig c = rc;
             c.count = count;
@@ -360,6 +370,7 @@ void run_scene(const BenchScene& bs, const BenchOptions& o, const std::vector<in
         }
         const float diag = simd::length(scene_shape.bounds.extent());
         in.shape = shape_values(scene_shape, accel::ray_shape(in.rays, double(in.rays.size()), in.query, diag));
+        in.scene_shape = scene_shape;
         const std::size_t kind_from = out.rows.size();
         // --accel auto on these rays for each budget, decided afresh in every repeat (bench_auto.h),
         // with the build settings of the timed structures (so a structure its probe built is theirs).
