@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Fits the cost model of `--accel auto` (accel/select/auto_model.h) on the benchmark's output.
 
-usage: perf/model/fit_auto_model.py BENCH.json [BENCH.json ...] [-o perf/model/auto_model.txt]
+usage: perf/model/fit_auto_model.py BENCH.json [BENCH.json ...] [--stale OLD.json ...] [-o perf/model/auto_model.txt]
        perf/model/fit_auto_model.py perf/model/auto_model_data.csv      # refit from the kept table
 
 Reads every arbor row (not Embree) of arbor_bench's bench.json that carries the job's shape
@@ -55,10 +55,13 @@ def feature(name, shape, threads):
     }[name]
 
 
-def load(paths):
-    """Rows of the training table: one per (scene, kind, threads, structure, path)."""
+def load(paths, stale=()):
+    """Rows of the training table: one per (scene, kind, threads, structure, path). From the files in
+    `stale` (bench.json written before the benchmark recorded the shape of the rays it timed), the
+    primary and shadow rows timed on fewer rays than were validated are left out: their `coherent`
+    and `together` are the validated finer image's, their times the coarser image's."""
     table = []
-    for path in paths:
+    for path in list(paths) + list(stale):
         if path.endswith(".csv"):
             with open(path) as f:
                 for r in csv.DictReader(f):
@@ -69,6 +72,8 @@ def load(paths):
         data = json.load(open(path))
         for r in data["rows"]:
             if r["embree"] or not r.get("shape") or r["trace_cpu_ms"]["median"] is None or r["build_ms"]["min"] is None:
+                continue
+            if path in stale and r["kind"] in ("primary", "shadow") and r["rays"] < r.get("validated_rays", r["rays"]):
                 continue
             row = {"source": os.path.basename(os.path.dirname(os.path.abspath(path))) or path,
                    "scene": r["scene"], "kind": r["kind"], "structure": r["structure"], "path": r["path"],
@@ -208,8 +213,11 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap.add_argument("-o", "--out", default=os.path.join(here, "auto_model.txt"))
     ap.add_argument("--table", default=None, help="where to write the training table (default: beside --out)")
+    ap.add_argument("--stale", nargs="*", default=[], metavar="BENCH.json",
+                    help="bench.json from before the shapes of fewer timed rays (5eaaaa6): its primary and "
+                         "shadow rows timed on fewer rays than validated are left out")
     a = ap.parse_args()
-    rows = load(a.inputs)
+    rows = load(a.inputs, a.stale)
     model = fit(rows)
     scenes = sorted({r["scene"] for r in rows})
     loso = {s: fit([r for r in rows if r["scene"] != s]) for s in scenes}
