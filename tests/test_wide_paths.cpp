@@ -268,3 +268,31 @@ TEST_CASE("best path: packets for rays that start together (one octant or not), 
     CHECK(accel::choose_path(acc->offer(), shadow, {}).path == accel::TracePath::single);
     CHECK(accel::choose_path(acc->offer(), testing::random_rays_inside(b, 1024, 5), any).path == accel::TracePath::single);
 }
+
+TEST_CASE("policy_sample: the path chosen over the gathered sample is the one chosen over the whole batch") {
+    // The public API decides a batch's path from these rays only (api/queries.cpp): batches of
+    // every size, coherent at some sampled groups and not at others, must get the same verdict.
+    const engine::Mesh mesh = testing::procedural_shapes();
+    accel::BuildConfig cfg;
+    cfg.layouts = accel::Layouts::simd;
+    const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view(), cfg);
+    const accel::PathOffer& offer = acc->offer();
+    const std::vector<Ray> camera = testing::camera_rays(mesh.bounds, 64, 64), random = testing::random_rays_inside(mesh.bounds, 4096, 9);
+    for (const std::size_t n : {std::size_t(0), std::size_t(5), std::size_t(100), std::size_t(1000), std::size_t(4096)})
+        for (const std::size_t cut : {std::size_t(0), n / 3, n / 2, n}) {
+            std::vector<Ray> batch(camera.begin(), camera.begin() + std::ptrdiff_t(cut));
+            batch.insert(batch.end(), random.begin(), random.begin() + std::ptrdiff_t(n - cut));
+            std::vector<Ray> sample;
+            for (const std::size_t i : accel::policy_sample(offer, n)) sample.push_back(batch[i]);
+            CHECK(sample.size() <= std::size_t(8) * offer.packet_lanes);
+            for (const accel::Query q : {accel::Query::closest, accel::Query::any}) {
+                const accel::PathChoice all = accel::choose_path(offer, batch, {q}), some = accel::choose_path(offer, sample, {q});
+                CAPTURE(n);
+                CAPTURE(cut);
+                CHECK(some.path == all.path);
+                CHECK(some.coherent == all.coherent);
+                CHECK(some.together == all.together);
+                CHECK(some.octant_only == all.octant_only);
+            }
+        }
+}

@@ -64,6 +64,14 @@ PathChoice choose_offered(const PathOffer& offer, std::span<const Ray> rays, con
 }
 }  // namespace
 
+std::vector<std::size_t> policy_sample(const PathOffer& offer, std::size_t n) {
+    const std::size_t group = std::max<std::size_t>(offer.packet_lanes, 1), step = coherence_sample_step(n, group);
+    std::vector<std::size_t> at;
+    for (std::size_t base = 0; base < n; base += step)
+        for (std::size_t i = base; i < std::min(n, base + group); ++i) at.push_back(i);
+    return at;
+}
+
 PathChoice choose_path(const PathOffer& offer, std::span<const Ray> rays, const TraceRequest& req) {
     if (req.path != TracePath::best && offer.runs(req.path, req.query)) {
         PathChoice c;

@@ -49,6 +49,12 @@ struct PathChoice {
 /// calibrated path; req.counters is not read). Cheap: at most 16 groups of rays are looked at.
 PathChoice choose_path(const PathOffer& offer, std::span<const Ray> rays, const TraceRequest& req);
 
+/// The rays of a batch of `n` that choose_path reads on a structure offering `offer` (a few groups of
+/// packet_lanes consecutive rays, spread over the batch), in order: choose_path over just these
+/// rays, gathered, answers as over the whole batch. For callers whose rays are not Ray records yet
+/// (the public API's arrays), so that a batch gets one path decision without converting it first.
+std::vector<std::size_t> policy_sample(const PathOffer& offer, std::size_t n);
+
 /// What a build of `kind` with `cfg` will offer, as far as the path policy reads it (paths and
 /// queries, counts, packets_pay, simd_skipped), known before building: --accel auto asks the
 /// policy with it which path a structure would take for a hint (tests check it against the
