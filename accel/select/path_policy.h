@@ -14,7 +14,9 @@
 ///   6. else the rays are measured (coherence.h): `packet` when at least half of the groups of
 ///      consecutive rays that would share a packet start within 5% of the scene's diagonal of each
 ///      other (one direction octant, or, failing that, any), else `single`
-///      (perf/results/wide-*.md, octant-order-2026-12-02.md).
+///      (perf/results/wide-*.md, octant-order-2026-12-02.md); any-hit rays that would go single
+///      take `packet` when half of the groups share an octant, or end together (shadow rays
+///      towards one point light).
 #include "accel/build_config.h"
 #include "accel/core/query.h"
 #include "accel/core/ray.h"
@@ -43,6 +45,9 @@ struct PathChoice {
     bool one_octant = false;
     /// Any-hit queries that would go single: the fraction of groups in one octant, origins anywhere.
     double octant_only = 0.0;
+    /// Any-hit queries in neither case: the fraction of groups whose rays end together (org + tfar
+    /// * dir within 5% of the scene's diagonal: shadow rays towards one point light).
+    double end_together = 0.0;
 };
 
 /// The path for `rays` on a structure offering `offer`, asked as `req` (query, path, hint,
