@@ -4,11 +4,13 @@
 #include "api/scene_impl.h"
 
 #include "accel/inside.h"
+#include "accel/select/path_policy.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace arbor {
@@ -47,12 +49,36 @@ accel::Ray ray_at(const RayArrays& r, std::size_t i) {
             read_vec3(r.directions, r.direction_stride, i), r.tfar ? read_float(r.tfar, r.tfar_stride, i) : r.tfar_value};
 }
 
-/// The chunk's rays in this thread's buffer.
+/// Whether the arrays are already accel::Ray records (origin, tnear, direction, tfar: 32 bytes each,
+/// as arbor::Ray and Python's read_rays hold them), so the structure can read them in place.
+bool are_records(const RayArrays& r) {
+    static_assert(sizeof(accel::Ray) == 8 * sizeof(float) && alignof(accel::Ray) == alignof(float));
+    constexpr std::size_t rec = sizeof(accel::Ray);
+    return r.origin_stride == rec && r.direction_stride == rec && r.tnear_stride == rec && r.tfar_stride == rec &&
+           r.directions == r.origins + 4 && r.tnear == r.origins + 3 && r.tfar == r.origins + 7 &&
+           reinterpret_cast<std::uintptr_t>(r.origins) % alignof(accel::Ray) == 0;
+}
+
+/// The chunk's rays: in place when they are records, else converted in this thread's buffer.
 std::span<const accel::Ray> load_rays(const RayArrays& r, std::size_t begin, std::size_t end) {
+    if (are_records(r)) return {reinterpret_cast<const accel::Ray*>(r.origins) + begin, end - begin};
     thread_local std::vector<accel::Ray> buf;
     buf.resize(end - begin);
     for (std::size_t i = begin; i < end; ++i) buf[i - begin] = ray_at(r, i);
     return buf;
+}
+
+/// The request for a whole batch: one path decision, as `arbor trace` makes it for a ray file
+/// (accel/select/path_policy.h: the path auto calibrated, else what the structure offers and the
+/// rays' coherence say), read from the few rays the policy looks at. Every chunk then runs on
+/// that path: the chunks do not each ask the policy, and the answer does not depend on where the
+/// chunk boundaries fall relative to the policy's sample.
+accel::TraceRequest batch_request(const Scene::Impl& s, const accel::Accel& a, const RayArrays& r, accel::Query q) {
+    accel::TraceRequest req{q, accel::TracePath::best, accel::RayHint::unknown, s.path};
+    std::vector<accel::Ray> sample;
+    for (const std::size_t i : accel::policy_sample(a.offer(), r.count)) sample.push_back(ray_at(r, i));
+    req.path = accel::choose_path(a.offer(), sample, req).path;
+    return req;
 }
 
 std::span<const accel::Vec3f> load_points(const PointArrays& p, std::size_t begin, std::size_t end) {
@@ -102,11 +128,12 @@ void Scene::intersect(const RayArrays& rays, Hit* hits) const {
     guarded([&] {
         check_rays(rays, hits, "intersect");
         const accel::Accel& a = impl_->structure();
+        const accel::TraceRequest req = batch_request(*impl_, a, rays, accel::Query::closest);
         for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_rays(rays, b, e);
             thread_local std::vector<accel::Hit> out;
             out.resize(in.size());
-            a.trace(in, out, {accel::Query::closest, accel::TracePath::best, accel::RayHint::unknown, impl_->path});
+            a.trace(in, out, req);
             for (std::size_t i = b; i < e; ++i) hits[i] = impl_->to_public(out[i - b]);
         });
     });
@@ -116,11 +143,12 @@ void Scene::occluded(const RayArrays& rays, bool* occluded) const {
     guarded([&] {
         check_rays(rays, occluded, "occluded");
         const accel::Accel& a = impl_->structure();
+        const accel::TraceRequest req = batch_request(*impl_, a, rays, accel::Query::any);
         for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_rays(rays, b, e);
             thread_local std::vector<accel::Hit> out;
             out.resize(in.size());
-            a.trace(in, out, {accel::Query::any, accel::TracePath::best, accel::RayHint::unknown, impl_->path});
+            a.trace(in, out, req);
             for (std::size_t i = b; i < e; ++i) occluded[i] = out[i - b].is_hit();
         });
     });

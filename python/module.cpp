@@ -8,6 +8,7 @@
 
 #include <pybind11/stl.h>
 
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <shared_mutex>
@@ -110,21 +111,27 @@ PYBIND11_MODULE(_arbor, m) {
         "read_rays",
         [](py::handle path) {
             const std::string p = path_arg(path, "path");
-            std::vector<arbor::Ray> rays;
+            // The records stay where the file was read into: the (N, 8) float32 array below owns
+            // them (no copy), and the four arrays are views of its columns, which the queries read
+            // in place (origin, tnear, direction, tfar: rayfile.md's record).
+            static_assert(sizeof(arbor::Ray) == 8 * sizeof(float));
+            auto rays = std::make_unique<std::vector<arbor::Ray>>();
             {
                 py::gil_scoped_release nogil;
-                rays = arbor::read_rays(p);
+                *rays = arbor::read_rays(p);
             }
-            const auto n = py::ssize_t(rays.size());
-            py::array_t<float> org({n, py::ssize_t(3)}), dir({n, py::ssize_t(3)}), tnear(n), tfar(n);
-            float *o = org.mutable_data(), *d = dir.mutable_data(), *a = tnear.mutable_data(), *b = tfar.mutable_data();
-            for (std::size_t i = 0; i < rays.size(); ++i) {
-                for (int k = 0; k < 3; ++k) o[3 * i + k] = rays[i].org[k], d[3 * i + k] = rays[i].dir[k];
-                a[i] = rays[i].tnear, b[i] = rays[i].tfar;
-            }
-            return py::make_tuple(org, dir, tnear, tfar);
+            const auto n = py::ssize_t(rays->size());
+            float* data = reinterpret_cast<float*>(rays->data());
+            const py::capsule owner(rays.get(), [](void* v) { delete static_cast<std::vector<arbor::Ray>*>(v); });
+            rays.release();
+            const py::array_t<float> all({n, py::ssize_t(8)}, data, owner);
+            const py::object cols = all.attr("__getitem__");
+            const py::slice every{py::none(), py::none(), py::none()};
+            return py::make_tuple(cols(py::make_tuple(every, py::slice(0, 3, 1))), cols(py::make_tuple(every, py::slice(4, 7, 1))),
+                                  cols(py::make_tuple(every, 3)), cols(py::make_tuple(every, 7)));
         },
-        "path"_a, "origins, directions, tnear, tfar of a .rays file: (N, 3), (N, 3), (N,), (N,) float32 arrays.");
+        "path"_a, "origins, directions, tnear, tfar of a .rays file: (N, 3), (N, 3), (N,), (N,) float32 arrays (views of "
+        "one (N, 8) array of the file's records, which the queries read in place).");
 
     py::class_<PyScene>(m, "Scene", "Triangle meshes and the acceleration structure built over them.")
         .def(py::init([](py::handle vertices, py::handle faces) {

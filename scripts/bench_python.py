@@ -1,11 +1,16 @@
 #!/usr/bin/env python3
 """Scene.intersect from Python against `arbor trace` on the same rays and structure.
 
-For each ray kind, `arbor rays` writes N rays of the model; then, interleaved round by round, one
-`arbor trace --json --repeat K` process (its median trace_ms: the time inside the structure) and,
-in this process, K timed calls of Scene.intersect on the same rays (each the whole call a Python
-user waits for: argument checks, the trace on every thread, the result array). The hits of both
-are compared record by record (t and prim, bit for bit). Writes a Markdown report.
+For each ray kind, `arbor rays` writes N rays of the model; then, interleaved round by round, two
+pairs are timed:
+  * the query: one `arbor trace --json --repeat K` process (its median trace_ms: the time inside
+    the structure) against K calls of Scene.intersect in this process on the same rays (each the
+    whole call a Python user waits for: argument checks, the trace on every thread, the result
+    array), median of K;
+  * the whole job, a fresh process each: `arbor trace` (load, build, read the rays, trace once)
+    against `python3` running the same with arbor (import, Scene.load, build, read_rays, intersect),
+    wall clock.
+The hits of both are compared record by record (t and prim, bit for bit). Writes a Markdown report.
 
   PYTHONPATH=build/release/python python3 scripts/bench_python.py --out perf/results/python-DATE.md
 """
@@ -50,15 +55,15 @@ def main():
                            check=True, stdout=subprocess.DEVNULL)
             o, d, tn, tf = arbor.read_rays(rays)
             hits_file = pathlib.Path(tmp, f"{kind}.hits")
-            cli, py = [], []
+            cli, py, cli_wall, py_wall = [], [], [], []
+            job = (f"import arbor\ns = arbor.Scene.load({str(a.model)!r})\ns.build({a.accel!r}, threads={a.threads})\n"
+                   f"o, d, tn, tf = arbor.read_rays({str(rays)!r})\nh = s.intersect(o, d, tn, tf)\n")
             for r in range(a.rounds):
-                cmd = [a.arbor, "trace", "--scene", a.model, "--rays", str(rays), "--accel", a.accel, "--json",
-                       "--repeat", str(a.repeat)]
+                cmd = [a.arbor, "trace", "--scene", a.model, "--rays", str(rays), "--accel", a.accel, "--json"]
                 if a.threads:
                     cmd += ["--threads", str(a.threads)]
-                if r == 0:
-                    cmd += ["--hits", str(hits_file)]
-                j = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+                j = json.loads(subprocess.run(cmd + ["--repeat", str(a.repeat)] + (["--hits", str(hits_file)] if r == 0 else []),
+                                              check=True, capture_output=True, text=True).stdout)
                 cli.append(j["mrays_per_s"])
                 times = []
                 for _ in range(a.repeat):
@@ -66,19 +71,31 @@ def main():
                     h = scene.intersect(o, d, tn, tf)
                     times.append(time.perf_counter() - t0)
                 py.append(len(o) / statistics.median(times) / 1e6)
+                # The whole job in a fresh process each (A/B in the same round).
+                t0 = time.perf_counter()
+                subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+                cli_wall.append(time.perf_counter() - t0)
+                t0 = time.perf_counter()
+                subprocess.run([sys.executable, "-c", job], check=True)
+                py_wall.append(time.perf_counter() - t0)
             # The CLI's hits: 16-byte records t, prim, u, v after a 16-byte header.
             rec = np.frombuffer(hits_file.read_bytes()[16:], dtype=[("t", "<f4"), ("prim", "<u4"), ("u", "<f4"), ("v", "<f4")])
-            same = int(np.count_nonzero((rec["t"].view("<u4") == h["t"].view("<u4")) & (rec["prim"] == h["prim"])))
+            same = int(np.count_nonzero((rec["t"].view("<u4") == h["t"].view("<u4")) & (rec["prim"] == h["prim"])
+                                        & (rec["u"].view("<u4") == h["u"].view("<u4")) & (rec["v"].view("<u4") == h["v"].view("<u4"))))
             ratios = [p / c for p, c in zip(py, cli)]
+            wall = [c / p for p, c in zip(py_wall, cli_wall)]
             rows.append((kind, statistics.median(cli), statistics.median(py), statistics.median(ratios), min(ratios),
-                         max(ratios), same, len(o), j["path"], j["threads"]))
+                         max(ratios), same, len(o), j["path"], j["threads"], statistics.median(cli_wall),
+                         statistics.median(py_wall), statistics.median(wall), min(wall), max(wall)))
             print(f"{kind}: arbor trace {rows[-1][1]:.2f} Mrays/s, Scene.intersect {rows[-1][2]:.2f} Mrays/s, "
-                  f"ratio {rows[-1][3]:.3f} ({rows[-1][4]:.3f}-{rows[-1][5]:.3f}); identical hits {same}/{len(o)}",
-                  flush=True)
-    lines = [f"| rays | arbor trace Mrays/s | Scene.intersect Mrays/s | ratio (median, min-max of {a.rounds} rounds) | "
-             "identical hits (t, prim) | path | threads |", "|---|---:|---:|---|---:|---|---:|"]
-    for k, c, p, r, lo, hi, same, n, path, thr in rows:
-        lines.append(f"| {k} | {c:.2f} | {p:.2f} | **{r:.3f}** ({lo:.3f}-{hi:.3f}) | {same}/{n} | {path} | {thr} |")
+                  f"ratio {rows[-1][3]:.3f} ({rows[-1][4]:.3f}-{rows[-1][5]:.3f}); whole job {rows[-1][10]:.3f} s vs "
+                  f"{rows[-1][11]:.3f} s, ratio {rows[-1][12]:.3f}; identical hits {same}/{len(o)}", flush=True)
+    lines = [f"| rays | arbor trace Mrays/s (trace_ms) | Scene.intersect Mrays/s (whole call) | ratio (median, min-max of "
+             f"{a.rounds} rounds) | whole job: arbor trace s | whole job: python3 s | ratio | identical hits (t, prim, u, v) "
+             "| path | threads |", "|---|---:|---:|---|---:|---:|---|---:|---|---:|"]
+    for k, c, p, r, lo, hi, same, n, path, thr, cw, pw, wr, wlo, whi in rows:
+        lines.append(f"| {k} | {c:.2f} | {p:.2f} | **{r:.3f}** ({lo:.3f}-{hi:.3f}) | {cw:.3f} | {pw:.3f} | {wr:.3f} "
+                     f"({wlo:.3f}-{whi:.3f}) | {same}/{n} | {path} | {thr} |")
     table = "\n".join(lines)
     if a.queries:
         table += "\n\n" + queries_table(a)

@@ -267,4 +267,56 @@ TEST_CASE("best path: packets for rays that start together (one octant or not), 
     CHECK(accel::path_reason(sc).find("any-hit") != std::string::npos);
     CHECK(accel::choose_path(acc->offer(), shadow, {}).path == accel::TracePath::single);
     CHECK(accel::choose_path(acc->offer(), testing::random_rays_inside(b, 1024, 5), any).path == accel::TracePath::single);
+    // A light just above the middle of the scene: the shadow rays' directions straddle the x and y
+    // octant boundaries, but they all end together (tfar just short of the light), so any-hit rays
+    // take packets; as closest-hit, or with tfar = inf (no shared end), single rays.
+    std::vector<Ray> above, open;
+    const Vec3f mid = 0.5f * (b.lo + b.hi), top{mid.x, mid.y, b.hi.z + 0.1f * ext.z};
+    for (int i = 0; i < 1024; ++i) {
+        const Vec3f o{b.lo.x + u(rng) * ext.x, b.lo.y + u(rng) * ext.y, b.lo.z + u(rng) * ext.z};
+        above.push_back({o, 0.0f, top - o, 0.9999f});
+        open.push_back({o, 0.0f, top - o, INFINITY});
+    }
+    CHECK(accel::coherent_fraction(above, acc->offer().packet_lanes, INFINITY) < 0.5);
+    const accel::PathChoice ac = accel::choose_path(acc->offer(), above, any);
+    CHECK(ac.path == accel::TracePath::packet);
+    CHECK(accel::path_reason(ac).find("end within") != std::string::npos);
+    CHECK(accel::choose_path(acc->offer(), above, {}).path == accel::TracePath::single);
+    CHECK(accel::choose_path(acc->offer(), open, any).path == accel::TracePath::single);
+    // The policy's one-pass measure gives coherence.h's fractions on the same sample.
+    const float spread = 0.05f * acc->offer().scene_diagonal;
+    const std::uint32_t lanes = acc->offer().packet_lanes;
+    for (const std::vector<Ray>* batch : {&bounces, &shadow, &above, &open}) {
+        const accel::PathChoice m = accel::choose_path(acc->offer(), *batch, {});
+        CHECK(m.coherent == accel::coherent_fraction(*batch, lanes, spread));
+        if (!m.one_octant) CHECK(m.together == accel::coherent_fraction(*batch, lanes, spread, 8, false));
+    }
+}
+
+TEST_CASE("policy_sample: the path chosen over the gathered sample is the one chosen over the whole batch") {
+    // The public API decides a batch's path from these rays only (api/queries.cpp): batches of
+    // every size, coherent at some sampled groups and not at others, must get the same verdict.
+    const engine::Mesh mesh = testing::procedural_shapes();
+    accel::BuildConfig cfg;
+    cfg.layouts = accel::Layouts::simd;
+    const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view(), cfg);
+    const accel::PathOffer& offer = acc->offer();
+    const std::vector<Ray> camera = testing::camera_rays(mesh.bounds, 64, 64), random = testing::random_rays_inside(mesh.bounds, 4096, 9);
+    for (const std::size_t n : {std::size_t(0), std::size_t(5), std::size_t(100), std::size_t(1000), std::size_t(4096)})
+        for (const std::size_t cut : {std::size_t(0), n / 3, n / 2, n}) {
+            std::vector<Ray> batch(camera.begin(), camera.begin() + std::ptrdiff_t(cut));
+            batch.insert(batch.end(), random.begin(), random.begin() + std::ptrdiff_t(n - cut));
+            std::vector<Ray> sample;
+            for (const std::size_t i : accel::policy_sample(offer, n)) sample.push_back(batch[i]);
+            CHECK(sample.size() <= std::size_t(8) * offer.packet_lanes);
+            for (const accel::Query q : {accel::Query::closest, accel::Query::any}) {
+                const accel::PathChoice all = accel::choose_path(offer, batch, {q}), some = accel::choose_path(offer, sample, {q});
+                CAPTURE(n);
+                CAPTURE(cut);
+                CHECK(some.path == all.path);
+                CHECK(some.coherent == all.coherent);
+                CHECK(some.together == all.together);
+                CHECK(some.octant_only == all.octant_only);
+            }
+        }
 }

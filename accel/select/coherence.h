@@ -20,13 +20,20 @@ namespace arbor::accel {
 /// not asked when `same_octant` is false) and the origins lie within `spread` of each other on
 /// every axis. Groups without traceable rays do not count; a batch without any gives 0.
 /// Deterministic (the sample depends on the sizes only).
+/// Rays from the start of one sampled group to the next for a batch of `n` rays: the sample is the
+/// groups starting at 0, step, 2 step, ... (each `group` rays, the last one possibly cut by n).
+inline std::size_t coherence_sample_step(std::size_t n, std::size_t group, std::size_t max_groups = 8) {
+    group = std::max<std::size_t>(group, 1);
+    const std::size_t all = (n + group - 1) / group;
+    return group * std::max<std::size_t>(1, (all + max_groups - 1) / std::max<std::size_t>(max_groups, 1));
+}
+
 inline double coherent_fraction(std::span<const Ray> rays, std::size_t group, float spread, std::size_t max_groups = 8,
                                 bool same_octant = true) {
     group = std::max<std::size_t>(group, 1);
-    const std::size_t all = (rays.size() + group - 1) / group;
-    const std::size_t stride = std::max<std::size_t>(1, (all + max_groups - 1) / std::max<std::size_t>(max_groups, 1));
+    const std::size_t step = coherence_sample_step(rays.size(), group, max_groups);
     std::size_t groups = 0, coherent = 0;
-    for (std::size_t base = 0; base < rays.size(); base += group * stride) {
+    for (std::size_t base = 0; base < rays.size(); base += step) {
         const std::size_t end = std::min(rays.size(), base + group);
         bool first = true, ok = true;
         unsigned octant = 0;

@@ -2,8 +2,8 @@
 
 #include "accel/accel.h"
 #include "accel/bvh/bvh_accel.h"
-#include "accel/select/coherence.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -14,6 +14,73 @@ namespace {
 constexpr float together_fraction = 0.05f;
 /// Packets when at least this fraction of the groups is coherent.
 constexpr double packet_fraction = 0.5;
+
+/// The policy's four measures of a batch, over the same sample as coherent_fraction (coherence.h:
+/// at most 8 groups of `group` consecutive rays, spread evenly; groups without traceable rays do
+/// not count), each the fraction of groups whose traceable rays
+///   coherent:     share a direction octant and start within `spread` of each other (every axis);
+///   together:     start within `spread`;
+///   octant:       share a direction octant;
+///   end_together: END within `spread` (org + tfar * dir; a ray whose end is not finite makes its
+///                 group scattered): shadow rays towards one point light, tfar just short of it,
+///                 end together wherever they start and in whatever octants.
+/// One pass over the sample, instead of up to three coherent_fraction calls.
+struct BatchMeasures {
+    double coherent = 0.0, together = 0.0, octant = 0.0, end_together = 0.0;
+};
+
+BatchMeasures measure_batch(std::span<const Ray> rays, std::size_t group, float spread, std::size_t max_groups = 8) {
+    group = std::max<std::size_t>(group, 1);
+    const std::size_t all = (rays.size() + group - 1) / group;
+    const std::size_t stride = std::max<std::size_t>(1, (all + max_groups - 1) / max_groups);
+    std::size_t groups = 0, coherent = 0, together = 0, octant = 0, end_together = 0;
+    // The sampled groups lie a stride apart (4 KiB in a 1024-ray chunk) in rays the trace has not
+    // read yet: loaded one after another they miss the cache in turn (the measure took 14% of the
+    // packet path's time on the alligator's shadow rays, perf record); asked for all at once first,
+    // the misses overlap.
+    for (std::size_t base = 0; base < rays.size(); base += group * stride) {
+        const char* p = reinterpret_cast<const char*>(rays.data() + base);
+        const char* e = reinterpret_cast<const char*>(rays.data() + std::min(rays.size(), base + group));
+        for (; p < e; p += 64) __builtin_prefetch(p);
+    }
+    for (std::size_t base = 0; base < rays.size(); base += group * stride) {
+        const std::size_t end = std::min(rays.size(), base + group);
+        bool first = true;
+        unsigned neg_all = 7, neg_any = 0;  // sign bits of d: set in every ray / in some ray
+        Vec3f lo, hi, elo, ehi;
+        for (std::size_t i = base; i < end; ++i) {
+            const Ray& r = rays[i];
+            if (!ray_is_traceable(r)) continue;
+            const unsigned o = unsigned(std::signbit(r.dir.x)) | unsigned(std::signbit(r.dir.y)) << 1 |
+                               unsigned(std::signbit(r.dir.z)) << 2;
+            neg_all &= o, neg_any |= o;
+            const Vec3f e = r.org + r.tfar * r.dir;  // inf or NaN where tfar is not finite
+            if (first) {
+                lo = hi = r.org, elo = ehi = e, first = false;
+                continue;
+            }
+            lo = simd::vmin(r.org, lo), hi = simd::vmax(r.org, hi);
+            elo = simd::vmin(e, elo), ehi = simd::vmax(e, ehi);
+        }
+        if (first) continue;
+        const auto within = [spread](const Vec3f& l, const Vec3f& h) {
+            return h.x - l.x <= spread && h.y - l.y <= spread && h.z - l.z <= spread;
+        };
+        const auto finite = [](const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+        const bool one_octant = neg_all == neg_any, near = within(lo, hi);
+        ++groups;
+        coherent += one_octant && near;
+        together += near;
+        octant += one_octant;
+        end_together += finite(elo) && finite(ehi) && within(elo, ehi);
+    }
+    BatchMeasures m;
+    if (groups == 0) return m;
+    const double g = double(groups);
+    m.coherent = double(coherent) / g, m.together = double(together) / g, m.octant = double(octant) / g;
+    m.end_together = double(end_together) / g;
+    return m;
+}
 
 PathChoice choose_offered(const PathOffer& offer, std::span<const Ray> rays, const TraceRequest& req) {
     const Query q = req.query;
@@ -45,24 +112,36 @@ PathChoice choose_offered(const PathOffer& offer, std::span<const Ray> rays, con
     // that share a place only (diffuse bounces: their packets switch to single rays early, see
     // PacketConfig::switch_mixed); single rays for scattered origins.
     const float spread = together_fraction * offer.scene_diagonal;
+    const BatchMeasures m = measure_batch(rays, offer.packet_lanes, spread);
     c.why = PathChoice::Why::measured;
     c.group = offer.packet_lanes;
-    c.coherent = coherent_fraction(rays, offer.packet_lanes, spread);
+    c.coherent = m.coherent;
     c.one_octant = c.coherent >= packet_fraction;
-    c.together = c.one_octant ? c.coherent : coherent_fraction(rays, offer.packet_lanes, spread, 8, false);
+    c.together = c.one_octant ? c.coherent : m.together;
     c.path = c.together >= packet_fraction ? TracePath::packet : TracePath::single;
     // Any-hit rays that share an octant wherever they start (shadow rays towards one light from a
     // view whose tile neighbours lie far apart on the model): the packet path, whose intervals
     // cull the nodes around the shared target. Chosen on the benchmark's shadow files (packet at or
     // above best on 8 of the 9 BVH cells of perf/results/vs-embree-2026-12-02f.md), not on the
-    // held-out set it is reported on.
+    // held-out set it is reported on. Any-hit rays that END together (shadow rays towards one
+    // point light whose directions straddle an octant boundary: a light above a flat model or
+    // inside a box) take packets too (tests/test_wide_paths.cpp).
     if (c.path == TracePath::single && q == Query::any) {
-        c.octant_only = coherent_fraction(rays, offer.packet_lanes, INFINITY);
+        c.octant_only = m.octant;
         if (c.octant_only >= packet_fraction) c.path = TracePath::packet;
+        else if ((c.end_together = m.end_together) >= packet_fraction) c.path = TracePath::packet;
     }
     return c;
 }
 }  // namespace
+
+std::vector<std::size_t> policy_sample(const PathOffer& offer, std::size_t n) {
+    const std::size_t group = std::max<std::size_t>(offer.packet_lanes, 1), step = coherence_sample_step(n, group);
+    std::vector<std::size_t> at;
+    for (std::size_t base = 0; base < n; base += step)
+        for (std::size_t i = base; i < std::min(n, base + group); ++i) at.push_back(i);
+    return at;
+}
 
 PathChoice choose_path(const PathOffer& offer, std::span<const Ray> rays, const TraceRequest& req) {
     if (req.path != TracePath::best && offer.runs(req.path, req.query)) {
@@ -102,6 +181,10 @@ std::string path_reason(const PathChoice& c) {
         why = buf;
         if (c.octant_only >= packet_fraction) {
             std::snprintf(buf, sizeof buf, "; any-hit rays, %.0f%% of the groups in one octant: packets", 100.0 * c.octant_only);
+            why += buf;
+        } else if (c.end_together >= packet_fraction) {
+            std::snprintf(buf, sizeof buf, "; any-hit rays, %.0f%% of the groups end within 5%% of the scene (one light): packets",
+                          100.0 * c.end_together);
             why += buf;
         }
         break;

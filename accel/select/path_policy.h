@@ -14,7 +14,9 @@
 ///   6. else the rays are measured (coherence.h): `packet` when at least half of the groups of
 ///      consecutive rays that would share a packet start within 5% of the scene's diagonal of each
 ///      other (one direction octant, or, failing that, any), else `single`
-///      (perf/results/wide-*.md, octant-order-2026-12-02.md).
+///      (perf/results/wide-*.md, octant-order-2026-12-02.md); any-hit rays that would go single
+///      take `packet` when half of the groups share an octant, or end together (shadow rays
+///      towards one point light).
 #include "accel/build_config.h"
 #include "accel/core/query.h"
 #include "accel/core/ray.h"
@@ -43,11 +45,20 @@ struct PathChoice {
     bool one_octant = false;
     /// Any-hit queries that would go single: the fraction of groups in one octant, origins anywhere.
     double octant_only = 0.0;
+    /// Any-hit queries in neither case: the fraction of groups whose rays end together (org + tfar
+    /// * dir within 5% of the scene's diagonal: shadow rays towards one point light).
+    double end_together = 0.0;
 };
 
 /// The path for `rays` on a structure offering `offer`, asked as `req` (query, path, hint,
 /// calibrated path; req.counters is not read). Cheap: at most 16 groups of rays are looked at.
 PathChoice choose_path(const PathOffer& offer, std::span<const Ray> rays, const TraceRequest& req);
+
+/// The rays of a batch of `n` that choose_path reads on a structure offering `offer` (a few groups of
+/// packet_lanes consecutive rays, spread over the batch), in order: choose_path over just these
+/// rays, gathered, answers as over the whole batch. For callers whose rays are not Ray records yet
+/// (the public API's arrays), so that a batch gets one path decision without converting it first.
+std::vector<std::size_t> policy_sample(const PathOffer& offer, std::size_t n);
 
 /// What a build of `kind` with `cfg` will offer, as far as the path policy reads it (paths and
 /// queries, counts, packets_pay, simd_skipped), known before building: --accel auto asks the

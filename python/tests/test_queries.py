@@ -117,3 +117,26 @@ def test_read_rays_round_trip(tmp_path, box_scene):
     np.testing.assert_array_equal(d, rec[:, 4:7])
     np.testing.assert_array_equal(tf, rec[:, 7])
     assert box_scene.intersect(o, d, tn, tf).shape == (10,)
+
+
+def test_ray_records_read_in_place(tmp_path, spot):
+    """read_rays gives views of one (N, 8) array of records, which intersect/occluded read in place
+    (api/queries.cpp are_records); the answers equal those for separate contiguous arrays, also
+    with tnear > 0 and a finite tfar (a wrong field offset would change them)."""
+    scene = arbor.Scene.load(spot)
+    scene.build("bvh-sah", threads=2)
+    o, d = random_rays(scene, 3000, seed=4)
+    rng = np.random.default_rng(5)
+    tn = (rng.random(len(o)) * 0.5).astype(np.float32)
+    tf = (1.0 + rng.random(len(o))).astype(np.float32)
+    rec = np.concatenate([o, tn[:, None], d, tf[:, None]], axis=1).astype("<f4")
+    path = tmp_path / "r.rays"
+    path.write_bytes(b"RAYS" + (1).to_bytes(4, "little") + len(rec).to_bytes(8, "little") + rec.tobytes())
+    ro, rd, rtn, rtf = arbor.read_rays(path)
+    assert ro.base is not None and ro.base is rd.base and ro.base is rtn.base and ro.base is rtf.base
+    assert ro.strides == (32, 4) and rtn.strides == (32,)
+    copies = [np.ascontiguousarray(a) for a in (ro, rd, rtn, rtf)]
+    a, b = scene.intersect(ro, rd, rtn, rtf), scene.intersect(*copies)
+    assert np.count_nonzero(b["prim"] != 0xFFFFFFFF) > 100 and np.count_nonzero(b["prim"] == 0xFFFFFFFF) > 100
+    assert a.tobytes() == b.tobytes()
+    np.testing.assert_array_equal(scene.occluded(ro, rd, rtn, rtf), scene.occluded(*copies))
