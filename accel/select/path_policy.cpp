@@ -2,6 +2,7 @@
 
 #include "accel/accel.h"
 #include "accel/bvh/bvh_accel.h"
+#include "accel/select/coherence.h"
 
 #include <algorithm>
 #include <cmath>
