@@ -8,7 +8,7 @@
 # benchmark's files use the one framed camera and seed 1) and the four ray kinds (primary, shadow
 # with unnormalized directions and tfar just short of the light, cosine diffuse bounces, random),
 # ray seed 100 + view seed, are written with `arbor rays --view-seed` into $ARBOR_RAYS_DIR (default
-# build/rays-heldout); then bench_paths times each structure's SIMD paths beside Embree's four calls
+# build/rays-heldout; anew every run unless REUSE_RAYS=1); then bench_paths times each structure's SIMD paths beside Embree's four calls
 # (coherent flag on primary and shadow), 2 threads, median of REPEATS, round-robin, and reports per
 # ray kind and structure the distribution over all cells of arbor / Embree's fastest call with the
 # errors against the scalar path, brute and Embree. Do not tune on these rays: tune on
@@ -39,7 +39,10 @@ for scene in $SCENES; do
   for v in $views; do
     for kind in primary shadow diffuse random; do
       f="$dir/$stem-v$v-$kind.rays"
-      [ -f "$f" ] || ARBOR_SHARED_SCENES=$(dirname "$models") $arbor rays --scene "$src" --kind $kind --count "$rays" \
+      # Written anew every run (~1.5 min for all 144 files): files kept from an older arbor are
+      # not the held-out set any more once ray generation changes (the 2026-12-02 files went stale
+      # when the samplers moved to one splitmix64). REUSE_RAYS=1 keeps existing files.
+      { [ "${REUSE_RAYS:-0}" = 1 ] && [ -f "$f" ]; } || ARBOR_SHARED_SCENES=$(dirname "$models") $arbor rays --scene "$src" --kind $kind --count "$rays" \
         --view-seed "$v" --seed $((100 + v)) -o "$f" >/dev/null
     done
   done

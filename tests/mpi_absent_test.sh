@@ -4,13 +4,7 @@
 # 1..127 and no output, rather than every rank rendering the whole frame alone. Needs Open MPI's
 # mpirun (scripts/setup-deps.sh installs it): fails, not skips, without it.
 set -u
-ARBOR=$(realpath "$1")
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
-command -v mpirun >/dev/null || { echo "FAIL: mpirun not found (scripts/setup-deps.sh installs openmpi-bin)"; exit 1; }
+. "$(dirname "$0")/mpi_common.sh"
 small=(--width 40 --height 24 --spp 1 -q)
 
 "$ARBOR" render "${small[@]}" -o "$WORK/plain.exr" >"$WORK/out" 2>&1 && [ -s "$WORK/plain.exr" ] \

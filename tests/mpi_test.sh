@@ -7,13 +7,7 @@
 # 1..127 and no output written or overwritten; a rank with another scene file or other settings is refused.
 # Every mpirun runs under `timeout`. Needs Open MPI's mpirun (the MPI front end is built).
 set -u
-ARBOR=$(realpath "$1")
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
-command -v mpirun >/dev/null || { echo "FAIL: mpirun not found (scripts/setup-deps.sh installs openmpi-bin)"; exit 1; }
+. "$(dirname "$0")/mpi_common.sh"
 # A shared CI machine has 2 cores: 3 ranks need --oversubscribe.
 MPIRUN=(timeout 120 mpirun --oversubscribe)
 

@@ -1,7 +1,6 @@
 // All hits along a ray (Accel::trace_all): every structure and layout gives brute force's list bit
 // for bit; on the stiff cases every list keeps the double-precision oracle's rules triangle by
 // triangle; crossing counts of closed meshes are exact away from edges and vertices.
-#include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "query_check.h"
 #include "stress/oracle.h"
@@ -75,19 +74,14 @@ TEST_CASE("all hits: every structure and width returns brute force's list on the
 }
 
 TEST_CASE("all hits: every structure returns brute force's list on every shared model") {
-    const auto paths = testing::model_paths();
-    REQUIRE_MESSAGE(paths.size() >= 10, "the shared models (../shared/scenes/models) are needed");
-    for (const auto& path : paths) {
-        CAPTURE(path);
-        engine::Warnings w;
-        const engine::Mesh mesh = engine::load_obj(path, w);
 #if defined(ARBOR_SANITIZED_BUILD)
-        const std::size_t n = 12;
+    const std::size_t n = 12;
 #else
-        const std::size_t n = 60;
+    const std::size_t n = 60;
 #endif
+    testing::for_each_shared_mesh([&](const std::string&, const engine::Mesh& mesh) {
         check_against_brute(mesh, testing::three_kinds(mesh.bounds, n, 5), false);
-    }
+    });
 }
 
 TEST_CASE("all hits: every list keeps the oracle's rules on the stiff cases") {

@@ -2,7 +2,6 @@
 // against an independent formulation, then every structure and layout against brute force, record
 // for record, on the procedural shapes, every shared model and stiff inputs.
 #include "accel/core/closest_point.h"
-#include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "query_check.h"
 
@@ -130,14 +129,9 @@ TEST_CASE("closest point: every structure and width returns brute force's record
 }
 
 TEST_CASE("closest point: every structure returns brute force's record on every shared model") {
-    const auto paths = testing::model_paths();
-    REQUIRE_MESSAGE(paths.size() >= 10, "the shared models (../shared/scenes/models) are needed");
-    for (const auto& path : paths) {
-        CAPTURE(path);
-        engine::Warnings w;
-        const engine::Mesh mesh = engine::load_obj(path, w);
+    testing::for_each_shared_mesh([](const std::string&, const engine::Mesh& mesh) {
         check_against_brute(mesh, testing::query_points(mesh, points_per_kind, 3), false, INFINITY);
-    }
+    });
 }
 
 TEST_CASE("closest point: stiff inputs (non-finite points, reach, empty, far and tiny scenes, degenerate triangles)") {

@@ -2,7 +2,6 @@
 // against the double-precision winding number on every closed shared model and on procedural
 // closed meshes, on every structure; points near edges, on the surface and non-finite.
 #include "accel/inside.h"
-#include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "query_check.h"
 #include "stress/stress_case.h"
@@ -59,14 +58,9 @@ void check_inside(const engine::Mesh& m, const std::vector<Vec3f>& points, const
 }  // namespace
 
 TEST_CASE("inside: agrees with the winding number on every closed shared model, on every structure") {
-    const auto paths = testing::model_paths();
-    REQUIRE_MESSAGE(paths.size() >= 10, "the shared models (../shared/scenes/models) are needed");
     std::size_t closed = 0, inside = 0, total = 0;
-    for (const auto& path : paths) {
-        engine::Warnings w;
-        const engine::Mesh mesh = engine::load_obj(path, w);
-        if (!stress::is_closed(mesh)) continue;
-        CAPTURE(path);
+    testing::for_each_shared_mesh([&](const std::string&, const engine::Mesh& mesh) {
+        if (!stress::is_closed(mesh)) return;
         ++closed;
         std::vector<Vec3f> points;
         std::vector<std::uint8_t> expect;
@@ -74,7 +68,7 @@ TEST_CASE("inside: agrees with the winding number on every closed shared model, 
         for (auto e : expect) inside += e;
         total += points.size();
         check_inside(mesh, points, expect, false);
-    }
+    });
     CHECK(closed >= 4);  // cheburashka, cow, rocker-arm, spot
     CHECK(inside * 20 > total);  // the sample holds inside points (> 5%; 16 of 160 in the sanitized build)
 }

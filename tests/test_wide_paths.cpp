@@ -317,6 +317,7 @@ TEST_CASE("policy_sample: the path chosen over the gathered sample is the one ch
                 CHECK(some.coherent == all.coherent);
                 CHECK(some.together == all.together);
                 CHECK(some.octant_only == all.octant_only);
+                CHECK(some.end_together == all.end_together);
             }
         }
 }

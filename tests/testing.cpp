@@ -1,5 +1,6 @@
 #include "testing.h"
 
+#include "engine/obj_loader.h"
 #include "engine/procedural.h"
 
 #include <doctest/doctest.h>
@@ -27,6 +28,16 @@ std::vector<std::string> model_paths() {
     REQUIRE_MESSAGE(!out.empty(), "no .obj model in " << dir);
     std::sort(out.begin(), out.end());
     return out;
+}
+
+void for_each_shared_mesh(const std::function<void(const std::string& path, const engine::Mesh& mesh)>& f) {
+    const auto paths = model_paths();
+    REQUIRE_MESSAGE(paths.size() >= 10, "the shared models (../shared/scenes/models) are needed");
+    for (const auto& path : paths) {
+        CAPTURE(path);
+        engine::Warnings w;
+        f(path, engine::load_obj(path, w));
+    }
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include "accel/accel.h"
 #include "engine/mesh.h"
 
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -18,6 +19,9 @@ using accel::Vec3f;
 std::string shared_scenes_dir();
 /// Paths of shared/scenes/models/*.obj, sorted; fails the calling test when there are none.
 std::vector<std::string> model_paths();
+/// Loads every shared model (model_paths(); fewer than 10 fail the calling test) and calls
+/// f(path, mesh) with the path CAPTUREd in the failure messages.
+void for_each_shared_mesh(const std::function<void(const std::string& path, const engine::Mesh& mesh)>& f);
 
 /// Rays from points around the bounds towards random points inside them (mostly hitting).
 std::vector<Ray> random_rays_into(const accel::Bounds& b, std::size_t n, std::uint32_t seed);

@@ -32,19 +32,19 @@ struct BatchMeasures {
 
 BatchMeasures measure_batch(std::span<const Ray> rays, std::size_t group, float spread, std::size_t max_groups = 8) {
     group = std::max<std::size_t>(group, 1);
-    const std::size_t all = (rays.size() + group - 1) / group;
-    const std::size_t stride = std::max<std::size_t>(1, (all + max_groups - 1) / max_groups);
+    // The sample's groups start a step apart (policy_sample gathers the same rays).
+    const std::size_t step = coherence_sample_step(rays.size(), group, max_groups);
     std::size_t groups = 0, coherent = 0, together = 0, octant = 0, end_together = 0;
     // The sampled groups lie a stride apart (4 KiB in a 1024-ray chunk) in rays the trace has not
     // read yet: loaded one after another they miss the cache in turn (the measure took 14% of the
     // packet path's time on the alligator's shadow rays, perf record); asked for all at once first,
     // the misses overlap.
-    for (std::size_t base = 0; base < rays.size(); base += group * stride) {
+    for (std::size_t base = 0; base < rays.size(); base += step) {
         const char* p = reinterpret_cast<const char*>(rays.data() + base);
         const char* e = reinterpret_cast<const char*>(rays.data() + std::min(rays.size(), base + group));
         for (; p < e; p += 64) __builtin_prefetch(p);
     }
-    for (std::size_t base = 0; base < rays.size(); base += group * stride) {
+    for (std::size_t base = 0; base < rays.size(); base += step) {
         const std::size_t end = std::min(rays.size(), base + group);
         bool first = true;
         unsigned neg_all = 7, neg_any = 0;  // sign bits of d: set in every ray / in some ray
