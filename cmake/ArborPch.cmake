@@ -1,9 +1,13 @@
 # Precompiled headers (cmake/pch/): CI builds every preset from scratch on two cores without ccache,
 # and most of each file's compile time is spent parsing the same standard and xsimd headers.
-# Off by default until an uncached build of every preset with it has passed the whole test command;
-# with a compiler launcher (ccache) it stays off: ccache caches nothing that uses a precompiled
+# On by default when no compiler launcher is set (CI's uncached builds); with a compiler launcher
+# (ccache) it stays off: ccache caches nothing that uses a precompiled
 # header unless its sloppiness allows it, and a rebuilt header never matches the cache.
-set(_arbor_pch_default OFF)
+if(CMAKE_CXX_COMPILER_LAUNCHER)
+  set(_arbor_pch_default OFF)
+else()
+  set(_arbor_pch_default ON)
+endif()
 option(ARBOR_PCH "Precompile the common standard and xsimd headers for the large targets"
        ${_arbor_pch_default})
 message(STATUS "arbor: precompiled headers ${ARBOR_PCH}")
