@@ -8,11 +8,14 @@
 
 #include <doctest/doctest.h>
 
+#include <cstring>
+
 namespace arbor::testing {
 
 struct OracleResult {
     std::size_t rays = 0, hits = 0;
     std::size_t closest_bad = 0;  ///< closest hits disagreeing by the rayfile.md rule
+    std::size_t closest_not_identical = 0;  ///< closest hits not bit-identical to brute's (t, prim, u, v): the tie rule
     std::size_t any_bad = 0;      ///< any-hit answers that are not a real hit exactly when brute hits
 };
 
@@ -29,6 +32,7 @@ inline OracleResult compare_with_brute(const accel::KdTreeAccel& kd, const accel
     for (std::size_t i = 0; i < rays.size(); ++i) {
         r.hits += b[i].is_hit();
         r.closest_bad += !accel::hits_agree(a[i], b[i]);
+        r.closest_not_identical += std::memcmp(&a[i], &b[i], sizeof(Hit)) != 0;
         bool ok = any[i].is_hit() == b[i].is_hit();
         if (ok && any[i].is_hit()) {
             const Ray& ray = rays[i];
@@ -53,6 +57,7 @@ inline void require_agreement(const engine::Mesh& mesh, const std::vector<Ray>& 
     CAPTURE(r.rays);
     CAPTURE(r.hits);
     CHECK(r.closest_bad == 0);
+    CHECK(r.closest_not_identical == 0);
     CHECK(r.any_bad == 0);
     CHECK(check_kd_simd(kd, rays) > 0);
 }

@@ -142,7 +142,10 @@ RopeStep rope_next(const KdTree& tree, const RopeRay& s, double& t, std::uint32_
         if (t_far[k] < t_exit) t_exit = t_far[k], axis = k;
     }
     if (axis < 0) return RopeStep::end;
-    if (!AnyHit && double(best_t) <= t_exit) return RopeStep::end;  // nothing further on can be closer
+    // Nothing further on can be closer, or tie with it: a triangle hit exactly (or within the
+    // crossing's rounding) at the exit may lie only in the next leaf, and the tie rule wants the
+    // lowest prim among equal t, so the walk ends only when the best hit is clearly before the exit.
+    if (!AnyHit && double(best_t) < t_exit && !near_plane(s, axis, t_exit, double(best_t))) return RopeStep::end;
     if (t_exit > s.t_end + s.tol[axis] * std::fabs(s.t_end)) return RopeStep::end;
     // Leaving near an edge or corner of this leaf (or exactly through one)?
     bool corner = false, near_exit = false;
