@@ -70,8 +70,10 @@ struct Server::Client final : Sink {
         log_line("client " + std::to_string(id) + " (" + peer + "): closed with " + std::to_string(code) + ": " + why);
         std::string payload{char((code >> 8) & 0xFF), char(code & 0xFF)};
         payload += why.substr(0, 120);  // a control frame carries at most 125 bytes
-        write(opcode_close, payload);
+        // The close frame and `open = false` under one lock: a frame of a pass still running on
+        // another thread cannot slip in after the close frame (RFC 6455 5.5.1).
         const std::lock_guard lock(mutex);
+        if (open) mg_websocket_write(conn, opcode_close, payload.data(), payload.size());
         open = false;
         return 0;
     }
