@@ -122,35 +122,35 @@ private:
     std::size_t max_, base_;
 };
 
+/// Traces `rays` for `q` with one path decision for the whole batch, in chunks over the scene's
+/// threads; `store(i, hit)` writes ray i's answer (intersect and occluded differ only there).
+template <class Store>
+void trace_batch(Scene::Impl& s, const RayArrays& rays, accel::Query q, Store&& store) {
+    const accel::Accel& a = s.structure();
+    const accel::TraceRequest req = batch_request(s, a, rays, q);
+    for_chunks(s, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
+        const auto in = load_rays(rays, b, e);
+        thread_local std::vector<accel::Hit> out;
+        out.resize(in.size());
+        a.trace(in, out, req);
+        for (std::size_t i = b; i < e; ++i) store(i, out[i - b]);
+    });
+}
+
 }  // namespace
 
 void Scene::intersect(const RayArrays& rays, Hit* hits) const {
     guarded([&] {
         check_rays(rays, hits, "intersect");
-        const accel::Accel& a = impl_->structure();
-        const accel::TraceRequest req = batch_request(*impl_, a, rays, accel::Query::closest);
-        for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
-            const auto in = load_rays(rays, b, e);
-            thread_local std::vector<accel::Hit> out;
-            out.resize(in.size());
-            a.trace(in, out, req);
-            for (std::size_t i = b; i < e; ++i) hits[i] = impl_->to_public(out[i - b]);
-        });
+        trace_batch(*impl_, rays, accel::Query::closest,
+                    [&](std::size_t i, const accel::Hit& h) { hits[i] = impl_->to_public(h); });
     });
 }
 
 void Scene::occluded(const RayArrays& rays, bool* occluded) const {
     guarded([&] {
         check_rays(rays, occluded, "occluded");
-        const accel::Accel& a = impl_->structure();
-        const accel::TraceRequest req = batch_request(*impl_, a, rays, accel::Query::any);
-        for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
-            const auto in = load_rays(rays, b, e);
-            thread_local std::vector<accel::Hit> out;
-            out.resize(in.size());
-            a.trace(in, out, req);
-            for (std::size_t i = b; i < e; ++i) occluded[i] = out[i - b].is_hit();
-        });
+        trace_batch(*impl_, rays, accel::Query::any, [&](std::size_t i, const accel::Hit& h) { occluded[i] = h.is_hit(); });
     });
 }
 
