@@ -128,7 +128,11 @@ def disconnect_mid_frame(v):
     # brute force at the largest image on one thread: a pass of minutes (26k triangles x 2.3M rays)
     p = v.connect()
     p.send({"type": "settings", "accel": "brute", "integrator": "primary", "width": 1920, "height": 1200, "threads": 1})
-    p.next_text("building")
+    # The page's first pass (the server's default structure) may start before these settings
+    # arrive and is not cancelled by them (a first pass always finishes); wait for brute's own
+    # build note, so the pass running below is the long one.
+    while p.next_text("building")["accel"] != "brute":
+        pass
     time.sleep(0.3)
     cpu = v.cpu_seconds()
     time.sleep(1.0)
