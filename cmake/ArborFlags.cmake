@@ -6,8 +6,10 @@ target_compile_options(arbor_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshado
 # One ISA per build. -ffp-contract=off is a correctness setting, not a speed one: the watertight
 # triangle test relies on a*b - c*d being rounded twice so that an edge shared by two triangles
 # gets exactly opposite signs (a fused multiply-add would break that symmetry).
+# (The portable build's kernel sets take ARBOR_FP_FLAGS with their own -march: ArborKernelSets.cmake.)
+set(ARBOR_FP_FLAGS -ffp-contract=off -fno-math-errno -fno-semantic-interposition)
 add_library(arbor_arch INTERFACE)
-target_compile_options(arbor_arch INTERFACE -march=${ARBOR_ARCH} -ffp-contract=off -fno-math-errno -fno-semantic-interposition)
+target_compile_options(arbor_arch INTERFACE -march=${ARBOR_ARCH} ${ARBOR_FP_FLAGS})
 
 add_library(arbor_sanitize INTERFACE)
 if(ARBOR_SANITIZE)

@@ -7,6 +7,7 @@ the two are compared (closest hit: the whole 16-byte record; any hit, the shadow
 since any hit may name another occluder).
 
   scripts/ab_trace.py OLD_ARBOR NEW_ARBOR RAYS_DIR [--models DIR] [--rounds 3] [--threads 1] [-o OUT.csv]
+                      [--scenes A,B] [--structures A,B] [--paths A,B]   (subsets of the defaults below)
 
 Prints per structure and path the median over files of the per-file ratio new/old of the median
 wall clock (the whole process: load, build, trace, write hits), build_ms and trace_ms, and writes
@@ -69,9 +70,13 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("-o", "--out", default="ab_trace.csv")
+    ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--structures", default=",".join(STRUCTURES))
+    ap.add_argument("--paths", default=",".join(PATHS))
     o = ap.parse_args()
+    scenes, structures, paths = o.scenes.split(","), o.structures.split(","), o.paths.split(",")
     tmp = tempfile.mkdtemp(prefix="ab_trace.")
-    configs = [(s, k, st, p) for s in SCENES for k in KINDS for st in STRUCTURES for p in PATHS]
+    configs = [(s, k, st, p) for s in scenes for k in KINDS for st in structures for p in paths]
     rows, accuracy = [], {}
     for r in range(o.rounds):
         for ci, (s, k, st, p) in enumerate(configs):
@@ -97,10 +102,10 @@ def main():
         return statistics.median(x[field] for x in rows if x["binary"] == label and
                                  (x["scene"], x["kind"], x["structure"], x["path"]) == cfg)
 
-    print("| structure | path | wall new/old (median over 12 files; min..max) | build_ms new/old | trace_ms new/old | rays with other hits |")
+    print(f"| structure | path | wall new/old (median over {len(scenes) * len(KINDS)} files; min..max) | build_ms new/old | trace_ms new/old | rays with other hits |")
     print("|---|---|---|---|---|---|")
-    for st in STRUCTURES:
-        for p in PATHS:
+    for st in structures:
+        for p in paths:
             cfgs = [c for c in configs if c[2] == st and c[3] == p]
             ratios = {f: [med("new", c, f) / med("old", c, f) for c in cfgs] for f in ("wall_ms", "build_ms", "trace_ms")}
             diff = sum(accuracy[c][1] for c in cfgs)

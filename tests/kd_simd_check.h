@@ -3,6 +3,7 @@
 /// kd-tree's scalar path (t, prim, u, v), closest and any hit, in several settings (block width,
 /// packet lanes, switch threshold) made from one built tree.
 #include "accel/kdtree/kdtree_accel.h"
+#include "accel/wide/wide_paths.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>
@@ -21,7 +22,7 @@ inline bool same_hit(const accel::Hit& a, const accel::Hit& b) { return std::mem
 /// packets of 8 and 16 lanes, switch thresholds 0 (always together), 1 and 3.
 inline std::vector<accel::BuildConfig> kd_simd_configs() {
     std::vector<accel::BuildConfig> out;
-    const bool has16 = XSIMD_WITH_AVX512F;
+    const bool has16 = accel::wide_width_supported(16);  // the kernel set in use has AVX-512
     const std::uint32_t blocks[] = {8, 16, 8};
     const std::uint32_t lanes[] = {16, 8, 8};
     const int switches[] = {1, 0, 3};

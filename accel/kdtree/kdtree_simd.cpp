@@ -15,6 +15,7 @@
 // the rare extra leaves of a walk (visit_point near edges and corners, the passes on the other
 // sides of a split plane a ray lies in).
 #include "accel/kdtree/kdtree_simd.h"
+#include "accel/core/kernel_table.h"
 
 #include "accel/core/hit_record.h"
 #include "accel/core/simd_paths.h"
@@ -28,10 +29,11 @@
 #include <algorithm>
 #include <bit>
 
-namespace arbor::accel {
+namespace arbor::accel::kset {
 namespace {
 
 template <std::size_t N> struct LaneOf;
+template <> struct LaneOf<4> { using type = simd::Float4; };
 #if XSIMD_WITH_AVX2
 template <> struct LaneOf<8> { using type = simd::Float8; };
 #endif
@@ -250,7 +252,7 @@ private:
 
 }  // namespace
 
-std::uint32_t default_kd_block_width() { return 8; }
+std::uint32_t default_kd_block_width() { return XSIMD_WITH_AVX2 ? 8 : 4; }
 
 std::unique_ptr<KdTreeAccel> make_kd_simd_accel(KdTree tree, const BuildConfig& cfg, double build_ms) {
     const std::uint32_t width = cfg.kd_blocks.width ? cfg.kd_blocks.width : default_kd_block_width();
@@ -258,7 +260,12 @@ std::unique_ptr<KdTreeAccel> make_kd_simd_accel(KdTree tree, const BuildConfig& 
     if (width == 16) return std::make_unique<KdSimdAccel<16>>(std::move(tree), cfg, build_ms);
 #endif
     (void)width;
+#if XSIMD_WITH_AVX2
     return std::make_unique<KdSimdAccel<8>>(std::move(tree), cfg, build_ms);
+#else
+    // SSE4.2 only (the portable build's sse4 kernel set): blocks of 4 triangles.
+    return std::make_unique<KdSimdAccel<4>>(std::move(tree), cfg, build_ms);
+#endif
 }
 
-}  // namespace arbor::accel
+}  // namespace arbor::accel::kset

@@ -11,11 +11,13 @@
 
 namespace arbor::accel {
 
-/// Block width when none is asked for (perf/results/kdtree-simd-*.md).
+// These go to the kernel set in use (core/kernel_set.h; its own definitions: kdtree_simd.cpp).
+/// Block width when none is asked for (perf/results/kdtree-simd-*.md): 8, or 4 with SSE4.2 only.
 std::uint32_t default_kd_block_width();
 
 /// The kd-tree over `tree` with blocks of cfg.kd_blocks.width triangles (0 or unsupported: the
-/// default), packets of cfg.packets.lanes rays (0: 16 with AVX-512, else 8), leaves reached by at
+/// default; 16 needs AVX-512, 8 AVX2), packets of cfg.packets.lanes rays (0: the kernel set's
+/// widest, 16 with AVX-512, 8 with AVX2, 4 with SSE4.2 only), leaves reached by at
 /// most cfg.packets.switch_lanes lanes of a packet (-1: lanes / 8) tested one lane at a time.
 std::unique_ptr<KdTreeAccel> make_kd_simd_accel(KdTree tree, const BuildConfig& cfg, double build_ms);
 

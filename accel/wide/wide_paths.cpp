@@ -1,12 +1,16 @@
+// The wide BVHs' entries of a kernel set (kernel_table.h): the widths it has and the factory.
+#include "accel/core/kernel_table.h"
 #include "accel/wide/wide_paths_impl.h"
 
-namespace arbor::accel {
+namespace arbor::accel::kset {
 
 std::uint32_t default_wide_width() {
 #if XSIMD_WITH_AVX512F
     return 16;
-#else
+#elif XSIMD_WITH_AVX2
     return 8;
+#else
+    return 4;
 #endif
 }
 
@@ -19,13 +23,9 @@ bool wide_width_supported(std::uint32_t width) {
     }
 }
 
-std::uint32_t wide_width_or_default(std::uint32_t width) {
-    return wide_width_supported(width) ? width : default_wide_width();
-}
-
 std::unique_ptr<Accel> make_wide_bvh_accel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
                                            const BuildConfig& cfg, double build_ms) {
-    switch (wide_width_or_default(cfg.wide.width)) {
+    switch (wide_width_supported(cfg.wide.width) ? cfg.wide.width : default_wide_width()) {
 #if XSIMD_WITH_AVX2
     case 8: return make_wide_bvh_accel_n<8>(kind, bvh, tris, cfg, build_ms);
 #endif
@@ -37,4 +37,4 @@ std::unique_ptr<Accel> make_wide_bvh_accel(AccelKind kind, const BinaryBvh& bvh,
     return make_wide_bvh_accel_n<4>(kind, bvh, tris, cfg, build_ms);
 }
 
-}  // namespace arbor::accel
+}  // namespace arbor::accel::kset

@@ -10,9 +10,11 @@
 
 namespace arbor::accel {
 
-/// The width used when none is asked for: the measured best of this build (perf/results/wide-*.md).
+// These go to the kernel set in use (core/kernel_set.h; its own definitions: wide_paths.cpp).
+/// The width used when none is asked for: the measured best of the kernel set in use
+/// (perf/results/wide-*.md): 16 with AVX-512, 8 with AVX2, 4 with SSE4.2 only.
 std::uint32_t default_wide_width();
-/// Widths this build can trace: 4 and 8 always (x86-64-v3 or better), 16 with AVX-512.
+/// Widths the kernel set in use can trace: 4 always, 8 with AVX2, 16 with AVX-512.
 bool wide_width_supported(std::uint32_t width);
 /// The width a layout asked for `width` gets: `width` when supported, else default_wide_width().
 std::uint32_t wide_width_or_default(std::uint32_t width);

@@ -2,6 +2,7 @@
 /// build statistics of that structure.
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
+#include "accel/core/kernel_set.h"
 #include "engine/log.h"
 #include "engine/mesh_loader.h"
 
@@ -54,6 +55,12 @@ int run_info(const InfoOptions& o) {
     j["bounds"] = {{"min", {mesh.bounds.lo.x, mesh.bounds.lo.y, mesh.bounds.lo.z}},
                    {"max", {mesh.bounds.hi.x, mesh.bounds.hi.y, mesh.bounds.hi.z}}};
     j["warnings"] = warnings.lines;
+    // The SIMD kernel set in use, those the build holds, and what the one in use lacks (README,
+    // "One build for any x86-64").
+    j["kernel_set"] = std::string(accel::kernel_set());
+    j["kernel_sets_built"] = nlohmann::json::array();
+    for (const std::string_view s : accel::kernel_sets_built()) j["kernel_sets_built"].push_back(std::string(s));
+    j["kernel_set_skipped"] = accel::kernel_set_skipped();
     if (!o.accel.empty()) {
         accel::AccelPick pick = resolve_accel(o.accel, mesh.view(), o.build);
         const auto kind = pick.kind;
@@ -76,6 +83,9 @@ int run_info(const InfoOptions& o) {
                 mesh.uvs.size(), mesh.textures.size(), mesh.colors.empty() ? "" : ", vertex colours");
     std::printf("bounds: [%g %g %g] .. [%g %g %g]\n", mesh.bounds.lo.x, mesh.bounds.lo.y, mesh.bounds.lo.z,
                 mesh.bounds.hi.x, mesh.bounds.hi.y, mesh.bounds.hi.z);
+    const std::string skipped = accel::kernel_set_skipped();
+    std::printf("SIMD kernels: %s%s%s\n", std::string(accel::kernel_set()).c_str(), skipped.empty() ? "" : " (",
+                skipped.empty() ? "" : (skipped + ")").c_str());
     if (j.contains("accel"))
         std::printf("%s: built in %.2f ms, %zu nodes, %zu leaves, max depth %u, SAH cost %.2f, %.1f bytes/triangle\n",
                     std::string(j["accel"]).c_str(), double(j["build_ms"]), std::size_t(j["nodes"]),

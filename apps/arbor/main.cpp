@@ -6,6 +6,7 @@
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/rank_guardian.h"
+#include "accel/core/kernel_set.h"
 #include "accel/core/memory_estimate.h"
 #include "engine/error.h"
 #include "mpi/launcher.h"
@@ -21,11 +22,17 @@
 
 namespace {
 
-/// `arbor --version` (spec/cli.md): the version and the SIMD kernel set compiled in, which is the
-/// one in use (the kernels are instantiated for the build's -march; there is no run-time dispatch).
+/// `arbor --version` (spec/cli.md): the version and the SIMD kernel set in use: the one compiled
+/// for the build's -march, or in a portable build the one chosen at run time (accel/core/kernel_set.h).
 std::string version_text() {
-    return std::string("arbor ") + ARBOR_VERSION + "\nSIMD kernels: " + arbor::simd::FloatV::arch_type::name() + " (" +
-           std::to_string(arbor::simd::FloatV::size) + " float lanes, compiled for this build's -march)";
+    const std::vector<std::string_view> sets = arbor::accel::kernel_sets_built();
+    std::string text = std::string("arbor ") + ARBOR_VERSION + "\nSIMD kernels: " + std::string(arbor::accel::kernel_set());
+    if (sets.size() == 1)
+        return text + " (compiled for this build's -march: xsimd " + arbor::simd::FloatV::arch_type::name() + ", " +
+               std::to_string(arbor::simd::FloatV::size) + " float lanes)";
+    std::string names;
+    for (const std::string_view s : sets) names += (names.empty() ? "" : ", ") + std::string(s);
+    return text + " (portable build: chosen at run time from " + names + "; ARBOR_ISA=NAME forces one)";
 }
 
 /// The first argument that is not an option, when it names no subcommand: CLI11 would only say
@@ -74,7 +81,13 @@ int main(int argc, char** argv) {
         arbor::app::add_bench);
 #endif
     for (int i = 0; i < argc; ++i) arbor::app::command_line() += (i ? " " : "") + std::string(i ? argv[i] : "arbor");
-    app.set_version_flag("--version", version_text(), "print the version and the SIMD kernel set, then exit");
+    std::string version;
+    try {
+        version = version_text();  // chooses the kernel set: a bad ARBOR_ISA stops here
+    } catch (const std::exception& e) {
+        return failure(2, e.what());
+    }
+    app.set_version_flag("--version", version, "print the version and the SIMD kernel set, then exit");
     if (const std::string unknown = unknown_subcommand(argc, argv, app); !unknown.empty()) {
         return failure(2, unknown);
     }
