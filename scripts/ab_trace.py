@@ -8,6 +8,7 @@ since any hit may name another occluder).
 
   scripts/ab_trace.py OLD_ARBOR NEW_ARBOR RAYS_DIR [--models DIR] [--rounds 3] [--threads 1] [-o OUT.csv]
                       [--scenes A,B] [--structures A,B] [--paths A,B]   (subsets of the defaults below)
+                      [--repeat K]   (each process traces K times: trace_ms is its median)
 
 Prints per structure and path the median over files of the per-file ratio new/old of the median
 wall clock (the whole process: load, build, trace, write hits), build_ms and trace_ms, and writes
@@ -30,9 +31,9 @@ STRUCTURES = ["bvh-median", "bvh-sah", "lbvh", "kdtree"]
 PATHS = ["scalar", "single", "packet", "best"]
 
 
-def run(binary, scene, rays, structure, path, occluded, threads, hits):
+def run(binary, scene, rays, structure, path, occluded, threads, hits, repeat=1):
     cmd = [binary, "trace", "--scene", scene, "--rays", rays, "--accel", structure, "--path", path,
-           "--threads", str(threads), "--json", "--hits", hits] + (["--occluded"] if occluded else [])
+           "--threads", str(threads), "--json", "--hits", hits, "--repeat", str(repeat)] + (["--occluded"] if occluded else [])
     t0 = time.perf_counter()
     out = subprocess.run(cmd, capture_output=True, text=True)
     wall = (time.perf_counter() - t0) * 1e3
@@ -73,6 +74,7 @@ def main():
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--structures", default=",".join(STRUCTURES))
     ap.add_argument("--paths", default=",".join(PATHS))
+    ap.add_argument("--repeat", type=int, default=1)
     o = ap.parse_args()
     scenes, structures, paths = o.scenes.split(","), o.structures.split(","), o.paths.split(",")
     tmp = tempfile.mkdtemp(prefix="ab_trace.")
@@ -87,7 +89,7 @@ def main():
                 order.reverse()
             for label, binary in order:
                 hits = os.path.join(tmp, f"{label}.hits")
-                wall, build, trace = run(binary, scene, rays, st, p, k == "shadow", o.threads, hits)
+                wall, build, trace = run(binary, scene, rays, st, p, k == "shadow", o.threads, hits, o.repeat)
                 rows.append({"round": r, "scene": s, "kind": k, "structure": st, "path": p, "binary": label,
                              "wall_ms": wall, "build_ms": build, "trace_ms": trace})
             if r == 0:

@@ -114,19 +114,28 @@ TEST_CASE_TEMPLATE("packet bounds: never drop a box that a lane of the packet hi
     CHECK(culled > 0);
 }
 
+/// The packets of the cases below: 8 lanes, or 4 in a build without AVX2 (the portable build's tests
+/// are compiled for x86-64-v2; its kernel sets run the 8- and 16-lane packets, test_kernel_set.cpp).
+#if XSIMD_WITH_AVX2
+using Packet8 = Float8;
+#else
+using Packet8 = Float4;
+#endif
+constexpr std::size_t packet8 = lanes<Packet8>;
+
 TEST_CASE_TEMPLATE("packet bounds: wide instantiations agree with T = float lane by lane", T, ARBOR_TEST_BATCHES) {
     std::mt19937 rng(5);
     const std::vector<Box> bx = boxes(rng);
     const std::vector<Ray> rays = arbor::testing::stiff_rays(13, 120, {{1, 1, 1}, {0, 0, 0}, {-1, 0.5f, 0}});
     Mismatches miss;
-    check_wide<T, Float8>(rays, bx, miss);
+    check_wide<T, Packet8>(rays, bx, miss);
     ARBOR_CHECK_NONE(miss);
 }
 
 TEST_CASE("packet bounds: a coherent packet keeps the box it looks at and drops the others") {
     std::vector<Ray> rays;
     for (int i = 0; i < 8; ++i) rays.push_back({{0.01f * float(i), 0.0f, -5.0f}, 0.0f, {0.001f * float(i), 0.002f, 1.0f}, INFINITY});
-    const RayPacket<Float8> p = load_packet<Float8>(std::span<const Ray>(rays));
+    const RayPacket<Packet8> p = load_packet<Packet8>(std::span<const Ray>(rays));
     const PacketBounds pb = packet_bounds(p, p.active);
     CHECK(pb.axes == 7u);
     BoxesSoA<4> soa;
@@ -150,11 +159,11 @@ TEST_CASE_TEMPLATE("packet bounds: never drop a triangle that a lane of the pack
     const std::vector<Ray> rays = arbor::testing::stiff_rays(17, 300, {{1, 1, 1}, {0, 0, 0}, {-1, 0.5f, 0}, {1, -1, 0}, {0.5f, 0.5f, 1}});
     Mismatches miss;
     std::size_t culled = 0;
-    for (std::size_t i = 0; i + 8 <= rays.size(); i += 4) {
-        const RayPacket<Float8> p = load_packet<Float8>(std::span<const Ray>(rays.data() + i, 8));
+    for (std::size_t i = 0; i + packet8 <= rays.size(); i += 4) {
+        const RayPacket<Packet8> p = load_packet<Packet8>(std::span<const Ray>(rays.data() + i, packet8));
         const PacketBounds pb = packet_bounds(p, p.active);
         float tfar_hi = -INFINITY;
-        for (std::size_t l = 0; l < 8; ++l)
+        for (std::size_t l = 0; l < packet8; ++l)
             if (lane(p.active, l)) tfar_hi = std::max(tfar_hi, lane(p.tfar, l));
         for (std::size_t first = 0; first < tris.size(); first += n) {
             TrisSoA<n> block;
