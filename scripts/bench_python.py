@@ -3,20 +3,20 @@
 
 For each ray kind, `arbor rays` writes N rays of the model; then, interleaved round by round, two
 pairs are timed:
-  * the query: one `arbor trace --json --repeat K` process (its median trace_ms: the time inside
-    the structure; its hit vector is allocated and zeroed before the timing and reused by every
-    repeat) against K calls of Scene.intersect on the same rays in a Python worker process (each the
-    whole call a Python user waits for: argument checks, the path decision, the trace on every
-    thread, a new result array written with geometry ids), median of K, after one call timed
-    apart: `arbor trace` times its repeats right after its own build, with its threads busy and
-    the structure in the caches, while the worker's first call follows a pause in which
-    `arbor trace` ran (that call is ~1.5x slower on a loaded machine; its ratio is reported as the
-    first call's); also K calls with out= (the result array reused) where the module has it, and
-    the CPU time of a call (both threads);
-  * with --baseline DIR, the same K calls through another build of the module (DIR holds its
-    `arbor` package; DIR/lib, when present, its libarbor.so) in a second worker: the A/B of two
-    builds in one run. The workers' order is rotated round by round (the one timed right after
-    `arbor trace` finds the caches cold);
+  * the query, both sides in a fresh process that loads the model, builds the structure, reads
+    the rays and then traces them K times, each trace timed: `arbor trace --json --repeat K` (its
+    median trace_ms: the time inside the structure; its hit vector is allocated and zeroed before
+    the timing and reused by every repeat) against python3 making K calls of Scene.intersect
+    (each the whole call a Python user waits for: argument checks, the path decision, the trace
+    on every thread, a new result array written with geometry ids), median of K; the Python
+    process also reports the CPU time of a call (both threads) and, alternated with those calls,
+    K calls with out= (the last result array reused) when the module has it. Both start timing right after their own build,
+    the same state: a process timed after a pause (a long-lived one that slept while
+    `arbor trace` ran) is ~1.5x slower on its first calls on a loaded machine
+    (perf/results/python-2026-12-02c.md);
+  * with --baseline DIR, the same Python run through another build of the module (DIR holds its
+    `arbor` package; DIR/lib, when present, its libarbor.so): the A/B of two builds in one run,
+    the order of the processes rotated round by round;
   * the whole job, a fresh process each: `arbor trace` (load, build, read the rays, trace once)
     against `python3` running the same with arbor (import, Scene.load, build, read_rays, intersect),
     wall clock.
@@ -39,75 +39,47 @@ import numpy as np
 import arbor
 
 
-# A worker: one module build, one scene; answers "KIND PATH K" lines with the wall and CPU times of
-# K calls (and K calls with out= when the module has it), "HITS PATH OUT" by saving the hits.
-WORKER = r"""
+# One timed run of the module, in a fresh process as `arbor trace` is: load, build, read the rays,
+# then K calls of Scene.intersect (each followed by one with out= when the module has it), each timed.
+TIMED = r"""
 import json, sys, time, numpy as np, arbor
-model, accel, threads = sys.argv[1], sys.argv[2], int(sys.argv[3])
+model, accel, threads, rays, k, hits = sys.argv[1:7]
 scene = arbor.Scene.load(model)
-scene.build(accel, threads=threads)
-one = (np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))
+scene.build(accel, threads=int(threads))
+o, d, tn, tf = arbor.read_rays(rays)
+res = {"version": arbor.__version__, "kernels": arbor.kernel_set(), "wall": [], "cpu": [], "out_wall": []}
+h = None
 try:
-    scene.intersect(*one, out=scene.intersect(*one))
+    scene.intersect(o[:1], d[:1], out=np.empty(1, arbor.hit_dtype))
     has_out = True
 except TypeError:  # a build of the module without out=
     has_out = False
-rays = {}
-print(json.dumps({"version": arbor.__version__, "kernels": arbor.kernel_set(), "out": has_out}), flush=True)
-for line in sys.stdin:
-    cmd, path, arg = line.split()
-    if path not in rays:
-        rays.clear()
-        rays[path] = arbor.read_rays(path)
-    o, d, tn, tf = rays[path]
-    if cmd == "HITS":
-        np.save(arg, scene.intersect(o, d, tn, tf))
-        print("{}", flush=True)
-        continue
-    res = {"wall": [], "cpu": [], "out_wall": []}
-    t0 = time.perf_counter()
-    h = scene.intersect(o, d, tn, tf)  # the first call after a pause: timed apart (see the docstring)
-    res["first"] = time.perf_counter() - t0
-    for _ in range(int(arg)):
-        c0, t0 = time.process_time(), time.perf_counter()
-        h = scene.intersect(o, d, tn, tf)
-        res["wall"].append(time.perf_counter() - t0)
-        res["cpu"].append(time.process_time() - c0)
+for _ in range(int(k)):  # a new result array, then (alternated) the last one reused via out=
+    c0, t0 = time.process_time(), time.perf_counter()
+    h = scene.intersect(o, d, tn, tf)
+    res["wall"].append(time.perf_counter() - t0)
+    res["cpu"].append(time.process_time() - c0)
     if has_out:
-        for _ in range(int(arg)):
-            t0 = time.perf_counter()
-            scene.intersect(o, d, tn, tf, out=h)
-            res["out_wall"].append(time.perf_counter() - t0)
-    print(json.dumps(res), flush=True)
+        t0 = time.perf_counter()
+        scene.intersect(o, d, tn, tf, out=h)
+        res["out_wall"].append(time.perf_counter() - t0)
+if hits:
+    np.save(hits, h)
+print(json.dumps(res))
 """
 
 
-class Worker:
-    """A Python process timing Scene.intersect through one build of the module."""
-
-    def __init__(self, a, pythonpath):
-        env = dict(os.environ)
-        if pythonpath:
-            env["PYTHONPATH"] = pythonpath
-            lib = pathlib.Path(pythonpath, "lib")
-            if lib.is_dir():
-                env["LD_LIBRARY_PATH"] = str(lib) + os.pathsep + env.get("LD_LIBRARY_PATH", "")
-        self.p = subprocess.Popen([sys.executable, "-c", WORKER, a.model, a.accel, str(a.threads)], env=env,
-                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
-        self.info = self.ask(None)
-
-    def ask(self, line):
-        if line:
-            self.p.stdin.write(line + "\n")
-            self.p.stdin.flush()
-        out = self.p.stdout.readline()
-        if not out:
-            raise SystemExit("bench_python: a worker ended early")
-        return json.loads(out)
-
-    def close(self):
-        self.p.stdin.close()
-        self.p.wait()
+def timed_run(a, pythonpath, rays, hits=""):
+    """TIMED in a fresh python3 with the module at `pythonpath` (None: this environment's)."""
+    env = dict(os.environ)
+    if pythonpath:
+        env["PYTHONPATH"] = pythonpath
+        lib = pathlib.Path(pythonpath, "lib")
+        if lib.is_dir():
+            env["LD_LIBRARY_PATH"] = str(lib) + os.pathsep + env.get("LD_LIBRARY_PATH", "")
+    out = subprocess.run([sys.executable, "-c", TIMED, a.model, a.accel, str(a.threads), str(rays), str(a.repeat), hits],
+                         env=env, check=True, capture_output=True, text=True).stdout
+    return json.loads(out)
 
 
 HIT = [("t", "<f4"), ("prim", "<u4"), ("u", "<f4"), ("v", "<f4")]
@@ -136,10 +108,10 @@ def main():
                     help="also time every query on every structure with this many rays / points (0: skip)")
     a = ap.parse_args()
 
-    workers = {"new": Worker(a, None)}
+    workers = {"new": None}
     if a.baseline:
-        workers["old"] = Worker(a, a.baseline)
-    info = workers["new"].info
+        workers["old"] = a.baseline
+    info = {}
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for kind in a.kinds.split(","):
@@ -150,7 +122,6 @@ def main():
             cli, cli_wall, py_wall = [], [], []
             py = {w: [] for w in workers}
             cpu = {w: [] for w in workers}
-            first = {w: [] for w in workers}
             out_call = {w: [] for w in workers}
             job = (f"import arbor\ns = arbor.Scene.load({str(a.model)!r})\ns.build({a.accel!r}, threads={a.threads})\n"
                    f"o, d, tn, tf = arbor.read_rays({str(rays)!r})\nh = s.intersect(o, d, tn, tf)\n")
@@ -163,11 +134,11 @@ def main():
                 cli.append(j["mrays_per_s"])
                 names = list(workers)
                 for w in names[r % len(names):] + names[:r % len(names)]:
-                    res = workers[w].ask(f"TIME {rays} {a.repeat}")
+                    res = timed_run(a, workers[w], rays, f"{tmp}/{w}.npy" if r == 0 else "")
+                    info = info or res
                     n = a.rays
                     py[w].append(n / statistics.median(res["wall"]) / 1e6)
                     cpu[w].append(statistics.median(res["cpu"]) * 1e3)
-                    first[w].append(n / res["first"] / 1e6)
                     if res["out_wall"]:
                         out_call[w].append(n / statistics.median(res["out_wall"]) / 1e6)
                 if not a.no_whole_job:
@@ -182,7 +153,6 @@ def main():
             rec = np.frombuffer(hits_file.read_bytes()[16:], dtype=HIT)
             same = {}
             for w in workers:
-                workers[w].ask(f"HITS {rays} {tmp}/{w}.npy")
                 same[w] = same_hits(rec, np.load(f"{tmp}/{w}.npy"))
             ratios = {w: [p / c for p, c in zip(py[w], cli)] for w in workers}
             wall = [c / p for p, c in zip(py_wall, cli_wall)]
@@ -190,7 +160,6 @@ def main():
                    "py": {w: statistics.median(py[w]) for w in workers}, "same": same,
                    "ratio": {w: (statistics.median(ratios[w]), min(ratios[w]), max(ratios[w])) for w in workers},
                    "cpu": {w: statistics.median(cpu[w]) for w in workers},
-                   "first": {w: statistics.median([p / c for p, c in zip(first[w], cli)]) for w in workers},
                    "out": {w: (statistics.median(out_call[w]), statistics.median([p / c for p, c in zip(out_call[w], cli)]))
                            for w in workers if out_call[w]}}
             if a.baseline:
@@ -204,8 +173,6 @@ def main():
                 f"{w} Scene.intersect {row['py'][w]:.2f} Mrays/s, ratio {row['ratio'][w][0]:.3f} "
                 f"({row['ratio'][w][1]:.3f}-{row['ratio'][w][2]:.3f}), identical hits {same[w]}/{len(rec)}" for w in workers)
                   + (f"; new/old {row['ab'][0]:.3f}" if a.baseline else ""), flush=True)
-    for w in workers.values():
-        w.close()
     table = report_table(a, rows, list(workers))
     if a.queries:
         table += "\n\n" + queries_table(a)
@@ -223,8 +190,7 @@ def report_table(a, rows, names):
     label = {"new": "Scene.intersect", "old": "baseline Scene.intersect"}
     head = ["rays", "arbor trace Mrays/s (trace_ms)"]
     for w in names:
-        head += [f"{label[w]} Mrays/s (whole call)", f"ratio (median, min-max of {a.rounds} rounds)", "CPU ms per call",
-                 "first call's ratio"]
+        head += [f"{label[w]} Mrays/s (whole call)", f"ratio (median, min-max of {a.rounds} rounds)", "CPU ms per call"]
     if a.baseline:
         head += ["new / baseline (median, min-max)"]
     if any(r["out"] for r in rows):
@@ -237,7 +203,7 @@ def report_table(a, rows, names):
         cells = [r["kind"], f"{r['cli']:.2f}"]
         for w in names:
             m, lo, hi = r["ratio"][w]
-            cells += [f"{r['py'][w]:.2f}", f"**{m:.3f}** ({lo:.3f}-{hi:.3f})", f"{r['cpu'][w]:.1f}", f"{r['first'][w]:.3f}"]
+            cells += [f"{r['py'][w]:.2f}", f"**{m:.3f}** ({lo:.3f}-{hi:.3f})", f"{r['cpu'][w]:.1f}"]
         if a.baseline:
             cells += ["{:.3f} ({:.3f}-{:.3f})".format(*r["ab"])]
         if any(x["out"] for x in rows):
