@@ -156,6 +156,12 @@ private:
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
                 auto live = simd::from_bits<P>(lanes);
                 const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
+                // The far distances and the hit record in locals for the leaf's tests (as members
+                // of p and best, reached through the lambdas' references, each test stored them
+                // with a masked store and the next test loaded them back: a store-forwarding stall
+                // per triangle); written back once at the end.
+                P tfar = p.tfar;
+                simd::PacketHit<P> rec = best;
                 std::uint32_t found = 0;
                 for (std::uint32_t b = 0; b < wide_blocks<N>(count); ++b) {
                     const simd::TrisSoA<N>& blk = blocks[first + b].tris;
@@ -169,16 +175,22 @@ private:
                         const Vec3f v0{blk.v[0][0][l], blk.v[0][1][l], blk.v[0][2][l]};
                         const Vec3f v1{blk.v[1][0][l], blk.v[1][1][l], blk.v[1][2][l]};
                         const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
-                        const simd::TriHit<P> h = simd::packet_triangle(p, v0, v1, v2);
-                        const std::uint32_t bits = offer(h.hit & live, h.t, IntP(std::int32_t(blocks[first + b].ids[l])), h.u, h.v);
+                        const simd::TriHit<P> h = simd::packet_triangle(p, tfar, v0, v1, v2);
+                        const auto take = simd::offer_lanes<AnyHit>(rec, h.hit & live, h.t,
+                                                                    IntP(std::int32_t(blocks[first + b].ids[l])), h.u, h.v);
+                        const std::uint32_t bits = simd::to_bits(take);
                         if (bits == 0) continue;
+                        tfar = simd::select(take, h.t, tfar);
                         found |= bits;
                         if constexpr (AnyHit) {
-                            live = live & !simd::from_bits<P>(bits);
-                            if (simd::none(live)) return found;
+                            live = live & !take;
+                            if (simd::none(live)) break;
                         }
                     }
+                    if (AnyHit && simd::none(live)) break;
                 }
+                p.tfar = tfar;
+                best = rec;
                 return found;
             };
             bool have_setup = false;
