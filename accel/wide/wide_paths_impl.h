@@ -100,15 +100,18 @@ private:
         this->trace_simd(rays, hits, query, path);
     }
 
-    /// Whether the active lanes of `p` share one direction octant.
-    template <class P> static bool one_octant(const simd::RayPacket<P>& p) {
+    /// The direction octant (ray_octant) that the active lanes of `p` share, or -1 when they do not
+    /// share one (or there are none).
+    template <class P> static int packet_octant(const simd::RayPacket<P>& p) {
         const std::uint32_t active = simd::to_bits(p.active);
-        bool one = true;
+        if (active == 0) return -1;
+        int octant = 0;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t neg = simd::to_bits(p.near_is_hi[k]) & active;
-            one = one && (neg == 0 || neg == active);
+            if (neg != 0 && neg != active) return -1;
+            octant |= int(neg != 0) << k;
         }
-        return one;
+        return octant;
     }
 
     /// The rays' set-up in groups (simd/wide_ray_setup.h), then each ray's walk.
@@ -209,8 +212,10 @@ private:
                 if (!h.is_hit()) return false;
                 return offer(simd::from_bits<P>(1u << i), P(h.t), IntP(std::int32_t(h.prim)), P(h.u), P(h.v)) != 0;
             };
-            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), one_octant(p) ? this->packets_.switch_lanes : this->packets_.switch_mixed, leaf,
-                                    single);
+            const int octant = packet_octant(p);
+            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(),
+                                    octant >= 0 ? this->packets_.switch_lanes : this->packets_.switch_mixed,
+                                    octant, leaf, single);
             simd::store_hits(best, hits.subspan(base, in.size()));
         }
     }
