@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 namespace arbor::python {
 
@@ -119,6 +120,30 @@ std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices) {
         out[i] = std::uint32_t(v);
     }
     return out;
+}
+
+void* out_array(py::handle out, const py::dtype& dtype, const char* dtype_name_, std::size_t alignment, std::size_t n,
+                std::initializer_list<py::handle> inputs) {
+    const std::string expected = std::string("a numpy array of dtype ") + dtype_name_ + " and shape (" + std::to_string(n) + ",)";
+    if (!py::isinstance<py::array>(out))
+        throw py::type_error("out: expected " + expected + ", got " + py::str(py::type::handle_of(out).attr("__name__")).cast<std::string>());
+    auto a = py::reinterpret_borrow<py::array>(out);
+    if (!a.dtype().equal(dtype)) throw py::type_error("out: expected " + expected + ", got dtype " + dtype_name(a));
+    if (a.ndim() != 1 || std::size_t(a.shape(0)) != n) throw py::value_error("out: expected " + expected + ", got shape " + shape_of(a));
+    const int flags = py::detail::array_proxy(a.ptr())->flags;
+    // (numpy calls a record of 4-byte fields aligned at any address: its own dtype is packed.)
+    if (!(flags & py::detail::npy_api::NPY_ARRAY_C_CONTIGUOUS_) || !(flags & py::detail::npy_api::NPY_ARRAY_ALIGNED_) ||
+        reinterpret_cast<std::uintptr_t>(a.data()) % alignment != 0)
+        throw py::value_error("out: expected a contiguous array at a multiple of " + std::to_string(alignment) +
+                              " bytes (every record next to the last), got strides (" + std::to_string(a.strides(0)) + ",) at byte " +
+                              std::to_string(reinterpret_cast<std::uintptr_t>(a.data()) % alignment) + " of " + std::to_string(alignment));
+    if (!a.writeable()) throw py::value_error("out: the array is read-only");
+    // The query reads its inputs while it writes: they must not be in the results' memory.
+    const py::object may_share = numpy().attr("may_share_memory");
+    for (const py::handle in : inputs)
+        if (in && !in.is_none() && may_share(a, in).cast<bool>())
+            throw py::value_error("out: shares memory with an input array (the query reads them while it writes out)");
+    return a.mutable_data();
 }
 
 py::dtype hit_dtype() {

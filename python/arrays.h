@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,13 @@ float number(py::handle obj, const char* what);
 
 /// faces as 3 uint32 indices per row, each checked against `vertices` (ValueError naming the row).
 std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices);
+
+/// A caller's result array (`out=`): a writeable, C-contiguous (N,) array of `dtype` (named
+/// `dtype_name` in errors) at a multiple of `alignment` bytes, that
+/// shares no memory with `inputs` (the arrays the query reads); TypeError / ValueError naming
+/// `out` otherwise. Returns where the results go.
+void* out_array(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, std::size_t n,
+                std::initializer_list<py::handle> inputs);
 
 /// The numpy dtypes of the results (python.md): hits and closest points.
 py::dtype hit_dtype();

@@ -83,6 +83,15 @@ Rays rays(py::handle origins, py::handle directions, py::handle tnear, py::handl
     return r;
 }
 
+/// The array a query's results go to: a new (N,) array of `dtype`, or the caller's `out` once
+/// checked (arrays.h: out_array). The query's own inputs are what `out` must not overlap.
+py::object result(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, const Rays& r,
+                  std::initializer_list<py::handle> inputs) {
+    if (out.is_none()) return py::array(dtype, std::vector<py::ssize_t>{py::ssize_t(r.view.count)});
+    arbor::python::out_array(out, dtype, dtype_name, alignment, r.view.count, inputs);
+    return py::reinterpret_borrow<py::object>(out);
+}
+
 arbor::PointArrays points_of(const Rows3& p) { return {p.count, p.data, p.stride}; }
 
 constexpr float inf = std::numeric_limits<float>::infinity();
@@ -183,25 +192,27 @@ PYBIND11_MODULE(_arbor, m) {
              })
         .def(
             "intersect",
-            [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar) {
+            [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar, py::handle out) {
                 const Rays r = rays(origins, directions, tnear, tfar);
-                py::array out(arbor::python::hit_dtype(), std::vector<py::ssize_t>{py::ssize_t(r.view.count)});
-                auto* hits = static_cast<arbor::Hit*>(out.mutable_data());
+                const py::object res = result(out, arbor::python::hit_dtype(), "arbor.hit_dtype", alignof(arbor::Hit), r, {origins, directions, tnear, tfar});
+                auto* hits = static_cast<arbor::Hit*>(py::reinterpret_borrow<py::array>(res).mutable_data());
                 run<false>(s, [&] { s.scene.intersect(r.view, hits); });
-                return out;
+                return res;
             },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf,
-            "Closest hit per ray: a structured (N,) array of t, geom, prim, u, v (a miss: t = inf, ids 0xFFFFFFFF).")
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(),
+            "Closest hit per ray: a structured (N,) array of t, geom, prim, u, v (a miss: t = inf, ids 0xFFFFFFFF); "
+            "with out= (a contiguous (N,) array of arbor.hit_dtype), written there and returned.")
         .def(
             "occluded",
-            [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar) {
+            [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar, py::handle out) {
                 const Rays r = rays(origins, directions, tnear, tfar);
-                py::array_t<bool> out(py::ssize_t(r.view.count));
-                bool* occ = out.mutable_data();
+                const py::object res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), r, {origins, directions, tnear, tfar});
+                bool* occ = static_cast<bool*>(py::reinterpret_borrow<py::array>(res).mutable_data());
                 run<false>(s, [&] { s.scene.occluded(r.view, occ); });
-                return out;
+                return res;
             },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "Any hit per ray: an (N,) bool array.")
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(),
+            "Any hit per ray: an (N,) bool array; with out= (a contiguous (N,) bool array), written there and returned.")
         .def(
             "intersect_all",
             [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar,

@@ -49,12 +49,12 @@ ARBOR_INLINE void packet_vertices(const RayPacket<T>& p, bool uniform, const Vec
     }
 }
 template <class T>
-ARBOR_INLINE TriHit<T> packet_triangle_impl(const RayPacket<T>& p, bool uniform, const Vec3f& v0, const Vec3f& v1,
-                                      const Vec3f& v2) {
+ARBOR_INLINE TriHit<T> packet_triangle_impl(const RayPacket<T>& p, bool uniform, const T& tfar, const Vec3f& v0,
+                                            const Vec3f& v1, const Vec3f& v2) {
     Vec3<T> a, b, c;
     packet_vertices(p, uniform, v0, v1, v2, a, b, c);
     // One copy of the test for both permutation paths (two inlined copies measured up to 1.7x slower).
-    TriHit<T> h = woop_permuted<T>(a, b, c, p.woop.sx, p.woop.sy, p.woop.sz, p.tnear, p.tfar);
+    TriHit<T> h = woop_permuted<T>(a, b, c, p.woop.sx, p.woop.sy, p.woop.sz, p.tnear, tfar);
     h.hit = h.hit & p.active;
     return h;
 }
@@ -64,11 +64,18 @@ ARBOR_INLINE TriHit<T> packet_triangle_impl(const RayPacket<T>& p, bool uniform,
 /// weights v2), bit-identical to the scalar woop_test of that lane's ray. Inactive lanes never hit.
 template <class T>
 ARBOR_INLINE TriHit<T> packet_triangle(const RayPacket<T>& p, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2) {
-    return detail::packet_triangle_impl(p, p.woop.uniform, v0, v1, v2);
+    return detail::packet_triangle_impl(p, p.woop.uniform, p.tfar, v0, v1, v2);
+}
+/// The same with the lanes' far distances `tfar` in place of p.tfar: for a caller that keeps them
+/// in a local while it tests a leaf (each lane then as packet_triangle with p.tfar = tfar).
+template <class T>
+ARBOR_INLINE TriHit<T> packet_triangle(const RayPacket<T>& p, const T& tfar, const Vec3f& v0, const Vec3f& v1,
+                                       const Vec3f& v2) {
+    return detail::packet_triangle_impl(p, p.woop.uniform, tfar, v0, v1, v2);
 }
 template <class T>
 inline TriHit<T> packet_triangle_lanes(const RayPacket<T>& p, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2) {
-    return detail::packet_triangle_impl(p, false, v0, v1, v2);
+    return detail::packet_triangle_impl(p, false, p.tfar, v0, v1, v2);
 }
 
 /// One ray against lanes<T> triangles given as vertices in x, y, z order.

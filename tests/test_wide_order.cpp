@@ -5,6 +5,7 @@
 // every path against brute on every model).
 #include "accel/bvh/bvh_build.h"
 #include "accel/wide/wide_order.h"
+#include "accel/wide/wide_packet.h"
 #include "accel/wide/wide_push.h"
 #include "engine/procedural.h"
 #include "testing.h"
@@ -144,6 +145,29 @@ TEST_CASE_TEMPLATE("wide push: every hit child once, in the given order, the top
         }
     }
     CHECK(bad == 0);
+}
+
+TEST_CASE_TEMPLATE("wide packet order: ordered_bits ranks the hit children by the node's order", W,
+                   std::integral_constant<std::size_t, 4>, std::integral_constant<std::size_t, 8>,
+                   std::integral_constant<std::size_t, 16>) {
+    // The packet walk pushes a node's hit children in the order of the bits ordered_bits returns
+    // (far to near) and visits the highest next: bit j must be set exactly when child order[j] hit.
+    constexpr std::size_t N = W::value;
+    constexpr std::uint32_t all = (1u << N) - 1u;
+    std::mt19937 rng(17);
+    std::size_t bad = 0, set = 0;
+    for (int round = 0; round < 5000; ++round) {
+        std::uint8_t order[N];
+        std::iota(order, order + N, 0);
+        std::shuffle(order, order + N, rng);
+        const std::uint32_t hits = round == 0 ? 0u : round == 1 ? all : round == 2 ? 1u << (N - 1) : rng() & all;
+        const std::uint32_t ranked = accel::ordered_bits<N>(hits, order);
+        bad += (ranked & ~all) != 0 || std::popcount(ranked) != std::popcount(hits);
+        for (std::size_t j = 0; j < N; ++j) bad += ((ranked >> j) & 1u) != ((hits >> order[j]) & 1u);
+        set += std::size_t(std::popcount(ranked));
+    }
+    CHECK(bad == 0);
+    CHECK(set > 5000 * N * 3 / 8);
 }
 
 namespace {

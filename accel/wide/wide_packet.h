@@ -2,9 +2,11 @@
 /// The packet traversal of WideLayout<N> (TracePath::packet) for coherent rays: a RayPacket of
 /// lanes<P> rays (8 or 16) walks the tree together. At a node every child box is tested against
 /// all lanes still interested in the node (simd::packet_box, the same conservative slab test and
-/// zero-direction rule as every other path); hit children are visited nearest first by the
-/// smallest entry distance over the lanes, deferred ones on a stack that keeps each lane's entry
-/// distance, so a lane drops out of a subtree once its hit is closer. When few lanes remain at a
+/// zero-direction rule as every other path); when all lanes share a direction octant the hit
+/// children are visited in the node's order for that octant (wide_order.h, as on the single path:
+/// no per-child minimum over the lanes, no sort; 1.02-1.07x on primary and shadow rays), else
+/// nearest first by the smallest entry distance over the lanes; deferred ones wait on a stack that
+/// keeps each lane's entry distance, so a lane drops out of a subtree once its hit is closer. When few lanes remain at a
 /// node, each continues alone with the single-ray traversal from that node (`single`): the packet
 /// would test boxes for lanes that are not there. Before the per-lane box tests, one N-wide test of
 /// the packet's interval bounds against all children (simd/packet_bounds.h, exactly conservative)
@@ -29,20 +31,39 @@ template <class P> struct PacketStackEntry {
     std::uint32_t child, count;
 };
 
+/// The bits of `hits` (one per node lane) in the order `order` (N lanes, far to near; wide_order.h):
+/// bit j is set when lane order[j] is in `hits`.
+template <std::size_t N> inline std::uint32_t ordered_bits(std::uint32_t hits, const std::uint8_t* order) {
+#if XSIMD_WITH_AVX512F
+    if constexpr (N == 16) {
+        // (The maskz forms with every lane set: GCC 12 warns of the plain forms' undefined source.)
+        constexpr __mmask16 all = 0xffff;
+        const __m512i perm = _mm512_maskz_cvtepu8_epi32(all, _mm_loadu_si128(reinterpret_cast<const __m128i*>(order)));
+        return _mm512_movepi32_mask(_mm512_maskz_permutexvar_epi32(all, perm, _mm512_movm_epi32(__mmask16(hits))));
+    }
+#endif
+    std::uint32_t bits = 0;
+    for (std::size_t j = 0; j < N; ++j) bits |= ((hits >> order[j]) & 1u) << j;
+    return bits;
+}
+
 /// Walks `layout` from the root with packet `p`, whose active lanes `bounds` bounds
 /// (simd::packet_bounds). `leaf(first_block, count, lanes)` tests a leaf
 /// for the lanes in the bit mask `lanes` and lowers p.tfar where it finds closer hits; it returns
 /// the lanes that found a hit. `single(lane, child, count)` traces one lane alone through the
 /// subtree (child, count) (lowering p.tfar in that lane on a hit) and returns whether it hit.
 /// With AnyHit a lane that hit is done (removed from p.active, p.tfar = -inf). `switch_lanes`: at
-/// a node reached by at most this many lanes they go on alone. `stack` holds layout.stack_size()
-/// entries.
+/// a node reached by at most this many lanes they go on alone. `octant`: the direction octant
+/// every active lane shares (ray_octant), whose per-node order (wide_order.h) then ranks a node's
+/// hit children, as on the single path; -1: they are sorted by their smallest entry distance over
+/// the lanes. `stack` holds layout.stack_size() entries.
 template <bool AnyHit, std::size_t N, class P, class LeafFn, class SingleFn>
 inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, const simd::PacketBounds& bounds,
-                            PacketStackEntry<P>* stack, int switch_lanes, LeafFn&& leaf, SingleFn&& single) {
+                            PacketStackEntry<P>* stack, int switch_lanes, int octant, LeafFn&& leaf, SingleFn&& single) {
     std::uint32_t lanes = simd::to_bits(p.active);
     if (lanes == 0 || layout.empty()) return;
     const WideNode<N>* nodes = layout.nodes.data();
+    const std::uint8_t* orders = layout.orders.data() + std::size_t(octant < 0 ? 0 : octant) * N;
     const P inf(INFINITY), nan(NAN);
     std::size_t sp = 0;
     std::uint32_t child = 0, count = 0;
@@ -71,6 +92,7 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
             P tc[N];
             std::uint32_t lanes_of[N];
             std::uint32_t hit_children = 0;
+            const bool by_distance = octant < 0;
             const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, inf));
             std::uint32_t maybe = simd::to_bits(simd::bounds_boxes<WideLane<N>>(bounds, tfar_hi, &n.boxes.b[0][0][0]));
             maybe &= (1u << n.children) - 1u;
@@ -83,8 +105,23 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
                 lanes_of[c] = simd::to_bits(m);
                 if (lanes_of[c] == 0) continue;
                 tc[c] = simd::select(m, t, nan);
-                tmin[c] = simd::hmin(simd::select(m, t, inf));
+                if (by_distance) tmin[c] = simd::hmin(simd::select(m, t, inf));
                 hit_children |= 1u << c;
+            }
+            if (hit_children != 0 && !by_distance) {
+                // The node's order for the packet's octant (wide_order.h): the nearest hit child
+                // next, the others pushed far to near.
+                const std::uint8_t* order = orders + std::size_t(child) * 8 * N;
+                std::uint32_t ranked = ordered_bits<N>(hit_children, order);
+                const int top = 31 - std::countl_zero(ranked);
+                for (ranked &= ~(1u << top); ranked != 0; ranked &= ranked - 1) {
+                    const std::size_t c = order[std::countr_zero(ranked)];
+                    stack[sp++] = {tc[c], n.child[c], n.count[c]};
+                }
+                const std::size_t c = order[top];
+                lanes = lanes_of[c];
+                child = n.child[c], count = n.count[c];
+                continue;
             }
             if (hit_children != 0) {
                 std::uint8_t order[N];

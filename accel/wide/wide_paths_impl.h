@@ -100,15 +100,18 @@ private:
         this->trace_simd(rays, hits, query, path);
     }
 
-    /// Whether the active lanes of `p` share one direction octant.
-    template <class P> static bool one_octant(const simd::RayPacket<P>& p) {
+    /// The direction octant (ray_octant) that the active lanes of `p` share, or -1 when they do not
+    /// share one (or there are none).
+    template <class P> static int packet_octant(const simd::RayPacket<P>& p) {
         const std::uint32_t active = simd::to_bits(p.active);
-        bool one = true;
+        if (active == 0) return -1;
+        int octant = 0;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t neg = simd::to_bits(p.near_is_hi[k]) & active;
-            one = one && (neg == 0 || neg == active);
+            if (neg != 0 && neg != active) return -1;
+            octant |= int(neg != 0) << k;
         }
-        return one;
+        return octant;
     }
 
     /// The rays' set-up in groups (simd/wide_ray_setup.h), then each ray's walk.
@@ -156,6 +159,12 @@ private:
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
                 auto live = simd::from_bits<P>(lanes);
                 const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
+                // The far distances and the hit record in locals for the leaf's tests (as members
+                // of p and best, reached through the lambdas' references, each test stored them
+                // with a masked store and the next test loaded them back: a store-forwarding stall
+                // per triangle); written back once at the end.
+                P tfar = p.tfar;
+                simd::PacketHit<P> rec = best;
                 std::uint32_t found = 0;
                 for (std::uint32_t b = 0; b < wide_blocks<N>(count); ++b) {
                     const simd::TrisSoA<N>& blk = blocks[first + b].tris;
@@ -169,15 +178,23 @@ private:
                         const Vec3f v0{blk.v[0][0][l], blk.v[0][1][l], blk.v[0][2][l]};
                         const Vec3f v1{blk.v[1][0][l], blk.v[1][1][l], blk.v[1][2][l]};
                         const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
-                        const simd::TriHit<P> h = simd::packet_triangle(p, v0, v1, v2);
-                        const std::uint32_t bits = offer(h.hit & live, h.t, IntP(std::int32_t(blocks[first + b].ids[l])), h.u, h.v);
+                        const simd::TriHit<P> h = simd::packet_triangle(p, tfar, v0, v1, v2);
+                        const auto take = simd::offer_lanes<AnyHit>(rec, h.hit & live, h.t,
+                                                                    IntP(std::int32_t(blocks[first + b].ids[l])), h.u, h.v);
+                        const std::uint32_t bits = simd::to_bits(take);
                         if (bits == 0) continue;
+                        tfar = simd::select(take, h.t, tfar);
                         found |= bits;
                         if constexpr (AnyHit) {
-                            live = live & !simd::from_bits<P>(bits);
-                            if (simd::none(live)) return found;
+                            live = live & !take;
+                            if (simd::none(live)) break;
                         }
                     }
+                    if (AnyHit && simd::none(live)) break;
+                }
+                if (found != 0) {  // (nothing taken: both as they were)
+                    p.tfar = tfar;
+                    best = rec;
                 }
                 return found;
             };
@@ -197,8 +214,10 @@ private:
                 if (!h.is_hit()) return false;
                 return offer(simd::from_bits<P>(1u << i), P(h.t), IntP(std::int32_t(h.prim)), P(h.u), P(h.v)) != 0;
             };
-            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(), one_octant(p) ? this->packets_.switch_lanes : this->packets_.switch_mixed, leaf,
-                                    single);
+            const int octant = packet_octant(p);
+            traverse_packet<AnyHit>(layout_, p, bounds, pstack.data(),
+                                    octant >= 0 ? this->packets_.switch_lanes : this->packets_.switch_mixed,
+                                    octant, leaf, single);
             simd::store_hits(best, hits.subspan(base, in.size()));
         }
     }

@@ -4,6 +4,7 @@
     scene.build("bvh-sah")                           # or "auto" (the default), "lbvh", ...
     hits = scene.intersect(origins, directions)      # structured array: t, geom, prim, u, v
     occ = scene.occluded(origins, directions)        # bool per ray
+    scene.intersect(origins, directions, out=hits)   # into an array of the caller's (reused)
     hits, counts = scene.intersect_all(origins, directions, max_hits=16)
     near = scene.closest_point(points)               # distance, geom, prim, point, u, v
     ins = scene.inside(points)                       # bool per point (closed meshes)

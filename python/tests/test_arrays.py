@@ -79,6 +79,57 @@ def test_point_argument_errors(box_scene):
     assert box_scene.inside(np.zeros((0, 3))).shape == (0,)
 
 
+def test_out_takes_the_results_in_place(spot):
+    # out= is written and returned (the same object), with the answers of a call without it,
+    # whatever it held before; reusing it allocates nothing the size of the results.
+    s = arbor.Scene.load(spot)
+    s.build("bvh-sah")
+    o, d = random_rays(s, 5000, seed=9)
+    for call, dtype in (("intersect", arbor.hit_dtype), ("occluded", np.bool_)):
+        f = getattr(s, call)
+        ref = f(o, d, tnear=0.01)
+        out = np.frombuffer(np.random.default_rng(1).bytes(5000 * np.dtype(dtype).itemsize), dtype).copy()
+        if dtype is np.bool_:
+            out = ~ref  # every answer must change
+        assert f(o, d, tnear=0.01, out=out) is out
+        assert out.tobytes() == ref.tobytes(), call
+        tracemalloc.start()
+        f(o, d, 0.01, np.inf, out)
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        assert peak < 5000 * np.dtype(dtype).itemsize // 2, (call, peak)
+
+
+@pytest.mark.parametrize("call", ["intersect", "occluded"])
+def test_out_errors_name_the_argument(box_scene, call):
+    f = getattr(box_scene, call)
+    dtype = arbor.hit_dtype if call == "intersect" else np.dtype(bool)
+    name = "arbor.hit_dtype" if call == "intersect" else "bool"
+    o, d = np.zeros((4, 3), np.float32), np.ones((4, 3), np.float32)
+    with pytest.raises(TypeError, match=f"out: expected a numpy array of dtype {name} and shape \\(4,\\), got dtype float32"):
+        f(o, d, out=np.empty(4, np.float32))
+    with pytest.raises(TypeError, match="out: expected a numpy array .*, got list"):
+        f(o, d, out=[0] * 4)
+    with pytest.raises(ValueError, match=r"out: expected .*, got shape \(5,\)"):
+        f(o, d, out=np.empty(5, dtype))
+    with pytest.raises(ValueError, match=r"out: expected .*, got shape \(4, 1\)"):
+        f(o, d, out=np.empty((4, 1), dtype))
+    with pytest.raises(ValueError, match=rf"out: expected a contiguous array .*got strides \({2 * dtype.itemsize},\)"):
+        f(o, d, out=np.empty(8, dtype)[::2])
+    if call == "intersect":  # 4-byte fields at an odd address (numpy calls its packed records aligned)
+        with pytest.raises(ValueError, match=r"out: expected a contiguous array at a multiple of 4 bytes.* at byte 1 of 4"):
+            f(o, d, out=np.empty(4 * dtype.itemsize + 1, np.uint8)[1:].view(dtype))
+    ro = np.empty(4, dtype)
+    ro.flags.writeable = False
+    with pytest.raises(ValueError, match="out: the array is read-only"):
+        f(o, d, out=ro)
+    # The rays themselves as out: refused (the query reads them while it writes).
+    records = np.zeros((4, 8), np.float32)
+    records[:, 6] = 1.0
+    with pytest.raises(ValueError, match="out: shares memory with an input"):
+        f(records[:, :3], records[:, 4:7], out=records.view(np.uint8).ravel()[:4 * dtype.itemsize].view(dtype))
+
+
 def test_float32_input_is_not_copied(box_scene):
     # numpy reports its allocations to tracemalloc: reading float32 rays in place allocates the
     # result only; float64 rays are converted (a float32 copy of each array).

@@ -66,6 +66,34 @@ def test_rays_never_crash(o, d, tn, tf, strided, max_hits):
 
 
 @SETTINGS
+@given(n=st.integers(0, 12), rows=st.one_of(st.none(), st.integers(0, 12)), kind=st.sampled_from(["hits", "bool", "other"]),
+       other=dtypes, two_d=st.booleans(), step=st.sampled_from([1, 1, 2]), offset=st.sampled_from([0, 0, 1, 4]),
+       readonly=st.booleans(), alias=st.booleans())
+def test_out_never_crashes(n, rows, kind, other, two_d, step, offset, readonly, alias):
+    # out= of any dtype, shape, stride, byte offset, writeability, or in the rays' own memory: the
+    # answers of a call without out=, or TypeError / ValueError.
+    s = scene()
+    rays = np.zeros((n, 8), np.float32)
+    rays[:, 0:3] = np.linspace(-4, 4, 3 * n, dtype=np.float32).reshape(n, 3)
+    rays[:, 6] = 1.0
+    o, d = rays[:, 0:3], rays[:, 4:7]
+    rows = n if rows is None else rows
+    for call in ("intersect", "occluded"):
+        t = {"hits": arbor.hit_dtype, "bool": np.dtype(bool), "other": np.dtype(other)}[kind]
+        buf = rays.view(np.uint8).ravel() if alias else np.zeros(rows * step * t.itemsize + offset + 8, np.uint8)
+        fit = max(0, (len(buf) - offset) // (step * t.itemsize))
+        k = min(rows, fit)
+        out = np.ndarray((k, 1) if two_d else (k,), t, buffer=buf, offset=offset if k else 0,
+                         strides=(step * t.itemsize, t.itemsize) if two_d else (step * t.itemsize,))
+        out.flags.writeable = not readonly
+        ref = getattr(s, call)(o, d)
+        res = call_or_reject(getattr(s, call), o, d, out=out)
+        if res is not None:
+            assert res is out and out.tobytes() == ref.tobytes()
+            assert t == ref.dtype and out.shape == (n,) and not readonly and not (alias and n)
+
+
+@SETTINGS
 @given(p=arrays(), reach=st.one_of(floats, st.integers(-3, 3)))
 def test_points_never_crash(p, reach):
     s = scene()
