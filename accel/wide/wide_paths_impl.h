@@ -192,8 +192,10 @@ private:
                     }
                     if (AnyHit && simd::none(live)) break;
                 }
-                p.tfar = tfar;
-                best = rec;
+                if (found != 0) {  // (nothing taken: both as they were)
+                    p.tfar = tfar;
+                    best = rec;
+                }
                 return found;
             };
             bool have_setup = false;
