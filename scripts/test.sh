@@ -2,7 +2,9 @@
 # The whole test suite (CI runs exactly this), in three builds; each phase's seconds are printed at
 # the end, also when a phase fails.
 #  1. release (gcc -O3): everything is built; the test suite, the CLI, bench and install tests.
-#  2. fuzz (clang 14, ASan + UBSan, libFuzzer coverage): the same tests under ASan + UBSan, then the
+#  2. fuzz (clang 14, ASan + UBSan, libFuzzer coverage; a portable build, -DARBOR_PORTABLE=ON): the
+#     same tests under ASan + UBSan (the SIMD agreement files once more with each other kernel set
+#     the CPU runs forced, tests/kernel_set_test.sh), then the
 #     four libFuzzer harnesses (OBJ loader, mesh loader of every format, ray/hit readers, the
 #     viewer's message parser) in ARBOR_FUZZ_SECONDS (default 60) on two cores (scripts/fuzz.sh: how
 #     they share it, seeds, and where a finding is saved).
