@@ -122,7 +122,7 @@ std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices) {
     return out;
 }
 
-void* out_array(py::handle out, const py::dtype& dtype, const char* dtype_name_, std::size_t alignment, std::size_t n,
+void check_out_array(py::handle out, const py::dtype& dtype, const char* dtype_name_, std::size_t alignment, std::size_t n,
                 std::initializer_list<py::handle> inputs) {
     const std::string expected = std::string("a numpy array of dtype ") + dtype_name_ + " and shape (" + std::to_string(n) + ",)";
     if (!py::isinstance<py::array>(out))
@@ -143,7 +143,6 @@ void* out_array(py::handle out, const py::dtype& dtype, const char* dtype_name_,
     for (const py::handle in : inputs)
         if (in && !in.is_none() && may_share(a, in).cast<bool>())
             throw py::value_error("out: shares memory with an input array (the query reads them while it writes out)");
-    return a.mutable_data();
 }
 
 py::dtype hit_dtype() {

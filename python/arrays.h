@@ -45,8 +45,8 @@ std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices);
 /// A caller's result array (`out=`): a writeable, C-contiguous (N,) array of `dtype` (named
 /// `dtype_name` in errors) at a multiple of `alignment` bytes, that
 /// shares no memory with `inputs` (the arrays the query reads); TypeError / ValueError naming
-/// `out` otherwise. Returns where the results go.
-void* out_array(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, std::size_t n,
+/// `out` otherwise.
+void check_out_array(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, std::size_t n,
                 std::initializer_list<py::handle> inputs);
 
 /// The numpy dtypes of the results (python.md): hits and closest points.

@@ -84,12 +84,12 @@ Rays rays(py::handle origins, py::handle directions, py::handle tnear, py::handl
 }
 
 /// The array a query's results go to: a new (N,) array of `dtype`, or the caller's `out` once
-/// checked (arrays.h: out_array). The query's own inputs are what `out` must not overlap.
-py::object result(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, const Rays& r,
-                  std::initializer_list<py::handle> inputs) {
+/// checked (arrays.h: check_out_array). The query's own inputs are what `out` must not overlap.
+py::array result(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, const Rays& r,
+                 std::initializer_list<py::handle> inputs) {
     if (out.is_none()) return py::array(dtype, std::vector<py::ssize_t>{py::ssize_t(r.view.count)});
-    arbor::python::out_array(out, dtype, dtype_name, alignment, r.view.count, inputs);
-    return py::reinterpret_borrow<py::object>(out);
+    arbor::python::check_out_array(out, dtype, dtype_name, alignment, r.view.count, inputs);
+    return py::reinterpret_borrow<py::array>(out);
 }
 
 arbor::PointArrays points_of(const Rows3& p) { return {p.count, p.data, p.stride}; }
@@ -194,8 +194,8 @@ PYBIND11_MODULE(_arbor, m) {
             "intersect",
             [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar, py::handle out) {
                 const Rays r = rays(origins, directions, tnear, tfar);
-                const py::object res = result(out, arbor::python::hit_dtype(), "arbor.hit_dtype", alignof(arbor::Hit), r, {origins, directions, tnear, tfar});
-                auto* hits = static_cast<arbor::Hit*>(py::reinterpret_borrow<py::array>(res).mutable_data());
+                py::array res = result(out, arbor::python::hit_dtype(), "arbor.hit_dtype", alignof(arbor::Hit), r, {origins, directions, tnear, tfar});
+                auto* hits = static_cast<arbor::Hit*>(res.mutable_data());
                 run<false>(s, [&] { s.scene.intersect(r.view, hits); });
                 return res;
             },
@@ -206,8 +206,8 @@ PYBIND11_MODULE(_arbor, m) {
             "occluded",
             [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar, py::handle out) {
                 const Rays r = rays(origins, directions, tnear, tfar);
-                const py::object res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), r, {origins, directions, tnear, tfar});
-                bool* occ = static_cast<bool*>(py::reinterpret_borrow<py::array>(res).mutable_data());
+                py::array res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), r, {origins, directions, tnear, tfar});
+                bool* occ = static_cast<bool*>(res.mutable_data());
                 run<false>(s, [&] { s.scene.occluded(r.view, occ); });
                 return res;
             },
