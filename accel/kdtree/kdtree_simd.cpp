@@ -59,10 +59,9 @@ public:
         offer_.simd_skipped = false;
         block_width_ = N;
         offer_.packet_lanes = this->packets_.lanes;
-        // Measured (perf/results/kdtree-simd-2026-11-22.md): the packet path runs at 0.65-0.75x of
-        // the single path on every kind of ray, coherent primary and shadow rays included, because
-        // each lane still walks the ropes alone; only the triangle tests are shared.
-        offer_.packets_pay = false;
+        // The packet walk (kdtree_stack_packet.h) runs 1.3-1.7x the single path on coherent primary
+        // and shadow rays (perf/results/kdtree-2026-12-03.md); mixed-octant packets go ray by ray.
+        offer_.packets_pay = true;
     }
 
 private:
@@ -236,7 +235,10 @@ private:
     }
 
     /// Lanes of one direction octant that walk a packet's nodes together (fewer: ray by ray).
-    static constexpr int together_min(std::size_t lanes) { return int(lanes / 4); }
+    /// Tuning rays, 1 thread (packet path, bunny and beast): half the lanes 1.0-1.2x a quarter on
+    /// primary and shadow rays, and diffuse packets (mixed octants) then go ray by ray at 0.95-1.0x
+    /// the single path instead of 0.75x.
+    static constexpr int together_min(std::size_t lanes) { return int(lanes / 2); }
 
     KdBlocks<N> blocks_;
 };
