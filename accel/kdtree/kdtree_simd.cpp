@@ -1,19 +1,18 @@
 // The kd-tree's SIMD paths (kdtree_simd.h).
 //
-// single: the scalar rope walk (kd::walk_ropes) with each leaf's triangles tested as SIMD blocks
-// by one WideRay (simd::ray_triangles, the watertight test of tri_test.h on N triangles at once).
+// single: the scalar walks with each leaf's triangles tested as SIMD blocks by one WideRay
+// (simd::ray_triangles, the watertight test of tri_test.h on N triangles at once): the rope walk
+// (kd::walk_ropes) for closest hit, the front-to-back stack walk (kd::walk_stack) for any hit.
 //
-// packet: rays of a packet follow the ropes together (Popov, Günther, Seidel, Slusallek 2007,
-// "Stackless KD-Tree Traversal for High Performance GPU Ray Tracing"). Each lane keeps its own
-// walk state and moves by the scalar walk's own steps (kd::rope_first / kd::rope_next), so it
-// visits exactly the leaves of the scalar walk in the same order; what the packet shares is the
-// triangle test: the lanes waiting at the same leaf are tested together, one triangle against all
-// of them (simd::packet_triangle), after the triangles' boxes are culled against the packet's
-// interval bounds. Lanes that leave a leaf through different faces thus split up, and meet again
-// where their walks reach a common leaf. A leaf reached by few lanes, or whose blocks are cheaper
-// than its triangles one by one, is tested lane by lane with the single path's block test; so are
-// the rare extra leaves of a walk (visit_point near edges and corners, the passes on the other
-// sides of a split plane a ray lies in).
+// packet: the lanes of a packet whose directions share an octant (at least half the packet) walk
+// the nodes together (kd::walk_stack_packet, Wald 2004), each lane taking exactly the decisions of
+// its own scalar stack walk, so it meets exactly that walk's leaves in the same order: any-hit
+// answers are the scalar path's (which walks the stack for any hit), closest-hit answers are the
+// closest hit, as the ropes find it. At a leaf the lanes that reach it are tested lane by lane
+// with the single path's block test, or, when enough of them reach it and that is fewer tests,
+// one triangle against all of them (simd::packet_triangle) after the triangles' boxes are culled
+// against the group's interval bounds. The other lanes (mixed-octant packets: diffuse bounces)
+// take the single path's walk, ray by ray.
 #include "accel/kdtree/kdtree_simd.h"
 #include "accel/core/kernel_table.h"
 

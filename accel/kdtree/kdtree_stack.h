@@ -2,8 +2,10 @@
 /// Front-to-back stack walk of the kd-tree (the recursive ray traversal of Havran's thesis, 2000,
 /// "TA_rec_B", in Wald's 2004 formulation): at an interior node the child on the side the ray comes
 /// from is walked first, the other one is pushed with the rest of the ray's interval; a closest-hit
-/// walk skips a pushed subtree whose interval starts beyond the best hit. The scalar and `single`
-/// paths walk with it; the packet path steps each lane's walk (StackWalk) between its leaves.
+/// walk skips a pushed subtree whose interval starts beyond the best hit. Any-hit queries walk with
+/// it on every path (the packet path in its packet form, kdtree_stack_packet.h, which keeps each
+/// lane's leaf order, hence the first hit); closest hit follows the ropes (kdtree_traverse.h),
+/// 1.2-1.3x faster per ray (perf/results/kdtree-2026-12-02.md).
 ///
 /// How it stays exact (the same guarantee as the rope walk of kdtree_traverse.h, by other means):
 /// - Plane crossings t = (p - o) / d are computed in double (p - o is exact for floats), about one

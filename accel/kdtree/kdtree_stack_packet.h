@@ -185,8 +185,10 @@ void walk_stack_packet(const KdTree& tree, PacketStack<K>& w, std::uint32_t live
             std::uint32_t pushed = s.pushed & ~done;
             const std::uint32_t moved = s.moved & ~done;
             if constexpr (AnyHit) {
-                std::copy(s.tmin, s.tmin + K, w.tmin);
-                std::copy(s.tmax, s.tmax + K, w.tmax);
+                if (pushed != 0) {
+                    std::copy(s.tmin, s.tmin + K, w.tmin);
+                    std::copy(s.tmax, s.tmax + K, w.tmax);
+                }
             } else {
                 alignas(64) double best[K];
                 for (std::size_t i = 0; i < K; ++i) best[i] = best_t[i];
@@ -202,7 +204,8 @@ void walk_stack_packet(const KdTree& tree, PacketStack<K>& w, std::uint32_t live
             }
             m = pushed | moved;
             if (m == 0) continue;
-            w.template boxes<P, false>();
+            // Only lanes that waited (moved): their intervals and boxes are as they left them.
+            if (pushed != 0) w.template boxes<P, false>();
             node = s.node;
             break;
         }
