@@ -7,11 +7,13 @@
 namespace arbor::accel {
 
 struct KdBuildConfig {
-    /// SAH cost of a traversal step (K_T) against intersection_cost (K_I). The rope walk pays per
-    /// leaf (exit planes, rope, descent, a cache miss), so the kd-tree wants bigger leaves than the
-    /// BVH ratio gives: on the bunny 1 -> 4 cuts nodes 6x and build time 2.5x at the same trace
-    /// speed (perf/kdtree_bench).
-    float traversal_cost = 4.0f;
+    /// SAH cost of a traversal step (K_T) against intersection_cost (K_I). Every walk pays per
+    /// leaf (rope or pop, exit planes or intervals in double, a cache miss) and tests a leaf's
+    /// triangles as one SIMD block, so the kd-tree wants bigger leaves than the BVH ratio gives: on
+    /// the bunny 1 -> 4 cut nodes 6x and build time 2.5x at the same trace speed (perf/kdtree_bench);
+    /// with the packet walk 4 -> 12 ran 1.10-1.14x (median per kind, min 0.97x) on the held-out rays
+    /// (perf/results/kdtree-2026-12-03.md), 2 and 1.5 slower.
+    float traversal_cost = 12.0f;
     float intersection_cost = 1.0f;
     /// K_T of the SAH cost the build reports (BuildStats::sah_cost): 1, the BVHs' default, so that
     /// the reported figures compare across structures.
