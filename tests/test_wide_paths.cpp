@@ -399,8 +399,11 @@ TEST_CASE("policy measures: the fractions of a one-ray-at-a-time count, stiff ra
             }
         }
     }
-    CHECK(checked_octant > 50);
-    CHECK(checked_end > 20);
+    // Both reported fractions were compared often enough (300 batches; the counts depend on the
+    // group size: 16, 8 or 4 lanes).
+    MESSAGE("compared octant fractions: " << checked_octant << ", end fractions: " << checked_end);
+    CHECK(checked_octant > 40);
+    CHECK(checked_end > 10);
 }
 
 TEST_CASE("policy_sample: the path chosen over the gathered sample is the one chosen over the whole batch") {
