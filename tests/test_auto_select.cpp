@@ -93,6 +93,9 @@ TEST_CASE("auto: a malformed model is refused with the line that is wrong") {
     refuses(head + "clamp colour 0 1\n", "line 4: unknown feature 'colour'");
     refuses(head + "frobnicate\n", "line 4: unknown keyword");
     refuses(head + "trace lbvh packet 1 2\n", "no structure has both");
+    refuses(head + "prefer octree 0.1\n", "line 4: unknown structure 'octree'");
+    refuses(head + "prefer bvh-sah 1.5\n", "line 4: expected 'prefer STRUCTURE SHARE' with 0 <= SHARE < 1");
+    refuses(head + "prefer bvh-sah\n", "line 4: expected 'prefer STRUCTURE SHARE'");
     CHECK_NOTHROW((void)accel::AutoModel::parse(flat_model(100, 100, 0.2)));
 }
 
@@ -120,13 +123,47 @@ TEST_CASE("auto: the decision is deterministic and names the model's prediction 
         REQUIRE_FALSE(a.candidates.empty());
         CHECK(std::is_sorted(a.candidates.begin(), a.candidates.end(),
                              [](const auto& x, const auto& y) { return x.total_ms < y.total_ms; }));
-        CHECK(a.candidates.front().kind == a.kind);
+        // The pick is the best prediction, or the preferred structure's best within the model's share.
+        const accel::AutoModel& m = accel::builtin_auto_model();
+        CHECK((a.candidates.front().kind == a.kind ||
+               (a.kind == m.preferred() && a.reason.find(" preferred within ") != std::string::npos)));
         for (const auto& c : a.candidates) CHECK(c.total_ms == doctest::Approx(c.build_ms + c.trace_ms));
     }
     // A named structure is taken as it is, with no reason.
     const auto named = accel::pick_accel(accel::AccelKind::lbvh, accel::trace_job(view, rays, 1e6, accel::Query::closest));
     CHECK(named.kind == accel::AccelKind::lbvh);
     CHECK(named.reason.empty());
+}
+
+TEST_CASE("auto: the model's decision prefers the default structure within the model's share") {
+    const auto scene = perf::replicated(20000);
+    const auto view = scene.scene.mesh.view();
+    const auto rays = testing::camera_rays(scene.scene.mesh.bounds, 64, 32);
+    // lbvh predicted 4% faster than bvh-sah on both paths (equal builds): the model alone decides.
+    auto decide = [&](const std::string& prefer_line) {
+        const auto model = accel::AutoModel::parse(flat_model(100, 104, 0.5) + prefer_line);
+        accel::AutoJob job = accel::trace_job(view, rays, 1e6, accel::Query::closest);
+        job.model = &model;
+        job.allow_probe = false;
+        return accel::pick_accel(accel::AccelKind::automatic, job);
+    };
+    const auto within = decide("prefer bvh-sah 0.05\n");
+    CAPTURE(within.reason);
+    CHECK(within.kind == accel::AccelKind::bvh_sah);
+    CHECK(within.reason.find(" preferred within 5% of the best prediction; next lbvh/") != std::string::npos);
+    CHECK(within.reason.find(", -3% (within the model's 50% margin)") != std::string::npos);  // (builds counted)
+    CHECK(within.candidates.front().kind == accel::AccelKind::lbvh);  // still smallest total first
+    const auto outside = decide("prefer bvh-sah 0.03\n");
+    CAPTURE(outside.reason);
+    CHECK(outside.kind == accel::AccelKind::lbvh);
+    CHECK(outside.reason.find("preferred") == std::string::npos);
+    CHECK(decide("").kind == accel::AccelKind::lbvh);
+    // Never beyond the margin: a share above it counts as the margin.
+    const auto model = accel::AutoModel::parse(flat_model(100, 130, 0.2) + "prefer bvh-sah 0.5\n");
+    accel::AutoJob job = accel::trace_job(view, rays, 1e6, accel::Query::closest);
+    job.model = &model;
+    job.allow_probe = false;
+    CHECK(accel::pick_accel(accel::AccelKind::automatic, job).kind == accel::AccelKind::lbvh);
 }
 
 TEST_CASE("auto: a tiny job takes no probe, whatever the model's doubt") {
