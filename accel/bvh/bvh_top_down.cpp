@@ -8,17 +8,6 @@
 
 namespace arbor::accel::detail {
 
-UninitVector<BuildPrim> make_build_prims(const PrimRefs& refs) {
-    UninitVector<BuildPrim> prims;  // every element written below: no zeroing pass
-    resize_prefaulted(prims, refs.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refs.size(), 16384), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-            prims[i] = {{refs.lo_x[i], refs.lo_y[i], refs.lo_z[i]}, refs.prim_ids[i],
-                        {refs.hi_x[i], refs.hi_y[i], refs.hi_z[i]}, 0};
-    });
-    return prims;
-}
-
 SplitResult bounds_of_halves(std::span<const BuildPrim> prims, std::uint32_t begin, std::uint32_t mid, std::uint32_t end) {
     SplitResult s;
     s.mid = mid;

@@ -7,7 +7,7 @@
 /// so node order never depends on scheduling.
 #include "accel/bvh/binary_bvh.h"
 #include "accel/bvh/bvh_build_config.h"
-#include "accel/bvh/prim_refs.h"
+#include "accel/bvh/build_prims.h"
 #include "accel/util/prefault.h"
 #include "accel/util/uninit_vector.h"
 
@@ -18,22 +18,13 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace arbor::accel::detail {
 
-/// 32-byte working copy of a PrimRef, partitioned in place by the builders.
-struct alignas(16) BuildPrim {
-    float lo[3];
-    std::uint32_t id;
-    float hi[3];
-    std::uint32_t pad;
-
-    /// The same centroid as PrimRefs (lo/2 + hi/2, bit for bit).
-    float centroid(int axis) const { return lo[axis] * 0.5f + hi[axis] * 0.5f; }
-    Bounds box() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
-};
-static_assert(sizeof(BuildPrim) == 32);
+/// The build primitives (build_prims.h), partitioned in place by the builders.
+using accel::BuildPrim;
 
 /// A range [begin, end) of the build primitives with its box and centroid box.
 struct BuildTask {
@@ -48,8 +39,6 @@ struct SplitResult {
     Bounds left_box, left_cbox, right_box, right_cbox;
 };
 
-/// Copies the refs into BuildPrims (parallel, into an array that is not zeroed first).
-UninitVector<BuildPrim> make_build_prims(const PrimRefs& refs);
 /// Boxes and centroid boxes of [begin, mid) and [mid, end).
 SplitResult bounds_of_halves(std::span<const BuildPrim> prims, std::uint32_t begin, std::uint32_t mid, std::uint32_t end);
 /// Splits at the middle index without reordering (all centroids equal: no order helps).
@@ -75,22 +64,23 @@ std::size_t assemble(const Subtree& root, std::vector<BvhBuildNode>& out);
 /// range larger than cfg.max_leaf_size, and keep the recursion depth bounded.
 template <class Splitter> class TopDownBuilder {
 public:
-    TopDownBuilder(const PrimRefs& refs, const BvhBuildConfig& cfg, const Splitter& split)
-        : refs_(refs), cfg_(cfg), split_(split), prims_(make_build_prims(refs)) {}
+    TopDownBuilder(BuildPrims&& input, const BvhBuildConfig& cfg, const Splitter& split)
+        : in_(std::move(input)), cfg_(cfg), split_(split), prims_(in_.prims) {}
 
     BinaryBvh run() {
         BinaryBvh bvh;
-        bvh.dropped_nonfinite = refs_.dropped_nonfinite;
+        bvh.dropped_nonfinite = in_.dropped_nonfinite;
         if (prims_.empty()) return bvh;
-        const BuildTask root{0, std::uint32_t(prims_.size()), 0, refs_.bounds, refs_.centroid_bounds};
+        const BuildTask root{0, std::uint32_t(prims_.size()), 0, in_.bounds, in_.centroid_bounds};
         const std::unique_ptr<Subtree> tree = build(root);
         const std::size_t chunk_bytes = assemble(*tree, bvh.nodes);
         resize_prefaulted(bvh.prim_ids, prims_.size());
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prims_.size(), 65536), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i != r.end(); ++i) bvh.prim_ids[i] = prims_[i].id;
         });
-        bvh.build_peak_bytes = refs_.memory_bytes() + prims_.capacity() * sizeof(BuildPrim) + chunk_bytes +
-                               bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
+        // The input, the chunks and the output (PrimRefs a caller made the input from are the caller's).
+        bvh.build_peak_bytes = in_.memory_bytes() + chunk_bytes + bvh.nodes.capacity() * sizeof(BvhBuildNode) +
+                               bvh.prim_ids.capacity() * sizeof(std::uint32_t);
         return bvh;
     }
 
@@ -135,15 +125,15 @@ private:
 
     std::uint32_t parallel_threshold() const { return std::max<std::uint32_t>(cfg_.parallel_threshold, 2); }
 
-    const PrimRefs& refs_;
+    BuildPrims in_;
     const BvhBuildConfig& cfg_;
     const Splitter& split_;
-    UninitVector<BuildPrim> prims_;
+    UninitVector<BuildPrim>& prims_;
 };
 
-/// Runs the frame with `split` over `refs`.
-template <class Splitter> BinaryBvh build_top_down(const PrimRefs& refs, const BvhBuildConfig& cfg, const Splitter& split) {
-    return TopDownBuilder<Splitter>(refs, cfg, split).run();
+/// Runs the frame with `split` over `input` (consumed: partitioned in place).
+template <class Splitter> BinaryBvh build_top_down(BuildPrims&& input, const BvhBuildConfig& cfg, const Splitter& split) {
+    return TopDownBuilder<Splitter>(std::move(input), cfg, split).run();
 }
 
 }  // namespace arbor::accel::detail

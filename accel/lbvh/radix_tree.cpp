@@ -65,7 +65,7 @@ private:
 class TreeBuilder {
 public:
     TreeBuilder(const RadixTreeInput& in, std::vector<std::uint32_t>& prim_ids)
-        : in_(in), prims_(*in.prims), prim_ids_(prim_ids), n_(std::uint32_t(in.keys.size())),
+        : in_(in), prims_(in.prims), prim_ids_(prim_ids), n_(std::uint32_t(in.keys.size())),
           m_(std::max<std::uint32_t>(in.max_leaf_size, 1)), delta_(in), inner_(n_ - 1) {}
 
     std::size_t temp_bytes() const {
@@ -91,7 +91,7 @@ public:
         // whoever arrives second, and acq_rel makes the first arrival's writes visible.
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n_, 4096), [&](const tbb::blocked_range<std::uint32_t>& range) {
             for (std::uint32_t p = range.begin(); p != range.end(); ++p) {
-                prim_ids_[p] = prims_.prim_ids[ref(p)];
+                prim_ids_[p] = prims_[ref(p)].id;
                 std::uint32_t node = leaf_parent_[p];
                 while (std::atomic_ref<std::uint32_t>(visits_[node]).fetch_add(1, std::memory_order_acq_rel) == 1) {
                     const std::uint32_t first = first_[node], last = last_[node], g = inner_[node].split;
@@ -163,7 +163,7 @@ private:
     /// A finished child: one primitive (read from the prim refs) or internal node idx.
     Subtree child(std::uint32_t idx, std::uint32_t first, std::uint32_t last) const {
         if (first == last) {
-            const Bounds box = prims_.box(ref(first));
+            const Bounds box = prims_[ref(first)].box();
             return {box, 1, in_.sah_collapse ? area(box) * in_.intersection_cost : 0.0f};
         }
         return {{inner_[idx].lo, inner_[idx].hi}, inner_[idx].count, inner_[idx].cost};
@@ -201,8 +201,9 @@ private:
         Bounds box;
         for (std::uint32_t p = first; p <= last; ++p) {
             const std::uint32_t r = ref(p);
-            box.grow(prims_.box(r));
-            prim_ids_[p] = prims_.prim_ids[r];
+            const BuildPrim& prim = prims_[r];
+            box.grow(prim.box());
+            prim_ids_[p] = prim.id;
         }
         if (first != last) {  // a single primitive has no internal node
             InnerNode& node = inner_[idx];
@@ -252,7 +253,7 @@ private:
     }
 
     const RadixTreeInput& in_;
-    const PrimRefs& prims_;
+    std::span<const BuildPrim> prims_;
     std::vector<std::uint32_t>& prim_ids_;
     std::uint32_t n_, m_;
     Delta delta_;
@@ -264,10 +265,10 @@ private:
 }  // namespace
 
 RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod method) {
-    if (!in.prims) throw std::invalid_argument("build_radix_tree: no prim refs");
+    if (in.prims.size() < in.keys.size()) throw std::invalid_argument("build_radix_tree: fewer prims than keys");
     if (!in.sorted_refs.empty() && in.sorted_refs.size() != in.keys.size())
         throw std::invalid_argument("build_radix_tree: sorted_refs and keys differ in size");
-    if (!in.fine_codes.empty() && (!in.sorted_refs.empty() || in.code_shift != 32 || in.fine_codes.size() != in.prims->size()))
+    if (!in.fine_codes.empty() && (!in.sorted_refs.empty() || in.code_shift != 32 || in.fine_codes.size() != in.prims.size()))
         throw std::invalid_argument("build_radix_tree: fine codes need the references in the keys, one per reference");
     if (in.keys.size() >= std::size_t(1) << 31) throw std::invalid_argument("build_radix_tree: too many primitives");
     RadixTreeResult result;
@@ -276,8 +277,8 @@ RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod metho
     resize_prefaulted(result.prim_ids, n);
     if (n == 1) {
         const std::uint32_t r = in.sorted_refs.empty() ? std::uint32_t(in.keys[0]) : in.sorted_refs[0];
-        result.prim_ids[0] = in.prims->prim_ids[r];
-        result.nodes.push_back({in.prims->box(r), 0, 1});
+        result.prim_ids[0] = in.prims[r].id;
+        result.nodes.push_back({in.prims[r].box(), 0, 1});
         return result;
     }
     TreeBuilder builder(in, result.prim_ids);
