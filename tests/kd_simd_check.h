@@ -8,6 +8,8 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -76,6 +78,23 @@ inline std::size_t check_kd_simd(const accel::KdTreeAccel& kd, const std::vector
         compare(got, false, "accel closest " + std::string(accel::to_string(path)));
         kd.trace(rays, got, {accel::Query::any, path});
         compare(got, true, "accel any " + std::string(accel::to_string(path)));
+    }
+    // The packet walk takes only lanes that share a direction octant (at least half a packet); the
+    // rays again, ordered by octant, so that every stiff and degenerate ray is walked in a packet.
+    std::vector<std::size_t> by_octant(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) by_octant[i] = i;
+    const auto octant = [&](std::size_t i) {
+        const Vec3f& d = rays[i].dir;
+        return int(std::signbit(d.x)) | int(std::signbit(d.y)) << 1 | int(std::signbit(d.z)) << 2;
+    };
+    std::stable_sort(by_octant.begin(), by_octant.end(), [&](std::size_t a, std::size_t b) { return octant(a) < octant(b); });
+    std::vector<Ray> sorted(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) sorted[i] = rays[by_octant[i]];
+    for (const bool any_hit : {false, true}) {
+        std::vector<Hit> got(rays.size()), back(rays.size());
+        kd.trace(sorted, got, {any_hit ? accel::Query::any : accel::Query::closest, accel::TracePath::packet});
+        for (std::size_t i = 0; i < rays.size(); ++i) back[by_octant[i]] = got[i];
+        compare(back, any_hit, any_hit ? "packet any, rays by octant" : "packet closest, rays by octant");
     }
     for (const accel::BuildConfig& cfg : kd_simd_configs()) {
         const auto paths = accel::make_kdtree_accel(kd.tree(), cfg);  // a copy of the tree, other settings

@@ -222,19 +222,21 @@ TEST_CASE("kdtree simd: identical answers with 1 and 2 threads") {
         }
 }
 
-TEST_CASE("kdtree simd: best takes the single path (the packet path measured slower on every kind)") {
+TEST_CASE("kdtree simd: best takes the packet walk for camera rays and single rays for scattered ones") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
     const auto kd_built = accel::make_kdtree_accel(mesh.view());
     const accel::KdTreeAccel& kd = *kd_built;
     CHECK(kd.offer().has(accel::TracePath::single));
     CHECK(kd.offer().has(accel::TracePath::packet));
+    CHECK(kd.offer().packets_pay);
     const auto camera = testing::camera_rays(mesh.bounds, 64, 16);
     const accel::PathChoice c = accel::choose_path(kd.offer(), camera, {});
-    CHECK(c.path == accel::TracePath::single);
+    CHECK(c.path == accel::TracePath::packet);
     CHECK(!accel::path_reason(c).empty());
     CHECK(accel::choose_path(kd.offer(), testing::random_rays_inside(mesh.bounds, 1024, 3), {accel::Query::any}).path ==
           accel::TracePath::single);
-    // A coherent hint does not change that: the renderer's camera rays take the single path too.
     CHECK(accel::choose_path(kd.offer(), camera, {accel::Query::closest, accel::TracePath::best, accel::RayHint::coherent}).path ==
+          accel::TracePath::packet);
+    CHECK(accel::choose_path(kd.offer(), camera, {accel::Query::closest, accel::TracePath::best, accel::RayHint::incoherent}).path ==
           accel::TracePath::single);
 }

@@ -32,7 +32,7 @@ engine::Scene lit_scene() {
 
 }  // namespace
 
-TEST_CASE("tracer: camera and shadow rays take the packet path, bounces the single-ray path, on the BVHs") {
+TEST_CASE("tracer: camera and shadow rays take the packet path, bounces the single-ray path, on the BVHs and the kd-tree") {
     const auto s = lit_scene();
     // The path the policy gives a renderer batch of kind k (no rays needed: the hint decides).
     const auto path_for = [](const accel::Accel& a, RenderRayKind k) {
@@ -49,10 +49,12 @@ TEST_CASE("tracer: camera and shadow rays take the packet path, bounces the sing
         CHECK(path_for(*a, RenderRayKind::diffuse) == accel::TracePath::single);
         CHECK(path_for(*a, RenderRayKind::ao) == accel::TracePath::single);
     }
-    // The kd-tree's packets do not pay (measured): every kind takes its single path. Brute force
-    // has only the scalar path.
+    // The kd-tree's packet walk pays on coherent rays too (perf/results/kdtree-2026-12-03.md):
+    // the same choices. Brute force has only the scalar path.
     const auto kd = accel::make_accel(accel::AccelKind::kdtree, s.mesh.view());
-    CHECK(path_for(*kd, RenderRayKind::primary) == accel::TracePath::single);
+    CHECK(path_for(*kd, RenderRayKind::primary) == accel::TracePath::packet);
+    CHECK(path_for(*kd, RenderRayKind::shadow) == accel::TracePath::packet);
+    CHECK(path_for(*kd, RenderRayKind::diffuse) == accel::TracePath::single);
     const auto brute = accel::make_accel(accel::AccelKind::brute, s.mesh.view());
     CHECK(path_for(*brute, RenderRayKind::primary) == accel::TracePath::scalar);
 }

@@ -65,8 +65,8 @@ struct PathOffer {
     std::uint8_t queries[trace_path_count] = {};
     /// The counted mode (TraceRequest::counters) is available: the scalar layout was built.
     bool counts = false;
-    /// Packets measured faster than single rays on coherent batches (the BVHs; not the kd-tree,
-    /// whose packet lanes each still walk the ropes alone: perf/results/kdtree-simd-2026-11-22.md).
+    /// Packets measured faster than single rays on coherent batches (the BVHs, and the kd-tree
+    /// since its packet walk, perf/results/kdtree-2026-12-03.md).
     bool packets_pay = false;
     /// Rays per packet of the packet path (the coherence measure's group size).
     std::uint32_t packet_lanes = 0;

@@ -4,6 +4,7 @@
 #include "accel/kdtree/kdtree_build.h"
 #include "accel/kdtree/kdtree_queries.h"
 #include "accel/kdtree/kdtree_simd.h"
+#include "accel/kdtree/kdtree_stack.h"
 #include "accel/kdtree/kdtree_traverse.h"
 #include "accel/util/timer.h"
 #include "simd/tri_test.h"
@@ -47,7 +48,10 @@ template <bool AnyHit, bool Count> Hit KdTreeAccel::trace_one(const Ray& ray, Tr
         }
         return false;
     };
-    kd::walk_ropes<AnyHit, Count>(tree_, ray, best.hit.t, leaf_fn, visited);
+    // Any hit: the front-to-back stack walk, whose leaf order the packet path keeps lane by lane
+    // (kdtree_stack_packet.h); closest hit: the ropes (the answer does not depend on the order).
+    if constexpr (AnyHit) kd::walk_stack<true, Count>(tree_, ray, best.hit.t, leaf_fn, visited);
+    else kd::walk_ropes<false, Count>(tree_, ray, best.hit.t, leaf_fn, visited);
     if constexpr (Count) {
         counters->nodes_visited += visited;
         counters->triangles_tested += tested;

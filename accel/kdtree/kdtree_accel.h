@@ -1,6 +1,7 @@
 #pragma once
-/// `kdtree`: the SAH kd-tree with ropes (kdtree_build.h) and its stackless scalar traversal
-/// (kdtree_traverse.h). A build with the SIMD layouts is a KdSimdAccel<N> (kdtree_simd.h): this
+/// `kdtree`: the SAH kd-tree with ropes (kdtree_build.h) and its scalar traversals: stackless along
+/// the ropes for closest hit (kdtree_traverse.h), the front-to-back stack walk for any hit
+/// (kdtree_stack.h, the order the packet walk keeps). A build with the SIMD layouts is a KdSimdAccel<N> (kdtree_simd.h): this
 /// class plus the leaves' triangles in SIMD blocks of N, and the paths `single` and `packet`.
 #include "accel/accel.h"
 #include "accel/kdtree/kdtree_node.h"
@@ -11,7 +12,8 @@ namespace arbor::accel {
 
 class KdTreeAccel : public Accel {
 public:
-    /// One ray along the ropes: the closest hit (on equal t the lower prim), or any hit. Count:
+    /// One ray: the closest hit along the ropes (on equal t the lower prim), or any hit by the
+    /// stack walk (the first hit in its order). Count:
     /// adds nodes (interior nodes tested, leaves entered) and triangle tests to `counters`.
     template <bool AnyHit, bool Count = false> Hit trace_one(const Ray& ray, TraceCounters* counters = nullptr) const;
     const KdTree& tree() const { return tree_; }

@@ -1,25 +1,25 @@
 // The kd-tree's SIMD paths (kdtree_simd.h).
 //
-// single: the scalar rope walk (kd::walk_ropes) with each leaf's triangles tested as SIMD blocks
-// by one WideRay (simd::ray_triangles, the watertight test of tri_test.h on N triangles at once).
+// single: the scalar walks with each leaf's triangles tested as SIMD blocks by one WideRay
+// (simd::ray_triangles, the watertight test of tri_test.h on N triangles at once): the rope walk
+// (kd::walk_ropes) for closest hit, the front-to-back stack walk (kd::walk_stack) for any hit.
 //
-// packet: rays of a packet follow the ropes together (Popov, Günther, Seidel, Slusallek 2007,
-// "Stackless KD-Tree Traversal for High Performance GPU Ray Tracing"). Each lane keeps its own
-// walk state and moves by the scalar walk's own steps (kd::rope_first / kd::rope_next), so it
-// visits exactly the leaves of the scalar walk in the same order; what the packet shares is the
-// triangle test: the lanes waiting at the same leaf are tested together, one triangle against all
-// of them (simd::packet_triangle), after the triangles' boxes are culled against the packet's
-// interval bounds. Lanes that leave a leaf through different faces thus split up, and meet again
-// where their walks reach a common leaf. A leaf reached by few lanes, or whose blocks are cheaper
-// than its triangles one by one, is tested lane by lane with the single path's block test; so are
-// the rare extra leaves of a walk (visit_point near edges and corners, the passes on the other
-// sides of a split plane a ray lies in).
+// packet: the lanes of a packet whose directions share an octant (at least half the packet) walk
+// the nodes together (kd::walk_stack_packet, Wald 2004), each lane taking exactly the decisions of
+// its own scalar stack walk, so it meets exactly that walk's leaves in the same order: any-hit
+// answers are the scalar path's (which walks the stack for any hit), closest-hit answers are the
+// closest hit, as the ropes find it. At a leaf the lanes that reach it are tested lane by lane
+// with the single path's block test, or, when enough of them reach it and that is fewer tests,
+// one triangle against all of them (simd::packet_triangle) after the triangles' boxes are culled
+// against the group's interval bounds. The other lanes (mixed-octant packets: diffuse bounces)
+// take the single path's walk, ray by ray.
 #include "accel/kdtree/kdtree_simd.h"
 #include "accel/core/kernel_table.h"
 
 #include "accel/core/hit_record.h"
 #include "accel/core/simd_paths.h"
 #include "accel/kdtree/kdtree_blocks.h"
+#include "accel/kdtree/kdtree_stack_packet.h"
 #include "accel/kdtree/kdtree_traverse.h"
 #include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
@@ -58,10 +58,9 @@ public:
         offer_.simd_skipped = false;
         block_width_ = N;
         offer_.packet_lanes = this->packets_.lanes;
-        // Measured (perf/results/kdtree-simd-2026-11-22.md): the packet path runs at 0.65-0.75x of
-        // the single path on every kind of ray, coherent primary and shadow rays included, because
-        // each lane still walks the ropes alone; only the triangle tests are shared.
-        offer_.packets_pay = false;
+        // The packet walk (kdtree_stack_packet.h) runs 1.3-1.7x the single path on coherent primary
+        // and shadow rays (perf/results/kdtree-2026-12-03.md); mixed-octant packets go ray by ray.
+        offer_.packets_pay = true;
     }
 
 private:
@@ -101,18 +100,11 @@ private:
         if (tree.empty() || !ray_is_traceable(ray)) return best.hit;
         simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
         std::uint64_t visited = 0;
-        kd::walk_ropes<AnyHit>(tree, ray, best.hit.t, [&](std::uint32_t li) { return test_leaf<AnyHit>(r, li, best); }, visited);
+        const auto leaf_fn = [&](std::uint32_t li) { return test_leaf<AnyHit>(r, li, best); };
+        if constexpr (AnyHit) kd::walk_stack<true>(tree, ray, best.hit.t, leaf_fn, visited);
+        else kd::walk_ropes<false>(tree, ray, best.hit.t, leaf_fn, visited);
         return best.hit;
     }
-
-    /// One lane's walk: the state of kd::walk_ropes between two leaves.
-    struct LaneWalk {
-        kd::RopeRay s;
-        double t0, t;
-        std::uint32_t node;
-        std::size_t steps;
-        unsigned touched;
-    };
 
     template <bool AnyHit, class P> void trace_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
         const KdTree& tree = tree_;
@@ -122,18 +114,13 @@ private:
         }
         constexpr std::size_t K = simd::lanes<P>;
         using IntP = simd::IntOf<P>;
-        const KdNode* nodes = tree.nodes.data();
-        const std::size_t max_steps = kd::rope_max_steps(tree);
-        LaneWalk walk[K];
+        kd::PacketStack<K> walk;
         simd::WideRay<T> wide[K];
         alignas(64) float best_t[K], best_u[K], best_v[K], tfar[K];
         alignas(64) std::int32_t best_prim[K];
-        std::uint32_t pending[K];  // the leaf a walking lane tests next
-        std::uint64_t visited = 0;
         for (std::size_t base = 0; base < rays.size(); base += K) {
             const auto in = rays.subspan(base, std::min(K, rays.size() - base));
             simd::RayPacket<P> p = simd::load_packet<P>(in);
-            const simd::PacketBounds bounds = simd::packet_bounds(p, p.active);
             simd::store_lanes(p.tfar, tfar);
             for (std::size_t i = 0; i < K; ++i) best_t[i] = INFINITY, best_u[i] = best_v[i] = 0.0f, best_prim[i] = -1;
             std::uint32_t have_wide = 0;
@@ -153,13 +140,16 @@ private:
                 if (h.is_hit()) tfar[i] = h.t;
                 return stop;
             };
-            // Leaf li for the lanes `group` at once; returns the lanes that are done (any hit).
+            simd::PacketBounds bounds;
+            // Leaf li for the lanes `group` at once, one triangle against all of them; returns the
+            // lanes that are done (any hit). The far distances and the hit record stay in locals
+            // while the leaf is tested and are written back once (as the BVH packet leaf, 4c6ac3b).
             const auto together = [&](std::uint32_t group, std::uint32_t li) {
                 auto live = simd::from_bits<P>(group);
-                p.tfar = simd::load_lanes<P>(tfar);
+                P far = simd::load_lanes<P>(tfar);
                 simd::PacketHit<P> best{simd::load_lanes<P>(best_t), simd::load_lanes<P>(best_u),
                                         simd::load_lanes<P>(best_v), simd::load_lanes<IntP>(best_prim)};
-                const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
+                const float tfar_hi = -simd::hmin(simd::select(live, -far, P(INFINITY)));
                 const std::uint32_t count = tree.leaves[li].count;
                 std::uint32_t done = 0;
                 for (std::uint32_t b = blocks_.first[li], j = 0; b < blocks_.first[li + 1]; ++b, ++j) {
@@ -170,13 +160,13 @@ private:
                     for (; maybe != 0; maybe &= maybe - 1) {
                         const int l = std::countr_zero(maybe);
                         const auto& v = blk.tris.v;
-                        const simd::TriHit<P> h = simd::packet_triangle(p, Vec3f{v[0][0][l], v[0][1][l], v[0][2][l]},
+                        const simd::TriHit<P> h = simd::packet_triangle(p, far, Vec3f{v[0][0][l], v[0][1][l], v[0][2][l]},
                                                                         Vec3f{v[1][0][l], v[1][1][l], v[1][2][l]},
                                                                         Vec3f{v[2][0][l], v[2][1][l], v[2][2][l]});
                         const auto take = simd::offer_lanes<AnyHit>(best, h.hit & live, h.t, IntP(std::int32_t(blk.ids[l])), h.u, h.v);
                         const std::uint32_t bits = simd::to_bits(take);
                         if (bits == 0) continue;
-                        p.tfar = simd::select(take, h.t, p.tfar);
+                        far = simd::select(take, h.t, far);
                         if constexpr (AnyHit) {
                             done |= bits;
                             live = live & !take;
@@ -189,63 +179,65 @@ private:
                 simd::store_lanes(best.u, best_u);
                 simd::store_lanes(best.v, best_v);
                 simd::store_lanes(best.prim, best_prim);
-                simd::store_lanes(p.tfar, tfar);
+                simd::store_lanes(far, tfar);
                 return done;
             };
-            // Start every lane's walk (kd::walk_ropes up to its first leaf).
-            std::uint32_t walking = 0;
+            // A leaf for the lanes `group` of a packet walk: together when at least switch_lanes + 1
+            // lanes reach it and that is fewer triangle tests than their block tests; else lane by lane.
+            const auto leaf = [&](std::uint32_t li, std::uint32_t group) -> std::uint32_t {
+                const std::uint32_t nblocks = blocks_.first[li + 1] - blocks_.first[li];
+                if (nblocks == 0) return 0;
+                const int n = std::popcount(group);
+                if (n > this->packets_.switch_lanes && std::uint32_t(n) * nblocks * 2 > tree.leaves[li].count)
+                    return together(group, li);
+                std::uint32_t done = 0;
+                for (std::uint32_t l = group; l != 0; l &= l - 1)
+                    if (single(std::countr_zero(l), li)) done |= 1u << std::countr_zero(l);
+                return done;
+            };
+            // Each lane's scalar start (stack_start); lanes grouped by the signs of their direction.
+            std::uint32_t octant_lanes[8] = {};
             for (std::uint32_t l = simd::to_bits(p.active); l != 0; l &= l - 1) {
                 const int i = std::countr_zero(l);
                 const Ray& ray = in[std::size_t(i)];
                 if (!ray_is_traceable(ray)) continue;
-                LaneWalk& w = walk[i];
-                auto leaf_fn = [&](std::uint32_t li) { return single(i, li); };
-                switch (kd::rope_start(tree, ray, w.s, w.t0)) {
-                case kd::RopeStart::none: continue;
-                case kd::RopeStart::point: kd::visit_point<false>(nodes, w.s, w.t0, leaf_fn, visited); continue;
-                case kd::RopeStart::walk: break;
-                }
-                w.t = w.t0, w.steps = 0, w.touched = 0;
-                if (kd::rope_first<false>(tree, w.s, w.t0, w.node, leaf_fn, visited) != kd::RopeStep::leaf) continue;
-                pending[i] = nodes[w.node].index();
-                walking |= 1u << i;
+                const unsigned oct = unsigned(std::signbit(ray.dir.x)) | unsigned(std::signbit(ray.dir.y)) << 1 |
+                                     unsigned(std::signbit(ray.dir.z)) << 2;
+                octant_lanes[oct] |= 1u << i;
             }
-            while (walking != 0) {
-                const std::uint32_t li = pending[std::countr_zero(walking)];
-                std::uint32_t group = 0;
-                for (std::uint32_t l = walking; l != 0; l &= l - 1)
-                    if (pending[std::countr_zero(l)] == li) group |= 1u << std::countr_zero(l);
-                // Together: at least switch_lanes + 1 lanes, and fewer triangle tests than the
-                // lanes' block tests would be.
-                const int n = std::popcount(group);
-                const std::uint32_t nblocks = blocks_.first[li + 1] - blocks_.first[li];
-                std::uint32_t done = 0;
-                if (n > this->packets_.switch_lanes && std::uint32_t(n) * nblocks * 2 > tree.leaves[li].count) {
-                    done = together(group, li);
-                } else {
-                    for (std::uint32_t l = group; l != 0; l &= l - 1)
-                        if (single(std::countr_zero(l), li)) done |= 1u << std::countr_zero(l);
+            std::uint32_t alone = 0;  // lanes of small groups: the single path's walk, ray by ray
+            for (unsigned oct = 0; oct < 8; ++oct) {
+                const std::uint32_t group = octant_lanes[oct];
+                if (std::popcount(group) < together_min(K)) {
+                    alone |= group;
+                    continue;
                 }
-                walking &= ~done;
-                // Each lane of the group takes its next step (kd::walk_pass after leaf_fn).
-                for (std::uint32_t l = group & ~done; l != 0; l &= l - 1) {
-                    const int i = std::countr_zero(l);
-                    LaneWalk& w = walk[i];
-                    auto leaf_fn = [&](std::uint32_t leaf) { return single(i, leaf); };
-                    kd::RopeStep st = kd::rope_next<AnyHit, false>(tree, w.s, w.t, w.node, best_t[i], leaf_fn, w.touched, visited);
-                    if (st == kd::RopeStep::leaf && ++w.steps < max_steps) {
-                        pending[i] = nodes[w.node].index();
-                        continue;
+                std::uint32_t live = 0;
+                for (std::size_t i = 0; i < K; ++i) {
+                    kd::StackWalk sw;
+                    if ((group >> i & 1u) && kd::stack_start(tree, in[i], sw)) {
+                        walk.set_lane(i, sw);
+                        live |= 1u << i;
+                    } else {
+                        walk.clear_lane(i);
                     }
-                    walking &= ~(1u << i);
-                    if (st != kd::RopeStep::stop && w.touched != 0)
-                        kd::walk_other_sides<AnyHit, false>(tree, w.s, w.t0, best_t[i], leaf_fn, visited);
                 }
+                if (live == 0) continue;
+                for (int k = 0; k < 3; ++k) walk.neg[k] = (oct >> k) & 1u;
+                bounds = simd::packet_bounds(p, simd::from_bits<P>(live));
+                kd::walk_stack_packet<AnyHit, P>(tree, walk, live, best_t, leaf);
             }
             for (std::size_t i = 0; i < in.size(); ++i)
-                hits[base + i] = {best_t[i], std::uint32_t(best_prim[i]), best_u[i], best_v[i]};
+                hits[base + i] = (alone >> i & 1u) ? trace_lane<AnyHit>(in[i])
+                                                   : Hit{best_t[i], std::uint32_t(best_prim[i]), best_u[i], best_v[i]};
         }
     }
+
+    /// Lanes of one direction octant that walk a packet's nodes together (fewer: ray by ray).
+    /// Tuning rays, 1 thread (packet path, bunny and beast): half the lanes 1.0-1.2x a quarter on
+    /// primary and shadow rays, and diffuse packets (mixed octants) then go ray by ray at 0.95-1.0x
+    /// the single path instead of 0.75x.
+    static constexpr int together_min(std::size_t lanes) { return int(lanes / 2); }
 
     KdBlocks<N> blocks_;
 };

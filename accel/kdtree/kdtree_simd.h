@@ -1,10 +1,12 @@
 #pragma once
-/// KdSimdAccel<N>: the kd-tree with its SIMD paths (TracePath::single and TracePath::packet) over
-/// its rope walk (kdtree_traverse.h) and its leaves' triangles in SIMD blocks of N
-/// (kdtree_blocks.h), defined in kdtree_simd.cpp. Both paths visit, for every ray, exactly the
-/// leaves the scalar walk visits, in the same order, and keep the scalar path's hit rule
-/// (closest: the smallest t, on equal t the lowest prim; any hit: the first hit in walk order), so
-/// their answers are bit-identical to the scalar path's.
+/// KdSimdAccel<N>: the kd-tree with its SIMD paths (TracePath::single and TracePath::packet) and
+/// its leaves' triangles in SIMD blocks of N (kdtree_blocks.h), defined in kdtree_simd.cpp. Any
+/// hit: both paths visit, for every ray, exactly the leaves of the scalar path's stack walk
+/// (kdtree_stack.h; the packet path in its packet form, kdtree_stack_packet.h), in the same order,
+/// and take the first hit in that order. Closest hit: `single` follows the scalar path's ropes
+/// (kdtree_traverse.h), `packet` the stack walk; both walks offer every triangle that can be the
+/// closest hit, with the same rule (the smallest t, on equal t the lowest prim). So the answers
+/// are bit-identical to the scalar path's.
 #include "accel/kdtree/kdtree_accel.h"
 
 #include <memory>

@@ -212,7 +212,7 @@ PathOffer expected_offer(AccelKind kind, const BuildConfig& cfg) {
         break;
     case AccelKind::kdtree:  // the scalar path reads the tree itself, which every build makes
         o.add(TracePath::scalar), o.counts = true, o.simd_skipped = !simd;
-        if (simd) o.add(TracePath::single), o.add(TracePath::packet);
+        if (simd) o.add(TracePath::single), o.add(TracePath::packet), o.packets_pay = true;
         break;
     default: break;
     }

@@ -9,7 +9,7 @@
 ///   1. an offered path that answers the query, asked for by name, is taken ("forced");
 ///   2. the path --accel auto picked for these rays (TraceRequest::calibrated; its reason says why);
 ///   3. a structure with one path takes it (brute; a build with the scalar layout only);
-///   4. a structure whose packets do not pay (the kd-tree, measured) takes `single`;
+///   4. a structure whose packets do not pay (PathOffer::packets_pay; none today) takes `single`;
 ///   5. a hint decides: coherent batches take `packet`, incoherent ones `single`;
 ///   6. else the rays are measured (coherence.h): `packet` when at least half of the groups of
 ///      consecutive rays that would share a packet start within 5% of the scene's diagonal of each
