@@ -195,7 +195,8 @@ c = open(sys.argv[2]).read()
 rr = r[r.index("(auto: ") + 7:r.index(") built in")]
 cr = next(l[6:] for l in c.splitlines() if l.startswith("auto: "))
 def decided(reason):
-    if " probe: " in reason:
+    # (a probe's reason has "the model had", a model's "model: predicted" and maybe "no probe: ...")
+    if " model: predicted " not in reason:
         return reason[reason.index("the model had "):reason.rindex("; auto ")]
     return reason[:reason.rindex("; auto ")]
 assert " model: predicted " in rr or " probe: " in rr, rr

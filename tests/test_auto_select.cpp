@@ -1,9 +1,10 @@
 // --accel auto (accel/select/auto_select.h): the decision is deterministic and explains itself (the
 // model's prediction and margin, or the probe's figures); a tiny job takes no probe; a job whose
-// contenders the model cannot tell apart is probed when it can pay for it, and the probe's pick is
-// handed over built and traces like brute; the cost model's text format refuses malformed files by
-// line; the path policy's expected offers match what the structures offer once built; the engine
-// describes render and converge jobs the same way for the same rays.
+// contenders the model cannot tell apart is probed when it can pay for it (both paths of each
+// structure it builds), and the probe's pick is handed over built and traces like brute; the cost
+// model's text format refuses malformed files by line; the path policy's expected offers match what
+// the structures offer once built; the engine describes render and converge jobs the same way for
+// the same rays.
 #include "accel/brute/brute_accel.h"
 #include "accel/select/auto_model.h"
 #include "accel/select/auto_select.h"
@@ -23,10 +24,11 @@ using namespace arbor;
 
 namespace {
 
-/// The text of a model whose lbvh traces at `lbvh_ns` per ray on both paths, bvh-sah at `sah_ns`
-/// (packets) and `sah_single_ns` (single rays; 0: sah_ns), and both build in 1 ms per 1k triangles,
-/// with `margin`.
-std::string flat_model(double lbvh_ns, double sah_ns, double margin, double sah_single_ns = 0.0) {
+/// The text of a model whose lbvh traces at `lbvh_ns` per ray (packets) and `lbvh_single_ns` (single
+/// rays; 0: lbvh_ns), bvh-sah at `sah_ns` (packets) and `sah_single_ns` (single rays; 0: sah_ns), and
+/// both build in 1 ms per 1k triangles, with `margin`.
+std::string flat_model(double lbvh_ns, double sah_ns, double margin, double sah_single_ns = 0.0,
+                       double lbvh_single_ns = 0.0) {
     const double ln2 = std::log(2.0);
     auto line = [&](const char* s, const char* p, double ns) {
         return "trace " + std::string(s) + " " + p + " " + std::to_string(std::log(ns)) + " 0\n";
@@ -34,7 +36,8 @@ std::string flat_model(double lbvh_ns, double sah_ns, double margin, double sah_
     return "arbor-auto-model 1\nsource test\ntrace_features one coherent\nbuild_features one log2_triangles\nmargin " +
            std::to_string(margin) + "\nbuild lbvh " + std::to_string(-10 * ln2) + " " + std::to_string(ln2) +
            "\nbuild bvh-sah " + std::to_string(-10 * ln2) + " " + std::to_string(ln2) + "\n" +
-           line("lbvh", "packet", lbvh_ns) + line("lbvh", "single", lbvh_ns) + line("bvh-sah", "packet", sah_ns) +
+           line("lbvh", "packet", lbvh_ns) + line("lbvh", "single", lbvh_single_ns > 0.0 ? lbvh_single_ns : lbvh_ns) +
+           line("bvh-sah", "packet", sah_ns) +
            line("bvh-sah", "single", sah_single_ns > 0.0 ? sah_single_ns : sah_ns);
 }
 
@@ -90,6 +93,9 @@ TEST_CASE("auto: a malformed model is refused with the line that is wrong") {
     refuses(head + "clamp colour 0 1\n", "line 4: unknown feature 'colour'");
     refuses(head + "frobnicate\n", "line 4: unknown keyword");
     refuses(head + "trace lbvh packet 1 2\n", "no structure has both");
+    refuses(head + "prefer octree 0.1\n", "line 4: unknown structure 'octree'");
+    refuses(head + "prefer bvh-sah 1.5\n", "line 4: expected 'prefer STRUCTURE SHARE' with 0 <= SHARE < 1");
+    refuses(head + "prefer bvh-sah\n", "line 4: expected 'prefer STRUCTURE SHARE'");
     CHECK_NOTHROW((void)accel::AutoModel::parse(flat_model(100, 100, 0.2)));
 }
 
@@ -117,13 +123,47 @@ TEST_CASE("auto: the decision is deterministic and names the model's prediction 
         REQUIRE_FALSE(a.candidates.empty());
         CHECK(std::is_sorted(a.candidates.begin(), a.candidates.end(),
                              [](const auto& x, const auto& y) { return x.total_ms < y.total_ms; }));
-        CHECK(a.candidates.front().kind == a.kind);
+        // The pick is the best prediction, or the preferred structure's best within the model's share.
+        const accel::AutoModel& m = accel::builtin_auto_model();
+        CHECK((a.candidates.front().kind == a.kind ||
+               (a.kind == m.preferred() && a.reason.find(" preferred within ") != std::string::npos)));
         for (const auto& c : a.candidates) CHECK(c.total_ms == doctest::Approx(c.build_ms + c.trace_ms));
     }
     // A named structure is taken as it is, with no reason.
     const auto named = accel::pick_accel(accel::AccelKind::lbvh, accel::trace_job(view, rays, 1e6, accel::Query::closest));
     CHECK(named.kind == accel::AccelKind::lbvh);
     CHECK(named.reason.empty());
+}
+
+TEST_CASE("auto: the model's decision prefers the default structure within the model's share") {
+    const auto scene = perf::replicated(20000);
+    const auto view = scene.scene.mesh.view();
+    const auto rays = testing::camera_rays(scene.scene.mesh.bounds, 64, 32);
+    // lbvh predicted 4% faster than bvh-sah on both paths (equal builds): the model alone decides.
+    auto decide = [&](const std::string& prefer_line) {
+        const auto model = accel::AutoModel::parse(flat_model(100, 104, 0.5) + prefer_line);
+        accel::AutoJob job = accel::trace_job(view, rays, 1e6, accel::Query::closest);
+        job.model = &model;
+        job.allow_probe = false;
+        return accel::pick_accel(accel::AccelKind::automatic, job);
+    };
+    const auto within = decide("prefer bvh-sah 0.05\n");
+    CAPTURE(within.reason);
+    CHECK(within.kind == accel::AccelKind::bvh_sah);
+    CHECK(within.reason.find(" preferred within 5% of the best prediction; next lbvh/") != std::string::npos);
+    CHECK(within.reason.find(", -3% (within the model's 50% margin)") != std::string::npos);  // (builds counted)
+    CHECK(within.candidates.front().kind == accel::AccelKind::lbvh);  // still smallest total first
+    const auto outside = decide("prefer bvh-sah 0.03\n");
+    CAPTURE(outside.reason);
+    CHECK(outside.kind == accel::AccelKind::lbvh);
+    CHECK(outside.reason.find("preferred") == std::string::npos);
+    CHECK(decide("").kind == accel::AccelKind::lbvh);
+    // Never beyond the margin: a share above it counts as the margin.
+    const auto model = accel::AutoModel::parse(flat_model(100, 130, 0.2) + "prefer bvh-sah 0.5\n");
+    accel::AutoJob job = accel::trace_job(view, rays, 1e6, accel::Query::closest);
+    job.model = &model;
+    job.allow_probe = false;
+    CHECK(accel::pick_accel(accel::AccelKind::automatic, job).kind == accel::AccelKind::lbvh);
 }
 
 TEST_CASE("auto: a tiny job takes no probe, whatever the model's doubt") {
@@ -214,6 +254,33 @@ TEST_CASE("auto: a large job the model cannot decide is probed, and the probe's 
     job.model = &model;
     job.allow_probe = false;
     CHECK_FALSE(accel::pick_accel(accel::AccelKind::automatic, job).probed);
+}
+
+TEST_CASE("auto: a probe times both paths of each structure it builds, whatever the model says of packets") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 3);
+    const auto view = mesh.view();
+    const auto rays = testing::random_rays_into(mesh.bounds, 3000, 11);
+    // Packets of lbvh and bvh-sah predicted equal (contenders), single rays 4x slower than packets
+    // (outside the 50% margin): the probe still times the single rays of both structures, and on
+    // these random rays it is their measured times that decide.
+    const auto packets_ahead = accel::AutoModel::parse(flat_model(200, 200, 0.5, 800, 800));
+    accel::AutoJob job = accel::trace_job(view, rays, 1e9, accel::Query::closest);
+    job.model = &packets_ahead;
+    const auto p = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(p.reason);
+    REQUIRE(p.probed);
+    std::size_t probed = 0, singles = 0;
+    for (const auto& c : p.candidates) {
+        probed += c.probed;
+        singles += c.probed && c.path == accel::TracePath::single;
+    }
+    CHECK(probed == 4);
+    CHECK(singles == 2);
+    CHECK(p.reason.find("/single") != std::string::npos);
+    // The pick is the smallest measured total of the four.
+    CHECK(p.candidates.front().probed);
+    CHECK(p.candidates.front().kind == p.kind);
+    CHECK(p.candidates.front().path == p.path);
 }
 
 TEST_CASE("auto: a scalar-only build is decided on the scalar path") {

@@ -13,12 +13,16 @@
 
 #include <cstring>
 #include <functional>
+#include <initializer_list>
 
 using namespace arbor;
 using accel::Bounds;
 using accel::Vec3f;
 
 namespace {
+
+/// A binary BVH builder on prim refs (bvh-median, bvh-sah, lbvh).
+using RefsBuilder = accel::BinaryBvh (*)(const accel::PrimRefs&, const accel::BvhBuildConfig&);
 
 bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
@@ -102,7 +106,7 @@ std::uint32_t check_layout(const accel::WideLayout<N>& L, const accel::TriangleV
 
 template <std::size_t N> void check_all_builders(const accel::TriangleView& v, accel::BvhBuildConfig cfg, accel::WideConfig wc) {
     const accel::PrimRefs refs = accel::make_prim_refs(v);
-    for (const auto build : {accel::build_bvh_median, accel::build_bvh_sah, accel::build_lbvh}) {
+    for (const RefsBuilder build : std::initializer_list<RefsBuilder>{accel::build_bvh_median, accel::build_bvh_sah, accel::build_lbvh}) {
         const accel::BinaryBvh bvh = build(refs, cfg);
         const auto L = accel::make_wide_layout<N>(bvh, v, wc);
         const std::uint32_t limit = std::min(wc.max_leaf_triangles, std::max<std::uint32_t>(cfg.max_leaf_size, wc.merge_triangles ? wc.merge_triangles : N));
@@ -210,7 +214,7 @@ TEST_CASE_TEMPLATE("wide layout: the SAH collapse costs no more than the binary 
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 5);
     mesh.append(engine::make_torus({1.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 24, 10));
     const accel::PrimRefs refs = accel::make_prim_refs(mesh.view());
-    for (const auto build : {accel::build_bvh_median, accel::build_bvh_sah, accel::build_lbvh}) {
+    for (const RefsBuilder build : std::initializer_list<RefsBuilder>{accel::build_bvh_median, accel::build_bvh_sah, accel::build_lbvh}) {
         const accel::BinaryBvh bvh = build(refs, {});
         for (const float block_cost : {1.0f, 3.0f, 8.0f}) {
             accel::WideConfig wc;

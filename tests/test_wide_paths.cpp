@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 using namespace arbor;
@@ -291,6 +292,118 @@ TEST_CASE("best path: packets for rays that start together (one octant or not), 
         CHECK(m.coherent == accel::coherent_fraction(*batch, lanes, spread));
         if (!m.one_octant) CHECK(m.together == accel::coherent_fraction(*batch, lanes, spread, 8, false));
     }
+}
+
+namespace {
+/// The policy's four fractions worked out here one ray at a time, as path_policy.h states them:
+/// per sampled group (coherence_sample_step), its traceable rays share an octant / start within
+/// `spread` / both / end (org + tfar * dir, every end finite) within `spread`.
+struct PolicyFractions {
+    double coherent = 0, together = 0, octant = 0, end_together = 0;
+};
+PolicyFractions policy_fractions(const std::vector<Ray>& rays, std::size_t group, float spread) {
+    const std::size_t step = accel::coherence_sample_step(rays.size(), group);
+    double groups = 0, coherent = 0, together = 0, octant = 0, ends = 0;
+    for (std::size_t base = 0; base < rays.size(); base += step) {
+        std::vector<const Ray*> live;
+        for (std::size_t i = base; i < std::min(rays.size(), base + group); ++i)
+            if (accel::ray_is_traceable(rays[i])) live.push_back(&rays[i]);
+        if (live.empty()) continue;
+        const auto octant_of = [](const Vec3f& d) {
+            return int(std::signbit(d.x)) | int(std::signbit(d.y)) << 1 | int(std::signbit(d.z)) << 2;
+        };
+        bool one_octant = true, near = true, end_near = true;
+        for (const Ray* a : live)
+            for (const Ray* b : live) {
+                one_octant = one_octant && octant_of(a->dir) == octant_of(b->dir);
+                const Vec3f ea = a->org + a->tfar * a->dir, eb = b->org + b->tfar * b->dir;
+                for (int k = 0; k < 3; ++k) {
+                    near = near && a->org[k] - b->org[k] <= spread;
+                    end_near = end_near && std::isfinite(ea[k]) && std::isfinite(eb[k]) && ea[k] - eb[k] <= spread;
+                }
+            }
+        ++groups;
+        coherent += one_octant && near, together += near, octant += one_octant, ends += end_near;
+    }
+    PolicyFractions f;
+    if (groups > 0) f = {coherent / groups, together / groups, octant / groups, ends / groups};
+    return f;
+}
+}  // namespace
+
+TEST_CASE("policy measures: the fractions of a one-ray-at-a-time count, stiff rays and partial groups included") {
+    // The policy measures whole 16-ray groups in SIMD registers (path_policy.cpp); groups cut by
+    // the batch's end one ray at a time. Both must count what the rule says, whatever the rays.
+    const engine::Mesh mesh = testing::procedural_shapes();
+    accel::BuildConfig cfg;
+    cfg.layouts = accel::Layouts::simd;
+    const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view(), cfg);
+    const accel::PathOffer& offer = acc->offer();
+    const float spread = 0.05f * offer.scene_diagonal;
+    const Vec3f lo = mesh.bounds.lo, ext = mesh.bounds.hi - mesh.bounds.lo;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f);
+    const auto point = [&] { return Vec3f{lo.x + u(rng) * ext.x, lo.y + u(rng) * ext.y, lo.z + u(rng) * ext.z}; };
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = INFINITY;
+    int checked_octant = 0, checked_end = 0;
+    for (int batch = 0; batch < 300; ++batch) {
+        const std::size_t n = batch % 3 == 0 ? 900 : 1024;  // 900: the last sampled group is cut short
+        std::vector<Ray> rays;
+        while (rays.size() < n) {
+            // A run of 16 rays: origins together or scattered, one octant or any, ending together
+            // at a light (tfar just short of it) or not.
+            const Vec3f at = point(), light = point() + ext;
+            const bool together = u(rng) < 0.5f, one_octant = u(rng) < 0.5f, to_light = u(rng) < 0.5f;
+            for (int i = 0; i < 16 && rays.size() < n; ++i) {
+                Ray r;
+                r.org = together ? at + 0.001f * ext * Vec3f{u(rng), u(rng), u(rng)} : point();
+                r.dir = one_octant ? Vec3f{0.1f + u(rng), 0.1f + u(rng), -0.1f - u(rng)} : Vec3f{s(rng), s(rng), s(rng)};
+                r.tnear = 0.0f;
+                r.tfar = inf;
+                if (to_light) r.dir = light - r.org, r.tfar = 0.9999f;
+                switch (int(u(rng) * 24.0f)) {  // stiff rays, one in two
+                case 0: r.org.y = nan; break;                       // untraceable
+                // (untraceable rays elsewhere, going elsewhere: they must not count at all)
+                case 1: r.dir.z = inf, r.org = point(); break;                              // untraceable
+                case 2: r.dir = {0, 0, 0}, r.org = point(); break;                          // untraceable
+                case 3: r.dir = {1e-39f, -1e-39f, 0}, r.org = point(); break;               // below FLT_MIN
+                case 4: r.tnear = 2.0f, r.tfar = 1.0f, r.org = point(), r.dir = -r.dir; break;  // untraceable
+                case 5: r.tfar = nan, r.org = point(); break;                               // untraceable
+                case 6: r.tfar = inf; break;                        // an end that is not finite
+                case 7: r.tfar = 3e38f; break;                      // an end that overflows
+                case 8: r.dir.x = 0.0f, r.tfar = inf; break;        // inf * 0: a NaN end
+                case 9: r.dir.y = -0.0f; break;                     // -0 counts as negative
+                case 10: r.tnear = -inf; break;                     // traceable
+                case 11: r.org = at; break;                         // a run's shared origin
+                default: break;
+                }
+                rays.push_back(r);
+            }
+        }
+        if (batch % 7 == 0)  // a sampled group with no traceable ray does not count
+            for (std::size_t i = 128; i < 144; ++i) rays[i].dir = {0, 0, 0};
+        const PolicyFractions want = policy_fractions(rays, offer.packet_lanes, spread);
+        CAPTURE(batch);
+        const accel::PathChoice c = accel::choose_path(offer, rays, {});
+        CHECK(c.coherent == want.coherent);
+        CHECK(c.together == (c.one_octant ? want.coherent : want.together));
+        accel::TraceRequest any;
+        any.query = accel::Query::any;
+        const accel::PathChoice a = accel::choose_path(offer, rays, any);
+        if (want.together < 0.5) {  // reported only where together does not decide
+            ++checked_octant;
+            CHECK(a.octant_only == want.octant);
+            if (want.octant < 0.5) {
+                ++checked_end;
+                CHECK(a.end_together == want.end_together);
+            }
+        }
+    }
+    // Both reported fractions were compared often enough (300 batches; the counts depend on the
+    // group size: 16, 8 or 4 lanes).
+    MESSAGE("compared octant fractions: " << checked_octant << ", end fractions: " << checked_end);
+    CHECK(checked_octant > 40);
+    CHECK(checked_end > 10);
 }
 
 TEST_CASE("policy_sample: the path chosen over the gathered sample is the one chosen over the whole batch") {

@@ -7,6 +7,7 @@
 #include "accel/accel.h"
 #include "accel/bvh/binary_bvh.h"
 #include "accel/bvh/bvh2_layout.h"
+#include "accel/bvh/build_prims.h"
 #include "accel/bvh/prim_refs.h"
 
 #include <functional>
@@ -60,6 +61,8 @@ private:
 
 /// A BVH builder: a pure function of the prim refs and the config.
 using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BvhBuildConfig&);
+/// The same builder on build prims it consumes (build_prims.h): what make_accel calls.
+using BvhPrimBuilder = BinaryBvh (*)(BuildPrims&&, const BvhBuildConfig&);
 
 /// The Accel for any BinaryBvh: BvhAccel for a build of the scalar layout only, else
 /// WideBvhAccel<cfg.wide.width> (wide/wide_paths.h).
@@ -70,9 +73,10 @@ std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const Tri
 /// only, cfg.bvh.simd_leaf_floor with 0 read as the SIMD layout's width; else 0 (no floor).
 std::uint32_t bvh_leaf_floor(const BuildConfig& cfg);
 
-/// PrimRefs -> `builder` -> the Accel, timed as a whole (build_ms covers all three steps); the
-/// builder sees cfg.bvh with leaf_floor = bvh_leaf_floor(cfg).
+/// BuildPrims straight from the triangles -> `builder` -> the Accel, timed as a whole (build_ms
+/// covers all three steps); the builder sees cfg.bvh with leaf_floor = bvh_leaf_floor(cfg), and
+/// the build prims are freed before the layouts are made.
 std::unique_ptr<Accel> build_bvh_accel(AccelKind kind, const TriangleView& tris, const BuildConfig& cfg,
-                                       BvhBuilder builder);
+                                       BvhPrimBuilder builder);
 
 }  // namespace arbor::accel

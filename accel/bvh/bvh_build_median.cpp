@@ -2,6 +2,7 @@
 #include "accel/bvh/bvh_top_down.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace arbor::accel {
 
@@ -20,9 +21,11 @@ struct MedianSplitter {
 
 }  // namespace
 
-BinaryBvh build_bvh_median(const PrimRefs& refs, const BvhBuildConfig& cfg) {
+BinaryBvh build_bvh_median(BuildPrims&& prims, const BvhBuildConfig& cfg) {
     const MedianSplitter split{std::max<std::uint32_t>({cfg.max_leaf_size, cfg.leaf_floor, 1u})};
-    return detail::build_top_down(refs, cfg, split);
+    return detail::build_top_down(std::move(prims), cfg, split);
 }
+
+BinaryBvh build_bvh_median(const PrimRefs& refs, const BvhBuildConfig& cfg) { return build_bvh_median(make_build_prims(refs), cfg); }
 
 }  // namespace arbor::accel

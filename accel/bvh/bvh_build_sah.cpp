@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <limits>
+#include <utility>
 
 namespace arbor::accel {
 
@@ -300,9 +301,11 @@ struct SahSplitter {
 
 }  // namespace
 
-BinaryBvh build_bvh_sah(const PrimRefs& refs, const BvhBuildConfig& cfg) {
+BinaryBvh build_bvh_sah(BuildPrims&& prims, const BvhBuildConfig& cfg) {
     const SahSplitter split{cfg, std::max<std::uint32_t>(cfg.max_leaf_size, 1), std::clamp<std::uint32_t>(cfg.sah_bins, 2, max_bins)};
-    return detail::build_top_down(refs, cfg, split);
+    return detail::build_top_down(std::move(prims), cfg, split);
 }
+
+BinaryBvh build_bvh_sah(const PrimRefs& refs, const BvhBuildConfig& cfg) { return build_bvh_sah(make_build_prims(refs), cfg); }
 
 }  // namespace arbor::accel

@@ -66,7 +66,7 @@ struct SweepSplitter {
 
 BinaryBvh build_bvh_sah_sweep(const PrimRefs& refs, const BvhBuildConfig& cfg) {
     const SweepSplitter split{cfg, std::max<std::uint32_t>(cfg.max_leaf_size, 1)};
-    return detail::build_top_down(refs, cfg, split);
+    return detail::build_top_down(make_build_prims(refs), cfg, split);
 }
 
 }  // namespace arbor::accel

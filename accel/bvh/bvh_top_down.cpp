@@ -5,19 +5,16 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdlib>
+#include <new>
+#include <stdexcept>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace arbor::accel::detail {
-
-UninitVector<BuildPrim> make_build_prims(const PrimRefs& refs) {
-    UninitVector<BuildPrim> prims;  // every element written below: no zeroing pass
-    resize_prefaulted(prims, refs.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refs.size(), 16384), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-            prims[i] = {{refs.lo_x[i], refs.lo_y[i], refs.lo_z[i]}, refs.prim_ids[i],
-                        {refs.hi_x[i], refs.hi_y[i], refs.hi_z[i]}, 0};
-    });
-    return prims;
-}
 
 SplitResult bounds_of_halves(std::span<const BuildPrim> prims, std::uint32_t begin, std::uint32_t mid, std::uint32_t end) {
     SplitResult s;
@@ -52,6 +49,27 @@ int longest_axis(const Bounds& cbox) {
     return best;
 }
 
+NodeStore::NodeStore(std::size_t max_nodes) : capacity_(max_nodes) {
+    constexpr std::size_t huge = std::size_t(2) << 20;
+    const std::size_t bytes = std::max<std::size_t>(max_nodes, 1) * sizeof(BvhBuildNode);
+    const std::size_t align = bytes >= huge ? huge : alignof(std::max_align_t);
+    void* p = std::aligned_alloc(align, (bytes + align - 1) / align * align);  // reserved: pages mapped when written
+    if (!p) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (bytes >= huge) madvise(p, bytes, MADV_HUGEPAGE);  // advice only: failure changes nothing
+#endif
+    data_.reset(static_cast<BvhBuildNode*>(p));
+}
+
+void NodeStore::Free::operator()(BvhBuildNode* p) const { std::free(p); }
+
+std::span<const BvhBuildNode> NodeStore::keep(std::span<const BvhBuildNode> nodes) {
+    const std::size_t at = used_.fetch_add(nodes.size(), std::memory_order_relaxed);
+    if (at + nodes.size() > capacity_) throw std::logic_error("NodeStore: more nodes than a binary tree over the primitives has");
+    std::copy(nodes.begin(), nodes.end(), data_.get() + at);
+    return {data_.get() + at, nodes.size()};
+}
+
 namespace {
 
 /// Subtrees of at least this many nodes are placed by two parallel tasks.
@@ -80,8 +98,8 @@ void place(const Subtree& s, std::uint32_t slot, std::uint32_t region, BvhBuildN
 }
 
 std::size_t chunk_bytes(const Subtree& s) {
-    if (s.is_chunk()) return s.nodes.capacity() * sizeof(BvhBuildNode);
-    return sizeof(Subtree) + chunk_bytes(*s.child[0]) + chunk_bytes(*s.child[1]);
+    if (s.is_chunk()) return sizeof(Subtree) + s.nodes.size() * sizeof(BvhBuildNode);
+    return sizeof(Subtree) + sizeof(BvhBuildNode) + chunk_bytes(*s.child[0]) + chunk_bytes(*s.child[1]);
 }
 
 }  // namespace

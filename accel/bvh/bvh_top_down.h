@@ -7,7 +7,7 @@
 /// so node order never depends on scheduling.
 #include "accel/bvh/binary_bvh.h"
 #include "accel/bvh/bvh_build_config.h"
-#include "accel/bvh/prim_refs.h"
+#include "accel/bvh/build_prims.h"
 #include "accel/util/prefault.h"
 #include "accel/util/uninit_vector.h"
 
@@ -15,25 +15,17 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace arbor::accel::detail {
 
-/// 32-byte working copy of a PrimRef, partitioned in place by the builders.
-struct alignas(16) BuildPrim {
-    float lo[3];
-    std::uint32_t id;
-    float hi[3];
-    std::uint32_t pad;
-
-    /// The same centroid as PrimRefs (lo/2 + hi/2, bit for bit).
-    float centroid(int axis) const { return lo[axis] * 0.5f + hi[axis] * 0.5f; }
-    Bounds box() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
-};
-static_assert(sizeof(BuildPrim) == 32);
+/// The build primitives (build_prims.h), partitioned in place by the builders.
+using accel::BuildPrim;
 
 /// A range [begin, end) of the build primitives with its box and centroid box.
 struct BuildTask {
@@ -48,8 +40,6 @@ struct SplitResult {
     Bounds left_box, left_cbox, right_box, right_cbox;
 };
 
-/// Copies the refs into BuildPrims (parallel, into an array that is not zeroed first).
-UninitVector<BuildPrim> make_build_prims(const PrimRefs& refs);
 /// Boxes and centroid boxes of [begin, mid) and [mid, end).
 SplitResult bounds_of_halves(std::span<const BuildPrim> prims, std::uint32_t begin, std::uint32_t mid, std::uint32_t end);
 /// Splits at the middle index without reordering (all centroids equal: no order helps).
@@ -59,15 +49,37 @@ SplitResult object_median_split(std::span<BuildPrim> prims, const BuildTask& t, 
 /// Axis of the largest centroid-box extent, or -1 when every extent is zero.
 int longest_axis(const Bounds& cbox);
 
+/// Where the subtrees keep their nodes: one array with room for any binary tree over n primitives
+/// (2n - 1 nodes), reserved but not mapped up front: advised to use huge pages, it is mapped only
+/// where pieces are handed out (a few faults of 2 MiB, where a vector per chunk faulted each 4 KiB
+/// page of the workers' heaps: 4.4M triangles, 6k faults). A chunk, built in a scratch vector, is
+/// copied into the next free piece (an atomic counter: where it lands depends on the schedule,
+/// what assemble() writes from it does not).
+class NodeStore {
+public:
+    explicit NodeStore(std::size_t max_nodes);
+    /// A copy of `nodes` in the store (std::logic_error past max_nodes: no tree needs more).
+    std::span<const BvhBuildNode> keep(std::span<const BvhBuildNode> nodes);
+    std::size_t bytes_used() const { return used_.load(std::memory_order_relaxed) * sizeof(BvhBuildNode); }
+
+private:
+    struct Free {
+        void operator()(BvhBuildNode* p) const;
+    };
+    std::unique_ptr<BvhBuildNode, Free> data_;
+    std::size_t capacity_ = 0;
+    std::atomic<std::size_t> used_{0};
+};
+
 /// The tree of subtrees built by the parallel recursion (see build_top_down).
 struct Subtree {
-    std::vector<BvhBuildNode> nodes;  ///< a chunk: its whole tree, root at 0; a top node: the root only
+    std::span<const BvhBuildNode> nodes;  ///< a chunk: its whole tree, root at 0; a top node: the root only
     std::unique_ptr<Subtree> child[2];
     std::size_t total = 0;  ///< nodes in the whole subtree
     bool is_chunk() const { return !child[0]; }
 };
 /// Places the subtrees into one BinaryBvh node array (parallel, offsets from subtree sizes).
-/// Returns the bytes of the chunk arrays (for the peak-memory estimate).
+/// Returns the bytes of the subtrees' nodes and records (for the peak-memory estimate).
 std::size_t assemble(const Subtree& root, std::vector<BvhBuildNode>& out);
 
 /// Splitter: `std::optional<SplitResult> operator()(std::span<BuildPrim>, const BuildTask&) const`,
@@ -75,22 +87,23 @@ std::size_t assemble(const Subtree& root, std::vector<BvhBuildNode>& out);
 /// range larger than cfg.max_leaf_size, and keep the recursion depth bounded.
 template <class Splitter> class TopDownBuilder {
 public:
-    TopDownBuilder(const PrimRefs& refs, const BvhBuildConfig& cfg, const Splitter& split)
-        : refs_(refs), cfg_(cfg), split_(split), prims_(make_build_prims(refs)) {}
+    TopDownBuilder(BuildPrims&& input, const BvhBuildConfig& cfg, const Splitter& split)
+        : in_(std::move(input)), cfg_(cfg), split_(split), prims_(in_.prims), store_(2 * std::max<std::size_t>(prims_.size(), 1) - 1) {}
 
     BinaryBvh run() {
         BinaryBvh bvh;
-        bvh.dropped_nonfinite = refs_.dropped_nonfinite;
+        bvh.dropped_nonfinite = in_.dropped_nonfinite;
         if (prims_.empty()) return bvh;
-        const BuildTask root{0, std::uint32_t(prims_.size()), 0, refs_.bounds, refs_.centroid_bounds};
+        const BuildTask root{0, std::uint32_t(prims_.size()), 0, in_.bounds, in_.centroid_bounds};
         const std::unique_ptr<Subtree> tree = build(root);
         const std::size_t chunk_bytes = assemble(*tree, bvh.nodes);
         resize_prefaulted(bvh.prim_ids, prims_.size());
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prims_.size(), 65536), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i != r.end(); ++i) bvh.prim_ids[i] = prims_[i].id;
         });
-        bvh.build_peak_bytes = refs_.memory_bytes() + prims_.capacity() * sizeof(BuildPrim) + chunk_bytes +
-                               bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
+        // The input, the chunks and the output (PrimRefs a caller made the input from are the caller's).
+        bvh.build_peak_bytes = in_.memory_bytes() + chunk_bytes + bvh.nodes.capacity() * sizeof(BvhBuildNode) +
+                               bvh.prim_ids.capacity() * sizeof(std::uint32_t);
         return bvh;
     }
 
@@ -98,14 +111,18 @@ private:
     std::unique_ptr<Subtree> build(const BuildTask& t) {
         auto s = std::make_unique<Subtree>();
         if (t.size() < parallel_threshold()) {
-            s->nodes.reserve(2 * std::size_t(t.size()) - 1);  // a binary tree over n leaves' worth of prims
-            s->nodes.push_back({});
-            build_serial(t, 0, s->nodes);
+            // Scratch: freed right after, so the thread's heap hands the same pages to its next chunk.
+            std::vector<BvhBuildNode> nodes;
+            nodes.reserve(2 * std::size_t(t.size()) - 1);  // a binary tree over n leaves' worth of prims
+            nodes.push_back({});
+            build_serial(t, 0, nodes);
+            s->nodes = store_.keep(nodes);
             s->total = s->nodes.size();
             return s;
         }
         const std::optional<SplitResult> cut = split_(prims_, t);
-        s->nodes.push_back({t.box, cut ? 0u : t.begin, cut ? 0u : t.size()});
+        const BvhBuildNode root{t.box, cut ? 0u : t.begin, cut ? 0u : t.size()};
+        s->nodes = store_.keep({&root, 1});
         if (!cut) {
             s->total = 1;
             return s;
@@ -135,15 +152,16 @@ private:
 
     std::uint32_t parallel_threshold() const { return std::max<std::uint32_t>(cfg_.parallel_threshold, 2); }
 
-    const PrimRefs& refs_;
+    BuildPrims in_;
     const BvhBuildConfig& cfg_;
     const Splitter& split_;
-    UninitVector<BuildPrim> prims_;
+    UninitVector<BuildPrim>& prims_;
+    NodeStore store_;
 };
 
-/// Runs the frame with `split` over `refs`.
-template <class Splitter> BinaryBvh build_top_down(const PrimRefs& refs, const BvhBuildConfig& cfg, const Splitter& split) {
-    return TopDownBuilder<Splitter>(refs, cfg, split).run();
+/// Runs the frame with `split` over `input` (consumed: partitioned in place).
+template <class Splitter> BinaryBvh build_top_down(BuildPrims&& input, const BvhBuildConfig& cfg, const Splitter& split) {
+    return TopDownBuilder<Splitter>(std::move(input), cfg, split).run();
 }
 
 }  // namespace arbor::accel::detail

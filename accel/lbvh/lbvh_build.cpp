@@ -84,12 +84,21 @@ std::size_t refine_runs(std::span<std::uint64_t> keys, std::span<const std::uint
 
 }  // namespace
 
-BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg) { return build_lbvh(refs, cfg, LbvhOptions{}); }
+BinaryBvh build_lbvh(BuildPrims&& prims, const BvhBuildConfig& cfg) {
+    const BuildPrims input = std::move(prims);
+    return build_lbvh(input, cfg, LbvhOptions{});
+}
+
+BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg) { return build_lbvh(make_build_prims(refs), cfg); }
 
 BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings) {
+    return build_lbvh(make_build_prims(refs), cfg, opt, timings);
+}
+
+BinaryBvh build_lbvh(const BuildPrims& input, const BvhBuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings) {
     BinaryBvh bvh;
-    bvh.dropped_nonfinite = refs.dropped_nonfinite;
-    const std::size_t n = refs.size();
+    bvh.dropped_nonfinite = input.dropped_nonfinite;
+    const std::size_t n = input.size();
     if (n == 0) return bvh;
     if (n >= std::size_t(1) << 31) throw std::invalid_argument("lbvh: more than 2^31 - 1 triangles");
     LbvhTimings local;
@@ -102,25 +111,25 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg, const Lbvh
     Timer step;
     const bool packed = opt.codes != MortonSort::bits63;
     const bool refined = opt.codes == MortonSort::bits63_refined;
-    const MortonQuantizer quantizer(refs.centroid_bounds, opt.codes == MortonSort::bits30 ? 10 : 21);
+    const MortonQuantizer quantizer(input.centroid_bounds, opt.codes == MortonSort::bits30 ? 10 : 21);
     // Scratch is not zeroed: every element is written below.
     ScratchArray<std::uint64_t> keys(n), fine(refined ? n : 0);
     ScratchArray<std::uint32_t> values(packed ? 0 : n);
     if (opt.codes == MortonSort::bits30) {
         parallel_range(n, [&](std::size_t i) {
-            keys[i] = (std::uint64_t(quantizer.code30(refs.centroid(i))) << 32) | std::uint64_t(i);
+            keys[i] = (std::uint64_t(quantizer.code30(input.prims[i].centroid())) << 32) | std::uint64_t(i);
         });
     } else if (refined) {
         // The top 30 bits of a 63-bit code are exactly the 30-bit code (both quantizations scale
         // by powers of two of the same factor), so the prefix order is the 30-bit order.
         parallel_range(n, [&](std::size_t i) {
-            const std::uint64_t code = quantizer.code63(refs.centroid(i));
+            const std::uint64_t code = quantizer.code63(input.prims[i].centroid());
             fine[i] = code;
             keys[i] = ((code >> 33) << 32) | std::uint64_t(i);
         });
     } else {
         parallel_range(n, [&](std::size_t i) {
-            keys[i] = quantizer.code63(refs.centroid(i));
+            keys[i] = quantizer.code63(input.prims[i].centroid());
             values[i] = std::uint32_t(i);
         });
     }
@@ -144,7 +153,7 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg, const Lbvh
     in.code_shift = packed ? 32 : 0;
     in.sorted_refs = values.span();
     in.fine_codes = fine.span();
-    in.prims = &refs;
+    in.prims = std::span<const BuildPrim>(input.prims.data(), input.size());
     in.max_leaf_size = max_leaf;
     in.parallel_threshold = cfg.parallel_threshold;
     in.sah_collapse = opt.sah_collapse;
@@ -159,7 +168,7 @@ BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg, const Lbvh
     const std::size_t sort_peak = key_bytes + sort_bytes;
     const std::size_t tree_peak = key_bytes + tree.temp_bytes + bvh.prim_ids.size() * sizeof(std::uint32_t) +
                                   bvh.nodes.size() * sizeof(BvhBuildNode);
-    bvh.build_peak_bytes = refs.memory_bytes() + std::max(sort_peak, tree_peak);
+    bvh.build_peak_bytes = input.memory_bytes() + std::max(sort_peak, tree_peak);
     return bvh;
 }
 

@@ -4,6 +4,7 @@
 /// Lauterbach et al. 2009 "Fast BVH Construction on GPUs"; Karras 2012 for the hierarchy.
 #include "accel/bvh/binary_bvh.h"
 #include "accel/bvh/bvh_build_config.h"
+#include "accel/bvh/build_prims.h"
 #include "accel/bvh/prim_refs.h"
 #include "accel/lbvh/radix_tree.h"
 
@@ -36,9 +37,13 @@ struct LbvhTimings {
     double codes_ms = 0, sort_ms = 0, hierarchy_ms = 0;  ///< sort_ms includes the refinement
 };
 
-/// Builds the LBVH over `refs` with cfg.max_leaf_size (leaves hold at most that many primitives)
-/// and cfg.parallel_threshold. Deterministic: the same tree for any thread count. All centroids
-/// equal (identical codes) splits on the sorted position, so the depth stays within 64 + log2(n).
+/// Builds the LBVH over `prims` with cfg.max_leaf_size (leaves hold at most that many primitives)
+/// and cfg.parallel_threshold. Deterministic: the same tree for any thread count, and from
+/// BuildPrims made from the triangles as from PrimRefs made from them. All centroids equal
+/// (identical codes) splits on the sorted position, so the depth stays within 64 + log2(n).
+BinaryBvh build_lbvh(const BuildPrims& prims, const BvhBuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings = nullptr);
+/// The default options; the input is freed on return (the signature of the other builders).
+BinaryBvh build_lbvh(BuildPrims&& prims, const BvhBuildConfig& cfg);
 BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg);
 BinaryBvh build_lbvh(const PrimRefs& refs, const BvhBuildConfig& cfg, const LbvhOptions& opt, LbvhTimings* timings = nullptr);
 

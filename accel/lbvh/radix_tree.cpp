@@ -1,7 +1,7 @@
 #include "accel/lbvh/radix_tree.h"
 
+#include "accel/bvh/bvh_top_down.h"
 #include "accel/util/prefault.h"
-
 #include "accel/util/scratch_array.h"
 
 #include <tbb/blocked_range.h>
@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <memory>
+#include <optional>
 #include <stdexcept>
 
 namespace arbor::accel {
@@ -65,8 +67,8 @@ private:
 class TreeBuilder {
 public:
     TreeBuilder(const RadixTreeInput& in, std::vector<std::uint32_t>& prim_ids)
-        : in_(in), prims_(*in.prims), prim_ids_(prim_ids), n_(std::uint32_t(in.keys.size())),
-          m_(std::max<std::uint32_t>(in.max_leaf_size, 1)), delta_(in), inner_(n_ - 1) {}
+        : in_(in), prims_(in.prims), prim_ids_(prim_ids), n_(std::uint32_t(in.keys.size())),
+          m_(std::max<std::uint32_t>(in.max_leaf_size, 1)), delta_(in) {}
 
     std::size_t temp_bytes() const {
         return inner_.bytes() + first_.bytes() + last_.bytes() + inner_parent_.bytes() + leaf_parent_.bytes() + visits_.bytes();
@@ -76,6 +78,7 @@ public:
     /// exponential then a binary search, and its split gamma by a binary search. Then bounds
     /// bottom-up, with one visit counter per node.
     void karras() {
+        inner_ = ScratchArray<InnerNode>(n_ - 1);
         first_ = ScratchArray<std::uint32_t>(n_ - 1);
         last_ = ScratchArray<std::uint32_t>(n_ - 1);
         inner_parent_ = ScratchArray<std::uint32_t>(n_ - 1);
@@ -91,7 +94,7 @@ public:
         // whoever arrives second, and acq_rel makes the first arrival's writes visible.
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n_, 4096), [&](const tbb::blocked_range<std::uint32_t>& range) {
             for (std::uint32_t p = range.begin(); p != range.end(); ++p) {
-                prim_ids_[p] = prims_.prim_ids[ref(p)];
+                prim_ids_[p] = prims_[ref(p)].id;
                 std::uint32_t node = leaf_parent_[p];
                 while (std::atomic_ref<std::uint32_t>(visits_[node]).fetch_add(1, std::memory_order_acq_rel) == 1) {
                     const std::uint32_t first = first_[node], last = last_[node], g = inner_[node].split;
@@ -104,11 +107,21 @@ public:
         });
     }
 
-    /// Top-down: root covers [0, n - 1]; recursion in parallel above the threshold. Stops at
-    /// subtrees of at most max_leaf_size primitives.
-    void top_down() { top_down_any(0, 0, n_ - 1); }
+    /// Top-down: the root covers [0, n - 1]; stops at subtrees of at most max_leaf_size
+    /// primitives. The tree is written in the canonical layout straight away, in the frame of the
+    /// top-down builders (bvh_top_down.h): ranges above the parallel threshold are top nodes whose
+    /// halves are built as parallel tasks, smaller ones are built serially into their own node
+    /// arrays, and detail::assemble places them at offsets from subtree sizes. The same nodes as
+    /// emit() after karras(), without its n - 1 internal nodes of 36 bytes (a fresh array, touched
+    /// on every page although a tree with leaves of up to 16 primitives uses one node in 8).
+    /// Returns the bytes of the node arrays.
+    std::size_t top_down(std::vector<BvhBuildNode>& nodes) {
+        store_.emplace(2 * std::size_t(n_) - 1);  // every node of the radix tree at most once
+        const Part root = top_part(0, n_ - 1);
+        return detail::assemble(*root.tree, nodes);
+    }
 
-    /// Writes the collapsed tree in the canonical layout.
+    /// Writes the collapsed tree in the canonical layout (after karras()).
     std::vector<BvhBuildNode> emit() const {
         std::vector<BvhBuildNode> nodes;
         resize_prefaulted(nodes, inner_[0].count);  // every node is written by emit_node
@@ -163,31 +176,39 @@ private:
     /// A finished child: one primitive (read from the prim refs) or internal node idx.
     Subtree child(std::uint32_t idx, std::uint32_t first, std::uint32_t last) const {
         if (first == last) {
-            const Bounds box = prims_.box(ref(first));
+            const Bounds box = prims_[ref(first)].box();
             return {box, 1, in_.sah_collapse ? area(box) * in_.intersection_cost : 0.0f};
         }
         return {{inner_[idx].lo, inner_[idx].hi}, inner_[idx].count, inner_[idx].cost};
     }
 
-    /// Records internal node idx from its two children; a subtree of at most m_ primitives
-    /// becomes one leaf.
-    Subtree store(std::uint32_t idx, std::uint32_t first, std::uint32_t last, std::uint32_t g, const Subtree& l,
-                  const Subtree& r) {
-        InnerNode& node = inner_[idx];
+    /// The subtree over [first, last] from its two children: its box, its output node count (1
+    /// when a subtree of at most m_ primitives becomes one leaf) and its SAH cost.
+    Subtree join(std::uint32_t first, std::uint32_t last, const Subtree& l, const Subtree& r) const {
         Bounds box = l.box;
         box.grow(r.box);
-        node.lo = box.lo, node.hi = box.hi;
-        node.split = g;
         const std::uint32_t n = size(first, last);
-        node.count = n <= m_ ? 1u : 1u + l.count + r.count;
-        node.cost = 0.0f;
+        std::uint32_t count = n <= m_ ? 1u : 1u + l.count + r.count;
+        float cost = 0.0f;
         if (in_.sah_collapse) {
             const float a = area(box), split_cost = a * in_.traversal_cost + l.cost + r.cost;
             const float leaf_cost = a * float(n) * in_.intersection_cost;
-            node.count = n <= m_ && leaf_cost <= split_cost ? 1u : 1u + l.count + r.count;
-            node.cost = node.count == 1 ? leaf_cost : split_cost;
+            count = n <= m_ && leaf_cost <= split_cost ? 1u : 1u + l.count + r.count;
+            cost = count == 1 ? leaf_cost : split_cost;
         }
-        return {box, node.count, node.cost};
+        return {box, count, cost};
+    }
+
+    /// Records internal node idx from its two children (join).
+    Subtree store(std::uint32_t idx, std::uint32_t first, std::uint32_t last, std::uint32_t g, const Subtree& l,
+                  const Subtree& r) {
+        const Subtree s = join(first, last, l, r);
+        InnerNode& node = inner_[idx];
+        node.lo = s.box.lo, node.hi = s.box.hi;
+        node.split = g;
+        node.count = s.count;
+        node.cost = s.cost;
+        return s;
     }
 
     /// A range that is a leaf for sure: at most m_ primitives (without the SAH collapse), or one.
@@ -197,37 +218,73 @@ private:
     }
 
     /// A leaf's box and triangle ids are all it needs.
-    Subtree leaf(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
+    Subtree leaf(std::uint32_t first, std::uint32_t last) {
         Bounds box;
         for (std::uint32_t p = first; p <= last; ++p) {
-            const std::uint32_t r = ref(p);
-            box.grow(prims_.box(r));
-            prim_ids_[p] = prims_.prim_ids[r];
-        }
-        if (first != last) {  // a single primitive has no internal node
-            InnerNode& node = inner_[idx];
-            node.lo = box.lo, node.hi = box.hi;
-            node.count = 1;
+            const BuildPrim& prim = prims_[ref(p)];
+            box.grow(prim.box());
+            prim_ids_[p] = prim.id;
         }
         return {box, 1, in_.sah_collapse ? area(box) * in_.intersection_cost : 0.0f};
     }
 
-    Subtree top_down_any(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
-        return leaf_range(first, last) ? leaf(idx, first, last) : top_down_node(idx, first, last);
+    /// A subtree of the top-down build: its tree for detail::assemble and its box, count and cost.
+    struct Part {
+        std::unique_ptr<detail::Subtree> tree;
+        Subtree sub;
+    };
+
+    /// [first, last] above the parallel threshold: a top node with its halves built in parallel;
+    /// else a chunk built serially.
+    Part top_part(std::uint32_t first, std::uint32_t last) {
+        Part part;
+        part.tree = std::make_unique<detail::Subtree>();
+        detail::Subtree& t = *part.tree;
+        if (leaf_range(first, last) || size(first, last) <= in_.parallel_threshold) {
+            std::vector<BvhBuildNode> nodes(1);  // scratch (the thread's heap reuses its pages for the next chunk)
+            part.sub = chunk_node(nodes, 0, first, last);
+            t.nodes = store_->keep(nodes);
+            t.total = t.nodes.size();
+            return part;
+        }
+        const std::uint32_t g = find_split(first, last);
+        Part l, r;
+        tbb::parallel_invoke([&] { l = top_part(first, g); }, [&] { r = top_part(g + 1, last); });
+        part.sub = join(first, last, l.sub, r.sub);
+        if (part.sub.count == 1) {  // collapsed (sah_collapse): a leaf after all
+            const BvhBuildNode leaf_node{part.sub.box, first, size(first, last)};
+            t.nodes = store_->keep({&leaf_node, 1});
+            t.total = 1;
+            return part;
+        }
+        const BvhBuildNode node{part.sub.box, 0, 0};
+        t.nodes = store_->keep({&node, 1});
+        t.child[0] = std::move(l.tree);
+        t.child[1] = std::move(r.tree);
+        t.total = 1 + t.child[0]->total + t.child[1]->total;
+        return part;
     }
 
-    /// Internal node idx over [first, last] (not a leaf range); leaf children are made here, so
-    /// only internal nodes cost a call.
-    Subtree top_down_node(std::uint32_t idx, std::uint32_t first, std::uint32_t last) {
-        const std::uint32_t g = find_split(first, last);
-        Subtree l, r;
-        if (size(first, last) > in_.parallel_threshold) {
-            tbb::parallel_invoke([&] { l = top_down_any(g, first, g); }, [&] { r = top_down_any(g + 1, g + 1, last); });
-        } else {
-            l = top_down_any(g, first, g);
-            r = top_down_any(g + 1, g + 1, last);
+    /// Node `at` of a chunk over [first, last], its descendants appended (children side by side,
+    /// each subtree contiguous after them, so a collapsed subtree is cut off the end).
+    Subtree chunk_node(std::vector<BvhBuildNode>& nodes, std::uint32_t at, std::uint32_t first, std::uint32_t last) {
+        if (leaf_range(first, last)) {
+            const Subtree s = leaf(first, last);
+            nodes[at] = {s.box, first, size(first, last)};
+            return s;
         }
-        return store(idx, first, last, g, l, r);
+        const std::uint32_t g = find_split(first, last);
+        const auto kids = std::uint32_t(nodes.size());
+        nodes.resize(kids + 2);
+        const Subtree l = chunk_node(nodes, kids, first, g), r = chunk_node(nodes, kids + 1, g + 1, last);
+        const Subtree s = join(first, last, l, r);
+        if (s.count == 1) {
+            nodes.resize(kids);
+            nodes[at] = {s.box, first, size(first, last)};
+        } else {
+            nodes[at] = {s.box, kids, 0};
+        }
+        return s;
     }
 
     /// Writes node idx (range [first, last]) at `out`; its descendants go from `desc` on.
@@ -252,11 +309,12 @@ private:
     }
 
     const RadixTreeInput& in_;
-    const PrimRefs& prims_;
+    std::span<const BuildPrim> prims_;
     std::vector<std::uint32_t>& prim_ids_;
     std::uint32_t n_, m_;
     Delta delta_;
-    ScratchArray<InnerNode> inner_;
+    ScratchArray<InnerNode> inner_;  ///< Karras only
+    std::optional<detail::NodeStore> store_;  ///< top-down only
     // Karras only: each internal node's range, parent and visit counter, each primitive's parent.
     ScratchArray<std::uint32_t> first_, last_, inner_parent_, leaf_parent_, visits_;
 };
@@ -264,10 +322,10 @@ private:
 }  // namespace
 
 RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod method) {
-    if (!in.prims) throw std::invalid_argument("build_radix_tree: no prim refs");
+    if (in.prims.size() < in.keys.size()) throw std::invalid_argument("build_radix_tree: fewer prims than keys");
     if (!in.sorted_refs.empty() && in.sorted_refs.size() != in.keys.size())
         throw std::invalid_argument("build_radix_tree: sorted_refs and keys differ in size");
-    if (!in.fine_codes.empty() && (!in.sorted_refs.empty() || in.code_shift != 32 || in.fine_codes.size() != in.prims->size()))
+    if (!in.fine_codes.empty() && (!in.sorted_refs.empty() || in.code_shift != 32 || in.fine_codes.size() != in.prims.size()))
         throw std::invalid_argument("build_radix_tree: fine codes need the references in the keys, one per reference");
     if (in.keys.size() >= std::size_t(1) << 31) throw std::invalid_argument("build_radix_tree: too many primitives");
     RadixTreeResult result;
@@ -276,18 +334,18 @@ RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod metho
     resize_prefaulted(result.prim_ids, n);
     if (n == 1) {
         const std::uint32_t r = in.sorted_refs.empty() ? std::uint32_t(in.keys[0]) : in.sorted_refs[0];
-        result.prim_ids[0] = in.prims->prim_ids[r];
-        result.nodes.push_back({in.prims->box(r), 0, 1});
+        result.prim_ids[0] = in.prims[r].id;
+        result.nodes.push_back({in.prims[r].box(), 0, 1});
         return result;
     }
     TreeBuilder builder(in, result.prim_ids);
     if (method == RadixTreeMethod::karras) {
         builder.karras();
+        result.temp_bytes = builder.temp_bytes();
+        result.nodes = builder.emit();
     } else {
-        builder.top_down();
+        result.temp_bytes = builder.top_down(result.nodes);
     }
-    result.temp_bytes = builder.temp_bytes();
-    result.nodes = builder.emit();
     return result;
 }
 

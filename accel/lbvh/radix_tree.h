@@ -10,7 +10,7 @@
 /// the root, and an internal node's children are its split position gamma (left) and gamma + 1
 /// (right). Both methods below build the same tree, so their outputs are bit-identical.
 #include "accel/bvh/binary_bvh.h"
-#include "accel/bvh/prim_refs.h"
+#include "accel/bvh/build_prims.h"
 
 #include <cstdint>
 #include <span>
@@ -42,8 +42,9 @@ struct RadixTreeInput {
     /// a run of equal codes that is sorted by (fine code, position): there the fine codes decide
     /// before the position. Unmarked runs are ordered by position only.
     std::span<const std::uint64_t> fine_codes;
-    /// Boxes and triangle ids of the references (read once per primitive, at the leaves).
-    const PrimRefs* prims = nullptr;
+    /// Boxes and triangle ids of the references (read once per primitive, at the leaves: one
+    /// 32-byte record each).
+    std::span<const BuildPrim> prims;
     std::uint32_t max_leaf_size = 4;        ///< collapse subtrees of at most this many primitives (>= 1)
     std::uint32_t parallel_threshold = 1024; ///< subtrees smaller than this run serially
     /// false: every subtree of at most max_leaf_size primitives becomes a leaf. true: only when the
@@ -63,7 +64,7 @@ struct RadixTreeResult {
 };
 
 /// Builds the collapsed tree over keys.size() primitives (empty input: no nodes; one primitive:
-/// one leaf). Requires prims, and sorted_refs empty or of keys.size() (std::invalid_argument).
+/// one leaf). Requires prims (one per reference), and sorted_refs empty or of keys.size() (std::invalid_argument).
 /// Deterministic: the result depends only on the input.
 RadixTreeResult build_radix_tree(const RadixTreeInput& in, RadixTreeMethod method);
 

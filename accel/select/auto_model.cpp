@@ -86,6 +86,10 @@ AutoModel AutoModel::parse(std::string_view text) {
             read_features(ls, m.build_features_);
         } else if (key == "margin") {
             if (!(ls >> m.margin_) || !(m.margin_ >= 0.0)) bad_line(number, "margin must be a number >= 0");
+        } else if (key == "prefer") {
+            m.preferred_ = read_kind(ls);
+            if (!(ls >> m.prefer_share_) || !(m.prefer_share_ >= 0.0 && m.prefer_share_ < 1.0))
+                bad_line(number, "expected 'prefer STRUCTURE SHARE' with 0 <= SHARE < 1");
         } else if (key == "clamp") {
             Clamp c;
             if (!(ls >> c.feature >> c.lo >> c.hi) || !(c.lo <= c.hi)) bad_line(number, "expected 'clamp FEATURE LO HI'");

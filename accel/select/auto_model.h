@@ -44,6 +44,12 @@ public:
     /// How far (as a fraction of the smaller) two predicted totals must be apart for the model to
     /// tell them apart: a quantile of the fit's errors on ratios between configurations.
     double margin() const { return margin_; }
+    /// The structure whose best configuration the model's decision takes over the predicted best
+    /// when it is predicted within prefer_share() of it (the file's `prefer STRUCTURE SHARE` line;
+    /// share 0, or no line: none). Fitted like the margin: the share that does best leaving each
+    /// scene out (perf/model/fit_auto_model.py).
+    AccelKind preferred() const { return preferred_; }
+    double prefer_share() const { return prefer_share_; }
     /// One line: where the model came from (the file's `source` line).
     const std::string& source() const { return source_; }
 
@@ -72,6 +78,8 @@ private:
     std::vector<Trace> trace_;
     std::vector<Build> build_;
     double margin_ = 0.25;
+    AccelKind preferred_{};
+    double prefer_share_ = 0.0;
     std::string source_;
 };
 

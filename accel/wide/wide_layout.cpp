@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <stdexcept>
 
 namespace arbor::accel {
 
@@ -52,12 +53,12 @@ public:
         node_cost_ = cfg.node_cost;
         block_cost_ = cfg.block_cost;
         const std::size_t n = bvh.nodes.size();
-        sub_tris_.resize(n);
-        slots_.resize(n);
+        resize_prefaulted(sub_tris_, n);  // (written in parallel: mapped first, on huge pages where big)
+        resize_prefaulted(slots_, n);
         if (n != 0) count(0);
         // Row i of the cost and choice tables holds slots 1..slots_[i] (a subtree cannot fill more
         // slots than it has binary leaves): rows back to back, most of them far shorter than N.
-        row_.resize(n + 1);
+        resize_prefaulted(row_, n + 1);
         const std::size_t total = tbb::parallel_scan(
             tbb::blocked_range<std::size_t>(0, n, 65536), std::size_t(0),
             [&](const tbb::blocked_range<std::size_t>& r, std::size_t at, bool final) {
@@ -80,7 +81,14 @@ public:
         Kids<N> kids;
         if (leaf_[0]) kids.push_back({0, 0, sub_tris_[0], true});
         else collect(0, std::uint32_t(N), kids);
+        // A dry run first, so that the node and job arrays are allocated once at their size (no
+        // regrowth copies; no page fault per 4 KiB in the serial walk below).
+        std::size_t nodes = 0, leaves = 0;
+        tally(kids, nodes, leaves);
+        resize_prefaulted(out_.nodes, nodes);
+        resize_prefaulted(jobs_, leaves);
         build_node(kids, 1);
+        if (next_node_ != nodes || next_job_ != leaves) throw std::logic_error("wide layout: the dry run and the build disagree");
         resize_prefaulted(out_.blocks, next_block_);
         out_.leaves = jobs_.size();
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -185,10 +193,26 @@ private:
         return kids;
     }
 
-    /// Appends a node for `kids` (and, depth first, its descendants); returns its index.
+    /// The nodes and leaves build_node(kids) writes: the same walk, nothing written.
+    void tally(const Kids<N>& kids, std::size_t& nodes, std::size_t& leaves) const {
+        ++nodes;
+        for (std::size_t c = 0; c < kids.size; ++c) {
+            const Kid& k = kids.kid[c];
+            if (k.whole && !leaf_[k.bin]) {
+                Kids<N> sub;
+                collect(k.bin, std::uint32_t(N), sub);
+                tally(sub, nodes, leaves);
+            } else if (k.count > max_leaf_) {
+                tally(chunk(k), nodes, leaves);
+            } else {
+                ++leaves;
+            }
+        }
+    }
+
+    /// Writes the next node for `kids` (and, depth first, its descendants); returns its index.
     std::uint32_t build_node(const Kids<N>& kids, std::uint32_t depth) {
-        const auto index = std::uint32_t(out_.nodes.size());
-        out_.nodes.emplace_back();
+        const auto index = std::uint32_t(next_node_++);
         out_.depth = std::max(out_.depth, depth);
         {
             WideNode<N>& n = out_.nodes[index];
@@ -209,10 +233,10 @@ private:
             } else {
                 child = next_block_;
                 count = k.count;
-                jobs_.push_back({k.bin, k.offset, k.count, next_block_});
+                jobs_[next_job_++] = {k.bin, k.offset, k.count, next_block_};
                 next_block_ += wide_blocks<N>(k.count);
             }
-            WideNode<N>& n = out_.nodes[index];  // (the vector may have grown)
+            WideNode<N>& n = out_.nodes[index];
             const Bounds& box = bvh_.nodes[k.bin].box;
             n.boxes.set(c, box.lo, box.hi);
             n.child[c] = child;
@@ -268,7 +292,8 @@ private:
     UninitVector<std::size_t> row_;         ///< first entry of each node's row in cost_ / choice_
     ScratchArray<float> cost_;
     ScratchArray<std::uint8_t> choice_, leaf_;
-    std::vector<LeafJob> jobs_;
+    UninitVector<LeafJob> jobs_;  ///< sized by the dry run, every entry written by build_node
+    std::size_t next_node_ = 0, next_job_ = 0;
     std::uint32_t next_block_ = 0;
 };
 

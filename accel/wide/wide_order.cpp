@@ -1,12 +1,14 @@
 #include "accel/wide/wide_order.h"
 
+#include "accel/util/prefault.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 namespace arbor::accel {
 
 template <std::size_t N> void make_octant_orders(WideLayout<N>& layout) {
-    layout.orders.resize(layout.nodes.size() * 8 * N);
+    resize_prefaulted(layout.orders, layout.nodes.size() * 8 * N);  // every entry written below
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layout.nodes.size(), 256), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const WideNode<N>& n = layout.nodes[i];
