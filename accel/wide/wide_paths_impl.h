@@ -10,6 +10,7 @@
 #include "accel/wide/wide_packet.h"
 #include "accel/wide/wide_paths.h"
 #include "accel/wide/wide_queries.h"
+#include "accel/wide/wide_root.h"
 #include "accel/wide/wide_traverse.h"
 #include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
@@ -65,6 +66,24 @@ public:
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
     template <bool AnyHit>
     Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStack& stack) const {
+        return trace_walk<AnyHit>(r, tfar, [&](auto plain, auto& leaf) {
+            traverse_wide<AnyHit, decltype(plain)::value>(layout_, r, tfar, stack, child, count, leaf);
+        });
+    }
+
+    /// Ray `r` (traceable, far distance `tfar`) from the root, whose test test_root (wide_root.h)
+    /// has done: `root_bits`, `root_t` as it stored them for this ray.
+    template <bool AnyHit>
+    Hit trace_root(simd::WideRay<T>& r, float tfar, std::uint32_t root_bits, const T& root_t, WideStack& stack) const {
+        return trace_walk<AnyHit>(r, tfar, [&](auto plain, auto& leaf) {
+            traverse_wide_root<AnyHit, decltype(plain)::value>(layout_, r, tfar, stack, root_bits, root_t, leaf);
+        });
+    }
+
+private:
+    /// The hit record and leaf test of one ray's walk; `walk(plain, leaf)` walks with the box form
+    /// of WideRay::plain (std::true_type or std::false_type) and this leaf test.
+    template <bool AnyHit, class Walk> Hit trace_walk(simd::WideRay<T>& r, float& tfar, Walk&& walk) const {
         HitRecord<AnyHit> best;
         const WideBlock<N>* blocks = layout_.blocks.data();
         auto leaf = [&](std::uint32_t first, std::uint32_t n) {
@@ -88,12 +107,11 @@ public:
             }
             return found;
         };
-        if (r.plain) traverse_wide<AnyHit, true>(layout_, r, tfar, stack, child, count, leaf);
-        else traverse_wide<AnyHit, false>(layout_, r, tfar, stack, child, count, leaf);
+        if (r.plain) walk(std::true_type{}, leaf);
+        else walk(std::false_type{}, leaf);
         return best.hit;
     }
 
-private:
     void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
              TraceCounters* counters) const override {
         if (counters || path == TracePath::scalar) return run_scalar(rays, hits, query, counters);
@@ -114,7 +132,8 @@ private:
         return octant;
     }
 
-    /// The rays' set-up in groups (simd/wide_ray_setup.h), then each ray's walk.
+    /// The rays' set-up in groups (simd/wide_ray_setup.h), the group's root tests (wide_root.h),
+    /// then each ray's walk on from its root test.
     template <bool AnyHit> void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
         if (layout_.empty()) {
             std::fill(hits.begin(), hits.end(), Hit{});
@@ -122,13 +141,15 @@ private:
         }
         WideStack stack(layout_.stack_size());
         simd::WideRaySetup<simd::SetupLane> setup;
+        RootTests<N, simd::WideRaySetup<simd::SetupLane>::size> root;
         simd::WideRay<T> r;
         for (std::size_t base = 0; base < rays.size(); base += setup.size) {
             const auto in = rays.subspan(base, std::min(setup.size, rays.size() - base));
             simd::wide_ray_setup(in, setup);
+            test_root(layout_, setup, in.size(), root);
             for (std::size_t i = 0; i < in.size(); ++i) {
                 setup.get(i, r);
-                hits[base + i] = r.traceable ? trace_from<AnyHit>(r, in[i].tfar, 0, 0, stack) : Hit{};
+                hits[base + i] = r.traceable ? trace_root<AnyHit>(r, in[i].tfar, root.bits[i], root.entry(i), stack) : Hit{};
             }
         }
     }

@@ -33,16 +33,14 @@ template <std::size_t N> constexpr bool wide_width_available() {
     else return false;
 }
 
-/// Walks the subtree (child, count) of `layout` (the root is (0, 0)) for ray `r`. `tfar` is the
-/// scalar copy of the ray's far distance: `leaf(first_block, count)` tests a leaf, and when it finds
-/// a hit it lowers both `tfar` and r.tfar and returns true; with AnyHit that ends the walk. A node's
-/// hit children go on the stack in the node's order for the ray's octant (wide_order.h), the
-/// nearest on top, which is popped next; a popped entry farther than tfar is skipped. `stack` holds
-/// layout.stack_size() entries. The caller checks that the ray is traceable (r.traceable) and the
-/// layout not empty.
-template <bool AnyHit, bool Plain = false, std::size_t N, class LeafFn>
-inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
-                          WideStack& stack, std::uint32_t child, std::uint32_t count, LeafFn&& leaf) {
+namespace detail {
+/// The walk of traverse_wide and traverse_wide_root. Root: the walk starts with the root's hit
+/// children `root_bits`, entry distances `root_t` (the root test done by the caller, wide_root.h),
+/// pushed as a node's hit children are and the nearest popped; otherwise at (child, count).
+template <bool AnyHit, bool Plain, bool Root, std::size_t N, class LeafFn>
+ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar, WideStack& stack,
+                            std::uint32_t child, std::uint32_t count, std::uint32_t root_bits,
+                            const WideLane<N>& root_t, LeafFn&& leaf) {
     using T = WideLane<N>;
     const WideNode<N>* nodes = layout.nodes.data();
     const WideBlock<N>* blocks = layout.blocks.data();
@@ -51,6 +49,22 @@ inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>
     const std::uint32_t* stack_count = stack.count();
     const float* stack_t = stack.t();
     std::size_t sp = 0;
+    // Pops the nearest deferred child that can still hold a hit; false when there is none.
+    const auto pop = [&]() {
+        for (;;) {
+            if (sp == 0) return false;
+            --sp;
+            if (stack_t[sp] <= tfar) {
+                child = stack_child[sp], count = stack_count[sp];
+                return true;
+            }
+        }
+    };
+    if constexpr (Root) {
+        // (No prefetch: every ray of the batch tests the root, so its children are in cache.)
+        sp = push_hits<N>(root_bits, orders, nodes[0], root_t, stack, 0);
+        if (!pop()) return;
+    }
     for (;;) {
         if (count == 0) {
             const WideNode<N>& n = nodes[child];
@@ -77,16 +91,32 @@ inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>
         } else if (leaf(child, count) && AnyHit) {
             return;
         }
-        // Pop the nearest deferred child that can still hold a hit.
-        for (;;) {
-            if (sp == 0) return;
-            --sp;
-            if (stack_t[sp] <= tfar) {
-                child = stack_child[sp], count = stack_count[sp];
-                break;
-            }
-        }
+        if (!pop()) return;
     }
+}
+}  // namespace detail
+
+/// Walks the subtree (child, count) of `layout` (the root is (0, 0)) for ray `r`. `tfar` is the
+/// scalar copy of the ray's far distance: `leaf(first_block, count)` tests a leaf, and when it finds
+/// a hit it lowers both `tfar` and r.tfar and returns true; with AnyHit that ends the walk. A node's
+/// hit children go on the stack in the node's order for the ray's octant (wide_order.h), the
+/// nearest on top, which is popped next; a popped entry farther than tfar is skipped. `stack` holds
+/// layout.stack_size() entries. The caller checks that the ray is traceable (r.traceable) and the
+/// layout not empty.
+template <bool AnyHit, bool Plain = false, std::size_t N, class LeafFn>
+inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
+                          WideStack& stack, std::uint32_t child, std::uint32_t count, LeafFn&& leaf) {
+    detail::walk_wide<AnyHit, Plain, false>(layout, r, tfar, stack, child, count, 0, WideLane<N>(0.0f), leaf);
+}
+
+/// The same walk from the root, with the root's test already done: `root_bits` and `root_t` are
+/// what the node test of the root gave for this ray (hit children, entry distances; wide_root.h
+/// does it for a group of rays at once). The nodes and leaves visited, in the same order, and the
+/// hits are those of traverse_wide from (0, 0).
+template <bool AnyHit, bool Plain = false, std::size_t N, class LeafFn>
+inline void traverse_wide_root(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
+                               WideStack& stack, std::uint32_t root_bits, const WideLane<N>& root_t, LeafFn&& leaf) {
+    detail::walk_wide<AnyHit, Plain, true>(layout, r, tfar, stack, 0, 0, root_bits, root_t, leaf);
 }
 
 }  // namespace arbor::accel
