@@ -1,7 +1,8 @@
 // The single-ray walk from a root test done beforehand for a group of rays (accel/wide/wide_root.h:
 // test_root, then traverse_wide_root) against the walk that tests the root itself (traverse_wide
 // from (0, 0)): for every ray the same leaves in the same order, and bit-identical hits (closest
-// and any), at every width of the build, over the procedural scene and the bunny. The rays: the
+// and any), at every width of the build, over the procedural scene and the bunny, with both box
+// forms (WideRay::plain and not: the rays with tnear < 0). The rays: the
 // three kinds of testing.h, the same rays again with [tnear, tfar] moved behind the origin
 // (negative distances: the box test's slack for negative exits) or around it, and groups cut short
 // by the end of the batch.
@@ -40,7 +41,7 @@ std::vector<Ray> with_ranges(const accel::Bounds& b, std::vector<Ray> rays) {
 }
 
 struct Counts {
-    std::size_t rays = 0, lone = 0, several = 0, leaves = 0, hits = 0;
+    std::size_t rays = 0, lone = 0, several = 0, leaves = 0, hits = 0, general = 0;
 };
 
 template <std::size_t N> void check_width(const accel::TriangleView& view, const std::vector<Ray>& rays, Counts& c) {
@@ -67,49 +68,43 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
                 simd::WideRay<T> r;
                 setup.get(i, r);
                 if (!r.traceable) {
-                    CHECK(root.bits[i] == 0);
+                    CHECK(!root.live[i]);
                     continue;
                 }
                 ++c.rays;
-                c.lone += std::has_single_bit(root.bits[i]);
-                c.several += std::popcount(root.bits[i]) > 1;
-                // The leaves visited, in order, by a walk that finds no hit (so every leaf it can
-                // reach is visited), with each box form.
-                for (const bool plain : {r.plain, false}) {
-                    simd::WideRay<T> q = r;
-                    q.plain = plain;
-                    std::vector<std::pair<std::uint32_t, std::uint32_t>> a, b;
-                    const float tfar = in[i].tfar;
-                    auto rec = [](auto& seen) {
-                        return [&seen](std::uint32_t first, std::uint32_t count) {
-                            seen.emplace_back(first, count);
-                            return false;
-                        };
+                const std::uint32_t visits = root.live[i] + std::popcount(root.rest[i]);
+                c.lone += visits == 1;
+                c.several += visits > 1;
+                // The leaves visited, in order, by a walk that finds no hit (so it visits every
+                // leaf it can reach), from (0, 0) and from the stored root test.
+                std::vector<std::pair<std::uint32_t, std::uint32_t>> a, b;
+                const float tfar = in[i].tfar;
+                auto rec = [](auto& seen) {
+                    return [&seen](std::uint32_t first, std::uint32_t count) {
+                        seen.emplace_back(first, count);
+                        return false;
                     };
-                    // The stored root test is that of the ray's own box form; for the other form
-                    // the walk gets that form's root test (the same hits, distances equal as numbers).
-                    std::uint32_t bits = root.bits[i];
-                    T t = root.entry(i);
-                    if (plain != r.plain) {
-                        bits = simd::to_bits(simd::ray_boxes<T>(q, &layout.nodes[0].boxes.b[0][0][0], t));
-                        if (std::has_single_bit(bits)) t = T(-INFINITY);
-                    }
-                    if (plain) {
-                        accel::traverse_wide<false, true>(layout, q, tfar, stack, 0, 0, rec(a));
-                        accel::traverse_wide_root<false, true>(layout, q, tfar, stack, bits, t, rec(b));
-                    } else {
-                        accel::traverse_wide<false, false>(layout, q, tfar, stack, 0, 0, rec(a));
-                        accel::traverse_wide_root<false, false>(layout, q, tfar, stack, bits, t, rec(b));
-                    }
-                    order_differs += a != b;
-                    c.leaves += a.size();
+                };
+                if (r.plain) {
+                    accel::traverse_wide<false, true>(layout, r, tfar, stack, 0, 0, rec(a));
+                    if (root.live[i])
+                        accel::traverse_wide_root<false, true>(layout, r, tfar, stack, root.child[i], root.count[i],
+                                                               root.rest[i], root.entry(i), rec(b));
+                } else {
+                    accel::traverse_wide<false, false>(layout, r, tfar, stack, 0, 0, rec(a));
+                    if (root.live[i])
+                        accel::traverse_wide_root<false, false>(layout, r, tfar, stack, root.child[i], root.count[i],
+                                                                root.rest[i], root.entry(i), rec(b));
                 }
+                order_differs += a != b;
+                c.leaves += a.size();
+                c.general += !r.plain;
                 for (const bool any : {false, true}) {
                     simd::WideRay<T> q1 = r, q2 = r;
                     const Hit h = any ? w->template trace_from<true>(q1, in[i].tfar, 0, 0, stack)
                                       : w->template trace_from<false>(q1, in[i].tfar, 0, 0, stack);
-                    const Hit g = any ? w->template trace_root<true>(q2, in[i].tfar, root.bits[i], root.entry(i), stack)
-                                      : w->template trace_root<false>(q2, in[i].tfar, root.bits[i], root.entry(i), stack);
+                    const Hit g = any ? w->template trace_root<true>(q2, in[i].tfar, root, i, stack)
+                                      : w->template trace_root<false>(q2, in[i].tfar, root, i, stack);
                     hit_differs += std::memcmp(&h, &g, sizeof(Hit)) != 0;
                     c.hits += g.is_hit();
                 }
@@ -126,13 +121,14 @@ void check_all_widths(const accel::TriangleView& view, const std::vector<Ray>& r
     check_width<4>(view, rays, c);
     check_width<8>(view, rays, c);
     check_width<16>(view, rays, c);
-    MESSAGE("rays " << c.rays << ", one root child hit " << c.lone << ", several " << c.several << ", leaves visited "
-                    << c.leaves << ", hits " << c.hits);
+    MESSAGE("rays " << c.rays << " (" << c.general << " not plain), one root child to visit " << c.lone << ", several "
+                    << c.several << ", leaves visited " << c.leaves << ", hits " << c.hits);
     // Both kinds of root outcome, leaves and hits occur (so the comparisons above compare walks).
     CHECK(c.lone > c.rays / 50);
     CHECK(c.several > c.rays / 10);
     CHECK(c.leaves > c.rays);
     CHECK(c.hits > c.rays / 4);
+    CHECK(c.general > c.rays / 10);
 }
 
 }  // namespace

@@ -8,8 +8,9 @@
 /// the branch on one hit child or more) that the core cannot start before the previous ray's walk
 /// has ended, mispredicted branches included. Tested here, one ray after another with no branch on
 /// the outcome, the roots of a group overlap in the core's window; each walk then begins from its
-/// ray's stored result (traverse_wide_root, wide_traverse.h): the root's hit children pushed in
-/// the octant's order and the nearest popped, as the walk would have done.
+/// ray's stored result (traverse_wide_root, wide_traverse.h): the first child to visit at once,
+/// the other hit children pushed in the octant's order, as the walk would have left them.
+#include "accel/wide/wide_packet.h"
 #include "accel/wide/wide_traverse.h"
 #include "simd/wide_ray_setup.h"
 
@@ -19,37 +20,68 @@
 
 namespace arbor::accel {
 
-/// Per ray of a group of up to `Rays`: the root's hit children and their entry distances.
+/// Per ray of a group of up to `Rays`: where its walk starts after the root. The first child it
+/// visits (child, count; `live` false: none, the walk ends) and the other hit children it defers
+/// (`rest`, with their entry distances t), as the walk's own root test would have left them.
 template <std::size_t N, std::size_t Rays> struct RootTests {
     alignas(64) float t[Rays][N];
-    std::uint32_t bits[Rays];
+    std::uint32_t rest[Rays];
+    std::uint32_t child[Rays];
+    std::uint32_t count[Rays];
+    bool live[Rays];
 
     WideLane<N> entry(std::size_t i) const { return simd::load_lanes<WideLane<N>>(t[i]); }
 };
 
-/// The root test of rays [0, count) of `setup` (a group set up by simd::wide_ray_setup): per ray
-/// the box form its walk takes (WideRay::plain), so bits and distances are those of the walk's own
-/// root test; rays that are not traceable hit no child. When a ray hits one child only, its
-/// distances are stored as -inf: the walk goes on to a lone hit child without checking its
-/// distance against tfar (traverse_wide), and so, by the pop that then always accepts it, does
-/// traverse_wide_root.
+/// The root test of rays [0, count) of `setup` (a group set up by simd::wide_ray_setup), straight
+/// from the group's arrays: per ray the slab test its walk takes (slab_test_plain for rays with
+/// WideRay::plain set, else slab_test: the operations of ray_boxes_plain / ray_boxes on the same
+/// operands, so the same hit children and distances); rays that are not traceable hit none. Then
+/// what the walk would do next, without a branch: one hit child is visited whatever its distance;
+/// of several, the children pushed in the root's order for the ray's octant (wide_order.h) and
+/// popped nearest first, those farther than the ray's tfar would be popped and skipped (tfar only
+/// drops), so the first visited is the nearest in that order within tfar, and the others within
+/// tfar are the deferred ones.
 template <std::size_t N, class P, std::size_t Rays>
-inline void test_root(const WideLayout<N>& layout, const simd::WideRaySetup<P>& setup, std::size_t count,
+__attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd::WideRaySetup<P>& setup, std::size_t count,
                       RootTests<N, Rays>& out) {
-    static_assert(Rays >= simd::WideRaySetup<P>::size);
+    using S = simd::WideRaySetup<P>;
+    static_assert(Rays >= S::size);
     using T = WideLane<N>;
-    const float* soa = &layout.nodes[0].boxes.b[0][0][0];
+    constexpr std::size_t n = N;
+    const WideNode<N>& root = layout.nodes[0];
+    const float* soa = &root.boxes.b[0][0][0];
     for (std::size_t i = 0; i < count; ++i) {
-        simd::WideRay<T> r;
-        setup.get(i, r);
+        const auto v = [&setup, i](typename S::Field k) { return T(setup.f[k][i]); };
+        const simd::Vec3<T> org{v(S::org_x), v(S::org_y), v(S::org_z)};
+        const simd::Vec3<T> rcp_near{v(S::rn_x), v(S::rn_y), v(S::rn_z)};
+        const simd::Vec3<T> rcp_far{v(S::rf_x), v(S::rf_y), v(S::rf_z)};
+        const T tnear = v(S::tnear), tfar = v(S::tfar);
+        int near_is_hi[3];
+        simd::Vec3<T> near_plane, far_plane;
+        for (int k = 0; k < 3; ++k) {
+            near_is_hi[k] = int((setup.near_is_hi[k] >> i) & 1u);
+            near_plane[k] = simd::load_lanes<T>(soa + (std::size_t(near_is_hi[k]) * 3 + std::size_t(k)) * n);
+            far_plane[k] = simd::load_lanes<T>(soa + (std::size_t(1 - near_is_hi[k]) * 3 + std::size_t(k)) * n);
+        }
         T t;
         const std::uint32_t bits =
-            simd::to_bits(r.plain ? simd::ray_boxes_plain<T>(r, soa, t) : simd::ray_boxes<T>(r, soa, t));
-        const std::uint32_t kept = r.traceable ? bits : 0u;
-        const bool lone = std::has_single_bit(kept);
-        t = simd::select(simd::from_bits<T>(lone ? ~0u : 0u), T(-INFINITY), t);
+            simd::to_bits(((setup.plain >> i) & 1u)
+                              ? simd::slab_test_plain<T>(near_plane, far_plane, org, rcp_near, rcp_far, tnear, tfar, t)
+                              : simd::slab_test<T>(near_plane, far_plane, org, rcp_near, rcp_far, tnear, tfar, t));
+        // (Masks and |1 instead of conditions: as branches, they were mispredicted on incoherent
+        // rays, and made the group's root tests cost three times as much.)
+        const std::uint32_t hit = bits & (0u - ((setup.traceable >> i) & 1u));
+        const std::uint32_t lone = 0u - std::uint32_t(std::popcount(hit) == 1);
+        const std::uint32_t live = hit & (simd::to_bits(t <= tfar) | lone);
+        const std::uint8_t* order = layout.orders.data() + std::size_t(ray_octant(near_is_hi)) * N;
+        const std::uint32_t ranked = ordered_bits<N>(live, order);
+        const unsigned first = order[31 - std::countl_zero(ranked | 1u)];  // (order[0] when none)
         simd::store_lanes(t, out.t[i]);
-        out.bits[i] = kept;
+        out.rest[i] = live & ~(1u << first);
+        out.child[i] = root.child[first];
+        out.count[i] = root.count[first];
+        out.live[i] = live != 0;
     }
 }
 

@@ -34,12 +34,12 @@ template <std::size_t N> constexpr bool wide_width_available() {
 }
 
 namespace detail {
-/// The walk of traverse_wide and traverse_wide_root. Root: the walk starts with the root's hit
-/// children `root_bits`, entry distances `root_t` (the root test done by the caller, wide_root.h),
-/// pushed as a node's hit children are and the nearest popped; otherwise at (child, count).
+/// The walk of traverse_wide and traverse_wide_root: from (child, count); Root: with the root's
+/// children `root_rest` (entry distances `root_t`) deferred first, pushed as a node's hit
+/// children are (the root test done by the caller, wide_root.h).
 template <bool AnyHit, bool Plain, bool Root, std::size_t N, class LeafFn>
 ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar, WideStack& stack,
-                            std::uint32_t child, std::uint32_t count, std::uint32_t root_bits,
+                            std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
                             const WideLane<N>& root_t, LeafFn&& leaf) {
     using T = WideLane<N>;
     const WideNode<N>* nodes = layout.nodes.data();
@@ -61,9 +61,9 @@ ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<
         }
     };
     if constexpr (Root) {
-        // (No prefetch: every ray of the batch tests the root, so its children are in cache.)
-        sp = push_hits<N>(root_bits, orders, nodes[0], root_t, stack, 0);
-        if (!pop()) return;
+        // The deferred children of the root (no prefetch: every ray tests the root, so its
+        // children are in cache); the walk goes on at (child, count) meanwhile.
+        sp = push_hits<N>(root_rest, orders, nodes[0], root_t, stack, 0);
     }
     for (;;) {
         if (count == 0) {
@@ -109,14 +109,16 @@ inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>
     detail::walk_wide<AnyHit, Plain, false>(layout, r, tfar, stack, child, count, 0, WideLane<N>(0.0f), leaf);
 }
 
-/// The same walk from the root, with the root's test already done: `root_bits` and `root_t` are
-/// what the node test of the root gave for this ray (hit children, entry distances; wide_root.h
-/// does it for a group of rays at once). The nodes and leaves visited, in the same order, and the
-/// hits are those of traverse_wide from (0, 0).
+/// The same walk from the root, with the root's test already done (test_root, wide_root.h, for a
+/// group of rays at once): the walk visits (child, count) first, with the root's hit children
+/// `root_rest` (entry distances `root_t`) deferred, as the root's own test would have left it. The
+/// nodes and leaves visited, in the same order, and the hits are those of traverse_wide from
+/// (0, 0).
 template <bool AnyHit, bool Plain = false, std::size_t N, class LeafFn>
 inline void traverse_wide_root(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
-                               WideStack& stack, std::uint32_t root_bits, const WideLane<N>& root_t, LeafFn&& leaf) {
-    detail::walk_wide<AnyHit, Plain, true>(layout, r, tfar, stack, 0, 0, root_bits, root_t, leaf);
+                               WideStack& stack, std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
+                               const WideLane<N>& root_t, LeafFn&& leaf) {
+    detail::walk_wide<AnyHit, Plain, true>(layout, r, tfar, stack, child, count, root_rest, root_t, leaf);
 }
 
 }  // namespace arbor::accel
