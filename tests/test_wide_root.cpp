@@ -4,8 +4,9 @@
 // and any), at every width of the build, over the procedural scene and the bunny, with both box
 // forms (WideRay::plain and not: the rays with tnear < 0). The rays: the
 // three kinds of testing.h, the same rays again with [tnear, tfar] moved behind the origin
-// (negative distances: the box test's slack for negative exits) or around it, and groups cut short
-// by the end of the batch.
+// (negative distances: the box test's slack for negative exits) or around it, rays no path traces,
+// and groups cut short by the end of the batch; then a stiff case: a root child entered past a
+// negative tfar, within the slack.
 #include "accel/bvh/bvh_accel.h"
 #include "accel/wide/wide_paths_impl.h"
 #include "engine/obj_loader.h"
@@ -13,6 +14,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <utility>
@@ -36,12 +38,25 @@ std::vector<Ray> with_ranges(const accel::Bounds& b, std::vector<Ray> rays) {
         r.tnear = -len, r.tfar = len;
         rays.push_back(r);
     }
+    // Rays no path traces (simd/ray.h, traceable): a NaN origin, a zero direction, tnear > tfar.
+    for (std::size_t i = 0; i < 40; i += 4) {
+        Ray r = rays[i];
+        r.org.x = NAN;
+        rays.push_back(r);
+        r = rays[i + 1];
+        r.dir = {0.0f, 0.0f, 0.0f};
+        rays.push_back(r);
+        r = rays[i + 2];
+        std::swap(r.tnear, r.tfar);
+        r.tnear = r.tfar + 1.0f;
+        rays.push_back(r);
+    }
     rays.resize(rays.size() - 5);  // the last group partial
     return rays;
 }
 
 struct Counts {
-    std::size_t rays = 0, lone = 0, several = 0, leaves = 0, hits = 0, general = 0;
+    std::size_t rays = 0, lone = 0, several = 0, leaves = 0, hits = 0, general = 0, untraceable = 0;
 };
 
 template <std::size_t N> void check_width(const accel::TriangleView& view, const std::vector<Ray>& rays, Counts& c) {
@@ -69,6 +84,7 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
                 setup.get(i, r);
                 if (!r.traceable) {
                     CHECK(!root.live[i]);
+                    ++c.untraceable;
                     continue;
                 }
                 ++c.rays;
@@ -129,6 +145,7 @@ void check_all_widths(const accel::TriangleView& view, const std::vector<Ray>& r
     CHECK(c.leaves > c.rays);
     CHECK(c.hits > c.rays / 4);
     CHECK(c.general > c.rays / 10);
+    CHECK(c.untraceable >= 25);
 }
 
 }  // namespace
@@ -143,4 +160,90 @@ TEST_CASE("wide root: the walk from a group's root tests visits the leaves of th
         const engine::Mesh bunny = engine::load_obj(path, warn);
         check_all_widths(bunny.view(), with_ranges(bunny.bounds, testing::three_kinds(bunny.bounds, 1500, 13)));
     }
+}
+
+namespace {
+
+/// The stiff case below at width N: whether the walk from the stored root test visits the leaves
+/// of the walk from (0, 0), and that those are C's only, with A's children hit by the root test.
+template <std::size_t N> void check_past_tfar(const engine::Mesh& mesh, const Ray& ray, std::size_t& checked) {
+    if constexpr (accel::wide_width_available<N>()) {
+        using T = accel::WideLane<N>;
+        using Setup = simd::WideRaySetup<simd::SetupLane>;
+        accel::BuildConfig cfg;
+        cfg.layouts = accel::Layouts::simd;
+        cfg.wide.width = N;
+        const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view(), cfg);
+        const auto* w = dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get());
+        REQUIRE(w != nullptr);
+        const accel::WideLayout<N>& layout = w->wide_layout();
+        accel::WideStack stack(layout.stack_size());
+        Setup setup;
+        accel::RootTests<N, Setup::size> root;
+        const std::vector<Ray> rays(3, ray);  // (a partial group)
+        simd::wide_ray_setup(std::span<const Ray>(rays), setup);
+        accel::test_root(layout, setup, rays.size(), root);
+        simd::WideRay<T> r;
+        setup.get(0, r);
+        REQUIRE(r.traceable);
+        REQUIRE(!r.plain);
+        // The root's own test: children of both groups hit, some entered past tfar.
+        T t;
+        const std::uint32_t bits = simd::to_bits(simd::ray_boxes<T>(r, &layout.nodes[0].boxes.b[0][0][0], t));
+        std::uint32_t past = 0;
+        for (std::uint32_t m = bits; m != 0; m &= m - 1) past += simd::lane(t, std::size_t(std::countr_zero(m))) > ray.tfar;
+        CAPTURE(N);
+        REQUIRE(std::popcount(bits) >= 2);
+        REQUIRE(past >= 1);
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> a, b;
+        auto rec = [](auto& seen) {
+            return [&seen](std::uint32_t first, std::uint32_t count) {
+                seen.emplace_back(first, count);
+                return false;
+            };
+        };
+        accel::traverse_wide<false, false>(layout, r, ray.tfar, stack, 0, 0, rec(a));
+        REQUIRE(root.live[0]);
+        accel::traverse_wide_root<false, false>(layout, r, ray.tfar, stack, root.child[0], root.count[0], root.rest[0],
+                                                root.entry(0), rec(b));
+        CHECK(a == b);
+        REQUIRE(!a.empty());
+        for (const auto& [first, count] : a)
+            for (std::uint32_t s = 0; s < count; ++s) CHECK(layout.prim(std::size_t(first) * N + s) >= 20);  // C's
+        ++checked;
+    }
+}
+
+}  // namespace
+
+TEST_CASE("wide root: a root child entered just past a negative tfar (within the box test's slack) is skipped, as the walk skips it") {
+    // A ray along +x from the origin over [tnear, tfar] = [-10, -5]. Group C (triangles 20-39, x in
+    // [-7, -6]) is entered at -7 <= tfar. Group A (triangles 0-19, x from 1 ulp above -5 to -1) is
+    // entered at -4.9999995 > tfar, and the box test accepts it all the same (a negative exit, here
+    // tfar, gets 2^-20 of room: slab_accept). A's boxes reach down to y = -100, so the root's order
+    // for the ray's octant puts them nearer than C's: the walk pops an A child first, skips it (its
+    // distance is past tfar) and visits C. A first child picked without the distance check would
+    // visit A's leaves.
+    engine::Mesh mesh;
+    const auto add = [&mesh](accel::Vec3f p, accel::Vec3f q, accel::Vec3f s) {
+        for (const accel::Vec3f& v : {p, q, s}) {
+            mesh.indices.push_back(std::uint32_t(mesh.x.size()));
+            mesh.x.push_back(v.x), mesh.y.push_back(v.y), mesh.z.push_back(v.z);
+        }
+    };
+    const float xa = std::nextafter(-5.0f, 0.0f);
+    for (int i = 0; i < 20; ++i) add({xa, -100.0f, 0.0f}, {-1.0f, 1.0f, -0.5f - 0.01f * float(i)}, {-1.0f, 1.0f, 0.5f + 0.01f * float(i)});
+    for (int i = 0; i < 20; ++i)
+        add({-7.0f, -1.0f, -1.0f - 0.01f * float(i)}, {-6.0f, 1.0f, 0.0f}, {-6.5f, 1.0f, 1.0f + 0.01f * float(i)});
+    mesh.compute_bounds();
+    Ray ray;
+    ray.org = {0.0f, 0.0f, 0.0f};
+    ray.dir = {1.0f, 0.0f, 0.0f};
+    ray.tnear = -10.0f;
+    ray.tfar = -5.0f;
+    std::size_t checked = 0;
+    check_past_tfar<4>(mesh, ray, checked);
+    check_past_tfar<8>(mesh, ray, checked);
+    check_past_tfar<16>(mesh, ray, checked);
+    CHECK(checked >= 1);
 }
