@@ -226,8 +226,8 @@ struct SideTest {
 /// swapped in pairs (Edelkamp & Weiss, "BlockQuicksort: Avoiding Branch Mispredictions in
 /// Quicksort", ESA 2016). A Hoare partition's branch per primitive is mispredicted about every
 /// other time where the sides are mixed (profile of the 4.4M-triangle build: 21% of the process in
-/// that partition). What is left in the middle, under two blocks, gets the Hoare loop. The order
-/// depends only on the input, not on the thread count.
+/// that partition). What is left in the middle, under two blocks, gets a branch-free Lomuto loop.
+/// The order depends only on the input, not on the thread count.
 std::uint32_t partition_range(std::span<BuildPrim> prims, std::uint32_t begin, std::uint32_t end, const SideTest& side) {
     constexpr std::uint32_t block = 128;
     std::uint8_t off_l[block], off_r[block];  // misplaced: right-side primitives in the left block, and vice versa
@@ -249,14 +249,18 @@ std::uint32_t partition_range(std::span<BuildPrim> prims, std::uint32_t begin, s
         if (nl == 0) i += block;  // the left block holds left primitives only
         if (nr == 0) j -= block;
     }
-    for (;;) {  // Hoare on the rest (a block with misplaced primitives left is part of it)
-        while (i < j && side.left(p[i])) ++i;
-        while (i < j && !side.left(p[j - 1])) --j;
-        if (i >= j) break;
-        // p[i] belongs right, p[j - 1] left (and j - 1 > i).
-        std::swap(p[i++], p[--j]);
+    // The rest (a block with misplaced primitives left is part of it), and all of a small range:
+    // Lomuto's partition without a branch, [i, w) left and [w, k) right: every primitive is
+    // swapped to w, which moves on past the left ones.
+    std::uint32_t w = i;
+    for (std::uint32_t k = i; k < j; ++k) {
+        const BuildPrim x = p[k];
+        const std::uint32_t l = side.left(x) ? 1 : 0;
+        p[k] = p[w];
+        p[w] = x;
+        w += l;
     }
-    return i;
+    return w;
 }
 
 /// partition_range as two tasks, for the root (the one range no other task runs beside): each
