@@ -111,6 +111,41 @@ TEST_CASE("bvh build: bit-identical nodes and leaf order with 1 and 2 threads") 
     }
 }
 
+TEST_CASE("bvh build: bvh-sah boxes are tight, with 1 and 2 threads (bounds from the bins)") {
+    // Each box is exactly the union of its children's boxes, a leaf's that of its triangles: the
+    // sides' bounds are unions of bins and the partition must put every primitive on the side
+    // it was binned on. 83360 triangles: parallel binning, the root partitioned as two halves.
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 6, 0.05f, 5);
+    mesh.append(engine::make_torus({0.5f, 0, 0}, 1.0f, 0.3f, 48, 15));
+    mesh.append(engine::make_icosphere({0, 0, -1e6f}, 0.5f, 2, 0.0f, 7));  // far away: a lopsided root
+    const auto v = mesh.view();
+    auto same = [](const accel::Bounds& a, const accel::Bounds& b) {  // == : +0 and -0 alike
+        return a.lo.x == b.lo.x && a.lo.y == b.lo.y && a.lo.z == b.lo.z && a.hi.x == b.hi.x && a.hi.y == b.hi.y && a.hi.z == b.hi.z;
+    };
+    for (const std::uint32_t leaf_floor : {0u, 16u}) {
+        for (const int threads : {1, 2}) {
+            BvhBuildConfig cfg;
+            cfg.leaf_floor = leaf_floor;
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+            const BinaryBvh bvh = build(accel::build_bvh_sah, v, cfg);
+            CAPTURE(leaf_floor);
+            CAPTURE(threads);
+            REQUIRE(accel::validate_bvh(bvh, v) == "");
+            std::size_t loose = 0;
+            for (const accel::BvhBuildNode& n : bvh.nodes) {
+                accel::Bounds u;
+                if (n.is_leaf()) {
+                    for (std::uint32_t k = n.first; k < n.first + n.count; ++k) u.grow(v.triangle_bounds(bvh.prim_ids[k]));
+                } else {
+                    u.grow(bvh.nodes[n.first].box), u.grow(bvh.nodes[n.first + 1].box);
+                }
+                loose += same(u, n.box) ? 0 : 1;
+            }
+            CHECK(loose == 0);
+        }
+    }
+}
+
 TEST_CASE("bvh build: statistics of the accel") {
     const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3);
     for (const auto& k : testing::bvh_kinds()) {

@@ -18,7 +18,9 @@ BinaryBvh build_bvh_median(BuildPrims&& prims, const BvhBuildConfig& cfg);
 
 /// `bvh-sah`: binned SAH, I. Wald, "On fast Construction of SAH-based Bounding Volume
 /// Hierarchies", RT 2007: cfg.sah_bins (2..32) bins per axis over the centroid bounds, a leaf where
-/// the SAH says so and the range fits in cfg.max_leaf_size, parallel binning on large ranges.
+/// the SAH says so and the range fits in cfg.max_leaf_size, parallel binning on large ranges. The
+/// bins keep their primitives' boxes and centroid boxes (sah_bin_box.h), so both sides' bounds come
+/// from the bins and the partition only moves primitives.
 /// Ranges of at most 16 primitives are split by an exact SAH sweep over their centroids sorted on
 /// the longest axis of the centroid bounds instead (cheaper than binning them).
 /// Degenerate centroid bounds, or a binning that cannot separate the range, fall back to a median

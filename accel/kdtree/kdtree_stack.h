@@ -90,8 +90,9 @@ inline bool stack_start(const KdTree& tree, const Ray& r, StackWalk& w) {
         }
         const double a = (double(tree.box.lo[k]) - w.o[k]) * w.rcp[k];
         const double b = (double(tree.box.hi[k]) - w.o[k]) * w.rcp[k];
-        enter[k] = w.neg[k] ? b : a;
-        leave[k] = w.neg[k] ? a : b;
+        // min and max, not a branch on the sign of d (rope_start): a <= b exactly when d > 0.
+        enter[k] = std::min(a, b);
+        leave[k] = std::max(a, b);
         t0 = std::max(t0, enter[k]);
         t1 = std::min(t1, leave[k]);
     }
