@@ -206,35 +206,30 @@ private:
                     if (single(std::countr_zero(l), li)) done |= 1u << std::countr_zero(l);
                 return done;
             };
-            // Each lane's scalar start (stack_start); lanes grouped by the signs of their direction.
-            std::uint32_t octant_lanes[8] = {};
-            for (std::uint32_t l = simd::to_bits(p.active); l != 0; l &= l - 1) {
-                const int i = std::countr_zero(l);
-                const Ray& ray = in[std::size_t(i)];
-                if (!ray_is_traceable(ray)) continue;
-                const unsigned oct = unsigned(std::signbit(ray.dir.x)) | unsigned(std::signbit(ray.dir.y)) << 1 |
-                                     unsigned(std::signbit(ray.dir.z)) << 2;
-                octant_lanes[oct] |= 1u << i;
+            // Lanes grouped by the signs of their direction (inactive lanes: not traceable or past
+            // the end), each group's lanes started at once (PacketStack::start, stack_start's state).
+            const std::uint32_t active = simd::to_bits(p.active);
+            const std::uint32_t sign[3] = {simd::to_bits(simd::signbit_mask(p.dir.x)),
+                                           simd::to_bits(simd::signbit_mask(p.dir.y)),
+                                           simd::to_bits(simd::signbit_mask(p.dir.z))};
+            alignas(64) float org[3][K], dir[3][K], tnear[K];
+            for (int k = 0; k < 3; ++k) {
+                p.org[k].store_aligned(org[k]);
+                p.dir[k].store_aligned(dir[k]);
             }
+            p.tnear.store_aligned(tnear);
             std::uint32_t alone = 0;  // lanes of small groups: the single path's walk, ray by ray
             for (unsigned oct = 0; oct < 8; ++oct) {
-                const std::uint32_t group = octant_lanes[oct];
+                std::uint32_t group = active;
+                for (int k = 0; k < 3; ++k) group &= (oct >> k & 1u) ? sign[k] : ~sign[k];
+                if (group == 0) continue;
                 if (std::popcount(group) < together_min(K)) {
                     alone |= group;
                     continue;
                 }
-                std::uint32_t live = 0;
-                for (std::size_t i = 0; i < K; ++i) {
-                    kd::StackWalk sw;
-                    if ((group >> i & 1u) && kd::stack_start(tree, in[i], sw)) {
-                        walk.set_lane(i, sw);
-                        live |= 1u << i;
-                    } else {
-                        walk.clear_lane(i);
-                    }
-                }
-                if (live == 0) continue;
                 for (int k = 0; k < 3; ++k) walk.neg[k] = (oct >> k) & 1u;
+                const std::uint32_t live = walk.template start<P>(tree, org, dir, tnear, tfar, group);
+                if (live == 0) continue;
                 bounds = simd::packet_bounds(p, simd::from_bits<P>(live));
                 kd::walk_stack_packet<AnyHit, P>(tree, walk, live, best_t, leaf);
             }
