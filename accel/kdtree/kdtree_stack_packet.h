@@ -134,7 +134,8 @@ template <std::size_t K> struct PacketStack {
             }
             // stack_start: dmax = std::max({|d0|, |d1|, |d2|}) (finite, so the order does not
             // matter), scale = std::max(|t0|, |t1|).
-            const D dmax = xsimd::max(xsimd::abs(dk[0]), xsimd::max(xsimd::abs(dk[1]), xsimd::abs(dk[2])));
+            const D a0 = xsimd::abs(dk[0]), a1 = xsimd::abs(dk[1]), a2 = xsimd::abs(dk[2]);
+            const D a12 = xsimd::select(a1 < a2, a2, a1), dmax = xsimd::select(a0 < a12, a12, a0);
             const D at0 = xsimd::abs(t0), at1 = xsimd::abs(t1);
             const D scale = xsimd::select(at0 < at1, at1, at0);
             t0 = D::load_aligned(tn + h), t1 = D::load_aligned(tf + h);
@@ -255,8 +256,12 @@ void walk_stack_packet(const KdTree& tree, PacketStack<K>& w, std::uint32_t live
             node = near_child, m = near_lanes;
             n = nodes[node];
         }
-        if constexpr (AnyHit) done |= leaf_fn(n.index(), m);
-        else leaf_fn(n.index(), m);
+        if constexpr (AnyHit) {
+            done |= leaf_fn(n.index(), m);
+            if (done == live) return;  // every lane has its hit: the pops would all come back empty
+        } else {
+            leaf_fn(n.index(), m);
+        }
         // Next pushed subtree that some lane still walks (stack_pop).
         for (;;) {
             if (w.sp == 0) return;
