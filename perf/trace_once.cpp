@@ -42,6 +42,8 @@ int main(int argc, char** argv) {
     app.add_option("--rays", rays_path, ".rays file (spec/rayfile.md)")->required();
     app.add_option("--with", with, "arbor path (scalar, single, packet) or embree-1, embree-8, embree-16, embree-1M");
     app.add_option("--structure", structure, "arbor structure (bvh-median, bvh-sah, lbvh, kdtree)");
+    bool count = false;
+    app.add_flag("--counters", count, "arbor: trace with the scalar path's counting loop and print nodes and triangle tests per ray");
     CLI11_PARSE(app, argc, argv);
     try {
         engine::Warnings warnings;
@@ -70,6 +72,17 @@ int main(int argc, char** argv) {
             accel::BuildConfig cfg;
             cfg.layouts = *path == accel::TracePath::scalar ? accel::Layouts::scalar : accel::Layouts::simd;
             const auto built = accel::make_accel(*kind, mesh.view(), cfg);
+            if (count) {
+                accel::TraceCounters c;
+                accel::TraceRequest req{any ? accel::Query::any : accel::Query::closest};
+                req.counters = &c;
+                built->trace(rays, hits, req);
+                const accel::BuildStats& st = built->stats();
+                std::printf("counters: %.3f nodes (interior + leaves entered) and %.3f triangle tests per ray; tree: %zu nodes, "
+                            "%zu leaves, max depth %u, mean leaf depth %.2f\n",
+                            double(c.nodes_visited) / double(c.rays), double(c.triangles_tested) / double(c.rays),
+                            std::size_t(st.nodes), std::size_t(st.leaves), unsigned(st.max_depth), double(st.mean_leaf_depth));
+            }
             trace_once_run([&] {
                 if (any) built->trace(rays, hits, {accel::Query::any, *path});
                 else built->trace(rays, hits, {accel::Query::closest, *path});

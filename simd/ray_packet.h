@@ -106,9 +106,17 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
     return p;
 }
 
-/// Packet from the first min(rays.size(), lanes<T>) rays of an array of Ray-like records (ray.h)
-/// (members org, dir, tnear, tfar); the remaining lanes are inactive (a partial packet).
-template <class T, class R> inline RayPacket<T> load_packet(std::span<const R> rays) {
+/// The fields of lanes<T> rays in SoA form as loaded, before make_packet: `active` holds the lanes
+/// that have a ray (traceable or not).
+template <class T> struct PacketRays {
+    Vec3<T> org, dir;
+    T tnear, tfar;
+    Mask<T> active;
+};
+
+/// The first min(rays.size(), lanes<T>) rays of an array of Ray-like records (ray.h) (members org,
+/// dir, tnear, tfar) in SoA form; the remaining lanes are not active (tnear +inf, tfar -inf).
+template <class T, class R> inline PacketRays<T> load_rays(std::span<const R> rays) {
     constexpr std::size_t n = lanes<T>;
     const std::size_t count = std::min(rays.size(), n);
 #if XSIMD_WITH_AVX512F
@@ -137,8 +145,7 @@ template <class T, class R> inline RayPacket<T> load_packet(std::span<const R> r
                 }
             }
             const auto field = [&f](int k) { return T(_mm512_insertf32x8(_mm512_castps256_ps512(f[0][k]), f[1][k], 1)); };
-            return make_packet<T>({field(0), field(1), field(2)}, {field(4), field(5), field(6)}, field(3), field(7),
-                                  first_lanes<T>(n));
+            return {{field(0), field(1), field(2)}, {field(4), field(5), field(6)}, field(3), field(7), first_lanes<T>(n)};
         }
     }
 #endif
@@ -155,7 +162,14 @@ template <class T, class R> inline RayPacket<T> load_packet(std::span<const R> r
         f[7][i] = have ? rays[i].tfar : -INFINITY;
     }
     const auto ld = [&f](int k) { return load_lanes<T>(f[k]); };
-    return make_packet<T>({ld(0), ld(1), ld(2)}, {ld(3), ld(4), ld(5)}, ld(6), ld(7), first_lanes<T>(count));
+    return {{ld(0), ld(1), ld(2)}, {ld(3), ld(4), ld(5)}, ld(6), ld(7), first_lanes<T>(count)};
+}
+
+/// Packet from the first min(rays.size(), lanes<T>) rays of an array of Ray-like records (ray.h)
+/// (members org, dir, tnear, tfar); the remaining lanes are inactive (a partial packet).
+template <class T, class R> inline RayPacket<T> load_packet(std::span<const R> rays) {
+    const PacketRays<T> r = load_rays<T, R>(rays);
+    return make_packet<T>(r.org, r.dir, r.tnear, r.tfar, r.active);
 }
 
 /// Closest hits of a packet. A lane without a hit holds the miss record {+inf, -1, 0, 0}.

@@ -54,10 +54,13 @@ kd::RopeStep reference_next(const accel::KdTree& tree, const kd::RopeRay& s, dou
     }
     t = t_exit;
     const std::uint32_t rope = leaf.rope[accel::kd_face(axis, s.up[axis])];
+    // The leaves around the exit point, but not this one (tested just before with the same ray).
+    const std::uint32_t tested = nodes[node].index();
+    auto others = [&](std::uint32_t li) { return li != tested && leaf_fn(li); };
     if (rope == accel::kd_no_rope)
-        return near_exit && kd::visit_point<false>(nodes, s, t, leaf_fn, visited) ? kd::RopeStep::stop : kd::RopeStep::end;
+        return near_exit && kd::visit_point<false>(nodes, s, t, others, visited) ? kd::RopeStep::stop : kd::RopeStep::end;
     node = kd::descend_exact(nodes, s, corner ? 0u : rope, t, near_exit, visited);
-    if (near_exit && kd::visit_point<false>(nodes, s, t, leaf_fn, visited)) return kd::RopeStep::stop;
+    if (near_exit && kd::visit_point<false>(nodes, s, t, others, visited)) return kd::RopeStep::stop;
     return kd::RopeStep::leaf;
 }
 

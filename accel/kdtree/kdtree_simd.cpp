@@ -131,8 +131,13 @@ private:
         alignas(64) std::int32_t best_prim[K];
         for (std::size_t base = 0; base < rays.size(); base += K) {
             const auto in = rays.subspan(base, std::min(K, rays.size() - base));
-            simd::RayPacket<P> p = simd::load_packet<P>(in);
-            simd::store_lanes(p.tfar, tfar);
+            // The rays as loaded; the packet's triangle-test setup (make_packet) only once some
+            // group of lanes meets the scene box (~10% of the path on alligator primary rays).
+            const simd::PacketRays<P> raw = simd::load_rays<P>(in);
+            const auto traceable = raw.active & simd::traceable(raw.org, raw.dir, raw.tnear, raw.tfar);
+            simd::select(traceable, raw.tfar, P(-INFINITY)).store_aligned(tfar);  // make_packet's p.tfar
+            simd::RayPacket<P> p;
+            bool have_packet = false;
             for (std::size_t i = 0; i < K; ++i) best_t[i] = INFINITY, best_u[i] = best_v[i] = 0.0f, best_prim[i] = -1;
             std::uint32_t have_wide = 0;
             // Lane i alone against leaf li (the single path's block test), in the packet's records.
@@ -206,35 +211,31 @@ private:
                     if (single(std::countr_zero(l), li)) done |= 1u << std::countr_zero(l);
                 return done;
             };
-            // Each lane's scalar start (stack_start); lanes grouped by the signs of their direction.
-            std::uint32_t octant_lanes[8] = {};
-            for (std::uint32_t l = simd::to_bits(p.active); l != 0; l &= l - 1) {
-                const int i = std::countr_zero(l);
-                const Ray& ray = in[std::size_t(i)];
-                if (!ray_is_traceable(ray)) continue;
-                const unsigned oct = unsigned(std::signbit(ray.dir.x)) | unsigned(std::signbit(ray.dir.y)) << 1 |
-                                     unsigned(std::signbit(ray.dir.z)) << 2;
-                octant_lanes[oct] |= 1u << i;
+            // Lanes grouped by the signs of their direction (inactive lanes: not traceable or past
+            // the end), each group's lanes started at once (PacketStack::start, stack_start's state).
+            const std::uint32_t active = simd::to_bits(traceable);
+            const std::uint32_t sign[3] = {simd::to_bits(simd::signbit_mask(raw.dir.x)),
+                                           simd::to_bits(simd::signbit_mask(raw.dir.y)),
+                                           simd::to_bits(simd::signbit_mask(raw.dir.z))};
+            alignas(64) float org[3][K], dir[3][K], tnear[K];
+            for (int k = 0; k < 3; ++k) {
+                raw.org[k].store_aligned(org[k]);
+                raw.dir[k].store_aligned(dir[k]);
             }
+            raw.tnear.store_aligned(tnear);
             std::uint32_t alone = 0;  // lanes of small groups: the single path's walk, ray by ray
             for (unsigned oct = 0; oct < 8; ++oct) {
-                const std::uint32_t group = octant_lanes[oct];
+                std::uint32_t group = active;
+                for (int k = 0; k < 3; ++k) group &= (oct >> k & 1u) ? sign[k] : ~sign[k];
+                if (group == 0) continue;
                 if (std::popcount(group) < together_min(K)) {
                     alone |= group;
                     continue;
                 }
-                std::uint32_t live = 0;
-                for (std::size_t i = 0; i < K; ++i) {
-                    kd::StackWalk sw;
-                    if ((group >> i & 1u) && kd::stack_start(tree, in[i], sw)) {
-                        walk.set_lane(i, sw);
-                        live |= 1u << i;
-                    } else {
-                        walk.clear_lane(i);
-                    }
-                }
-                if (live == 0) continue;
                 for (int k = 0; k < 3; ++k) walk.neg[k] = (oct >> k) & 1u;
+                const std::uint32_t live = walk.template start<P>(tree, org, dir, tnear, tfar, group);
+                if (live == 0) continue;
+                if (!have_packet) p = simd::make_packet<P>(raw.org, raw.dir, raw.tnear, raw.tfar, raw.active), have_packet = true;
                 bounds = simd::packet_bounds(p, simd::from_bits<P>(live));
                 kd::walk_stack_packet<AnyHit, P>(tree, walk, live, best_t, leaf);
             }

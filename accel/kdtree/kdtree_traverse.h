@@ -136,16 +136,22 @@ inline std::uint32_t descend(const KdNode* nodes, const RopeRay& s, std::uint32_
 }
 
 /// Calls leaf_fn for every leaf whose closed box, grown by the point tolerance, holds the ray's
-/// point at distance t. Returns true when leaf_fn asks to stop.
+/// point at distance t, except leaf `tested` (a leaf index, or kd_no_rope for none): the leaf the
+/// walk has just tested in full with the same ray, whose triangles a second test would offer again
+/// with the same answers (no better hit for closest hit; none at all for any hit, which would have
+/// stopped). Random rays on flat models (every origin in the model's plane, every ray leaving the
+/// scene box at once, near its face) tested their first leaf twice. Returns true when leaf_fn asks
+/// to stop.
 template <bool Count, class LeafFn>
-bool visit_point(const KdNode* nodes, const RopeRay& s, double t, LeafFn& leaf_fn, std::uint64_t& visited) {
+bool visit_point(const KdNode* nodes, const RopeRay& s, double t, LeafFn& leaf_fn, std::uint64_t& visited,
+                 std::uint32_t tested = kd_no_rope) {
     std::uint32_t stack[kd_max_depth + 2];
     int sp = 0;
     std::uint32_t node = 0;
     for (;;) {
         const KdNode n = nodes[node];
         if (n.is_leaf()) {
-            if (leaf_fn(n.index())) return true;
+            if (n.index() != tested && leaf_fn(n.index())) return true;
             if (sp == 0) return false;
             node = stack[--sp];
             continue;
@@ -165,6 +171,21 @@ bool visit_point(const KdNode* nodes, const RopeRay& s, double t, LeafFn& leaf_f
         if (left && right) stack[sp++] = n.index();
         node = left ? node + 1 : n.index();
     }
+}
+
+/// Whether the point window `w` lies strictly between the split planes that bound `leaf`, in every
+/// axis: a face with a rope is such a plane (the ropes are passed down from the root, and a face
+/// gets one exactly at the split that made it), a face without one (on the scene box) has no split
+/// behind it. Then every split on the way from the root to the leaf lies outside the window, and
+/// visit_point at the window's distance takes one side at each (point_window), i.e. visits this
+/// leaf alone.
+inline bool window_inside_leaf(const KdLeaf& leaf, const PointWindow& w) {
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+        inside &= leaf.rope[kd_face(k, false)] == kd_no_rope || leaf.box.lo[k] < w.lo[k];
+        inside &= leaf.rope[kd_face(k, true)] == kd_no_rope || w.hi[k] < leaf.box.hi[k];
+    }
+    return inside;
 }
 
 /// What a step of the walk ended with.
@@ -225,11 +246,18 @@ RopeStep rope_next(const KdTree& tree, const RopeRay& s, double& t, std::uint32_
     }
     t = t_exit;
     const std::uint32_t rope = leaf.rope[kd_face(axis, s.up[axis])];
+    // visit_point leaves out this leaf: it has just been tested with the same ray.
+    const std::uint32_t tested = nodes[node].index();
+    // Leaving the scene box near a face, but with the exit point clear of every split that bounds
+    // this leaf (window_inside_leaf), visit_point would find this leaf alone: every random ray on
+    // a flat model (its origin in the model's plane, the scene box flat, the exit at t = 0).
     if (rope == kd_no_rope)
-        return near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited) ? RopeStep::stop : RopeStep::end;
+        return near_exit && !window_inside_leaf(leaf, w) && visit_point<Count>(nodes, s, t, leaf_fn, visited, tested)
+                   ? RopeStep::stop
+                   : RopeStep::end;
     // Leaving exactly through an edge or corner, the next leaf is not across the exit face.
     node = descend<Count>(nodes, s, corner ? 0u : rope, t, w, near_exit, visited);
-    if (near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited)) return RopeStep::stop;
+    if (near_exit && visit_point<Count>(nodes, s, t, leaf_fn, visited, tested)) return RopeStep::stop;
     return RopeStep::leaf;
 }
 
