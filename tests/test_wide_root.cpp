@@ -66,7 +66,7 @@ std::vector<Ray> with_ranges(const accel::Bounds& b, std::vector<Ray> rays) {
 }
 
 struct Counts {
-    std::size_t rays = 0, lone = 0, several = 0, leaves = 0, hits = 0, general = 0, untraceable = 0;
+    std::size_t rays = 0, lone = 0, several = 0, deeper = 0, leaves = 0, hits = 0, general = 0, untraceable = 0;
 };
 
 template <std::size_t N> void check_width(const accel::TriangleView& view, const std::vector<Ray>& rays, Counts& c) {
@@ -97,6 +97,7 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
                 const std::uint32_t visits = root.live[i] + std::popcount(root.rest[i]);
                 c.lone += visits == 1;
                 c.several += visits > 1;
+                c.deeper += root.live[i] && root.count[i] == 0;  // first child a node: its test from the pass
                 // The leaves visited, in order, by a walk that finds no hit (so it visits every
                 // leaf it can reach), from (0, 0) and from the stored root test.
                 std::vector<std::pair<std::uint32_t, std::uint32_t>> a, b;
@@ -111,12 +112,12 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
                     accel::traverse_wide<false, true>(layout, r, tfar, stack, 0, 0, rec(a));
                     if (root.live[i])
                         accel::traverse_wide_root<false, true>(layout, r, tfar, stack, root.child[i], root.count[i],
-                                                               root.rest[i], root.entry(i), rec(b));
+                                                               root.rest[i], root.entry(i), root.bits2[i], root.t2[i], rec(b));
                 } else {
                     accel::traverse_wide<false, false>(layout, r, tfar, stack, 0, 0, rec(a));
                     if (root.live[i])
                         accel::traverse_wide_root<false, false>(layout, r, tfar, stack, root.child[i], root.count[i],
-                                                                root.rest[i], root.entry(i), rec(b));
+                                                                root.rest[i], root.entry(i), root.bits2[i], root.t2[i], rec(b));
                 }
                 order_differs += a != b;
                 c.leaves += a.size();
@@ -125,8 +126,11 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
                     simd::WideRay<T> q1 = r, q2 = r;
                     const Hit h = any ? w->template trace_from<true>(q1, in[i].tfar, 0, 0, stack)
                                       : w->template trace_from<false>(q1, in[i].tfar, 0, 0, stack);
-                    const Hit g = any ? w->template trace_root<true>(q2, in[i].tfar, root, i, stack)
-                                      : w->template trace_root<false>(q2, in[i].tfar, root, i, stack);
+                    // (trace_root walks only rays with a root child to visit, as trace_group does; the
+                    // others' walk from the root must find no hit.)
+                    const Hit g = !root.live[i] ? Hit{}
+                                  : any         ? w->template trace_root<true>(q2, in[i].tfar, root, i, stack)
+                                                : w->template trace_root<false>(q2, in[i].tfar, root, i, stack);
                     hit_differs += std::memcmp(&h, &g, sizeof(Hit)) != 0;
                     c.hits += g.is_hit();
                 }
@@ -144,10 +148,11 @@ void check_all_widths(const accel::TriangleView& view, const std::vector<Ray>& r
     check_width<8>(view, rays, c);
     check_width<16>(view, rays, c);
     MESSAGE("rays " << c.rays << " (" << c.general << " not plain), one root child to visit " << c.lone << ", several "
-                    << c.several << ", leaves visited " << c.leaves << ", hits " << c.hits);
+                    << c.several << ", first child a node " << c.deeper << ", leaves visited " << c.leaves << ", hits " << c.hits);
     // Both kinds of root outcome, leaves and hits occur (so the comparisons above compare walks).
     CHECK(c.lone > c.rays / 50);
     CHECK(c.several > c.rays / 10);
+    CHECK(c.deeper > c.rays / 10);
     CHECK(c.leaves > c.rays);
     CHECK(c.hits > c.rays / 4);
     CHECK(c.general > c.rays / 10);
@@ -207,7 +212,7 @@ template <std::size_t N> void check_past_tfar(const engine::Mesh& mesh, const Ra
         accel::traverse_wide<false, false>(layout, r, ray.tfar, stack, 0, 0, rec(a));
         REQUIRE(root.live[0]);
         accel::traverse_wide_root<false, false>(layout, r, ray.tfar, stack, root.child[0], root.count[0], root.rest[0],
-                                                root.entry(0), rec(b));
+                                                root.entry(0), root.bits2[0], root.t2[0], rec(b));
         CHECK(a == b);
         REQUIRE(!a.empty());
         for (const auto& [first, count] : a)

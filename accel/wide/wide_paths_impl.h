@@ -66,14 +66,15 @@ public:
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
     template <bool AnyHit>
     Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStack& stack) const {
-        return walk_ray<AnyHit, false>(r, tfar, child, count, 0, T(0.0f), stack);
+        return walk_ray<AnyHit, false>(r, tfar, child, count, 0, T(0.0f), 0, nullptr, stack);
     }
 
     /// Ray `r` (traceable, far distance `tfar`) from the root, whose test test_root (wide_root.h)
     /// has done: ray i of `root` (root.live[i] set).
     template <bool AnyHit, std::size_t Rays>
     Hit trace_root(simd::WideRay<T>& r, float tfar, const RootTests<N, Rays>& root, std::size_t i, WideStack& stack) const {
-        return walk_ray<AnyHit, true>(r, tfar, root.child[i], root.count[i], root.rest[i], root.entry(i), stack);
+        return walk_ray<AnyHit, true>(r, tfar, root.child[i], root.count[i], root.rest[i], root.entry(i), root.bits2[i],
+                                      root.t2[i], stack);
     }
 
 private:
@@ -84,7 +85,7 @@ private:
     /// took 1.3x as long.
     template <bool AnyHit, bool Root>
     ARBOR_INLINE Hit walk_ray(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, std::uint32_t rest,
-                              const T& root_t, WideStack& stack) const {
+                              const T& root_t, std::uint32_t first_bits, const float* first_t, WideStack& stack) const {
         HitRecord<AnyHit> best;
         const WideBlock<N>* blocks = layout_.blocks.data();
         auto leaf = [&](std::uint32_t first, std::uint32_t n) {
@@ -108,8 +109,8 @@ private:
             }
             return found;
         };
-        if (r.plain) detail::walk_wide<AnyHit, true, Root>(layout_, r, tfar, stack, child, count, rest, root_t, leaf);
-        else detail::walk_wide<AnyHit, false, Root>(layout_, r, tfar, stack, child, count, rest, root_t, leaf);
+        if (r.plain) detail::walk_wide<AnyHit, true, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
+        else detail::walk_wide<AnyHit, false, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
         return best.hit;
     }
 
@@ -165,7 +166,7 @@ private:
             if (!mixed_octants(setup)) {
                 for (std::size_t i = 0; i < in.size(); ++i) {
                     setup.get(i, r);
-                    hits[base + i] = r.traceable ? walk_ray<AnyHit, false>(r, in[i].tfar, 0, 0, 0, T(0.0f), stack) : Hit{};
+                    hits[base + i] = r.traceable ? walk_ray<AnyHit, false>(r, in[i].tfar, 0, 0, 0, T(0.0f), 0, nullptr, stack) : Hit{};
                 }
                 continue;
             }
@@ -187,7 +188,8 @@ private:
                 continue;
             }
             setup.get(i, r);
-            hits[i] = walk_ray<AnyHit, true>(r, in[i].tfar, root.child[i], root.count[i], root.rest[i], root.entry(i), stack);
+            hits[i] = walk_ray<AnyHit, true>(r, in[i].tfar, root.child[i], root.count[i], root.rest[i], root.entry(i),
+                                             root.bits2[i], root.t2[i], stack);
         }
     }
 

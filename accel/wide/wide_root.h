@@ -22,13 +22,19 @@ namespace arbor::accel {
 
 /// Per ray of a group of up to `Rays`: where its walk starts after the root. The first child it
 /// visits (child, count; `live` false: none, the walk ends) and the other hit children it defers
-/// (`rest`, with their entry distances t), as the walk's own root test would have left them.
+/// (`rest`, with their entry distances t), as the walk's own root test would have left them; and
+/// when that first child is a node (count == 0), that node's test too (`bits2`, distances `t2`),
+/// which the walk takes instead of testing the node itself (unset for other rays).
 template <std::size_t N, std::size_t Rays> struct RootTests {
     alignas(64) float t[Rays][N];
     std::uint32_t rest[Rays];
     std::uint32_t child[Rays];
     std::uint32_t count[Rays];
     bool live[Rays];
+    /// The test of the first child when it is a node (else of the root again, unused): its hit
+    /// children and their distances, which the walk takes instead of testing it itself.
+    alignas(64) float t2[Rays][N];
+    std::uint32_t bits2[Rays];
 
     WideLane<N> entry(std::size_t i) const { return simd::load_lanes<WideLane<N>>(t[i]); }
 };
@@ -41,7 +47,12 @@ template <std::size_t N, std::size_t Rays> struct RootTests {
 /// of several, the children pushed in the root's order for the ray's octant (wide_order.h) and
 /// popped nearest first, those farther than the ray's tfar would be popped and skipped (tfar only
 /// drops), so the first visited is the nearest in that order within tfar, and the others within
-/// tfar are the deferred ones.
+/// tfar are the deferred ones. Then, for the rays whose first child is a node, that node's test
+/// (the walk's first step, with the same operands: no hit can have lowered tfar before it): the
+/// group's tests are independent, so they overlap, while in the walk the node's loads and slab
+/// test were a chain of their own at the head of each ray. Only the test moves here; what the walk
+/// does with its outcome (one child or several, push, pop) stays in the walk, on predicted
+/// branches (done here as well, branch-free, it cost more than it saved: 0.86x on random rays).
 template <std::size_t N, class P, std::size_t Rays>
 __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd::WideRaySetup<P>& setup, std::size_t count,
                       RootTests<N, Rays>& out) {
@@ -50,30 +61,34 @@ __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd
     using T = WideLane<N>;
     constexpr std::size_t n = N;
     const WideNode<N>& root = layout.nodes[0];
-    const float* soa = &root.boxes.b[0][0][0];
-    for (std::size_t i = 0; i < count; ++i) {
+    // Ray i's slab test of the node whose boxes are at `soa`: the hit bits, distances in t.
+    const auto test = [&setup](std::size_t i, const float* soa, T& t) {
         const auto v = [&setup, i](typename S::Field k) { return T(setup.f[k][i]); };
         const simd::Vec3<T> org{v(S::org_x), v(S::org_y), v(S::org_z)};
         const simd::Vec3<T> rcp_near{v(S::rn_x), v(S::rn_y), v(S::rn_z)};
         const simd::Vec3<T> rcp_far{v(S::rf_x), v(S::rf_y), v(S::rf_z)};
         const T tnear = v(S::tnear), tfar = v(S::tfar);
-        int near_is_hi[3];
         simd::Vec3<T> near_plane, far_plane;
         for (int k = 0; k < 3; ++k) {
-            near_is_hi[k] = int((setup.near_is_hi[k] >> i) & 1u);
-            near_plane[k] = simd::load_lanes<T>(soa + (std::size_t(near_is_hi[k]) * 3 + std::size_t(k)) * n);
-            far_plane[k] = simd::load_lanes<T>(soa + (std::size_t(1 - near_is_hi[k]) * 3 + std::size_t(k)) * n);
+            const std::size_t hi = (setup.near_is_hi[k] >> i) & 1u;
+            near_plane[k] = simd::load_lanes<T>(soa + (hi * 3 + std::size_t(k)) * n);
+            far_plane[k] = simd::load_lanes<T>(soa + ((1 - hi) * 3 + std::size_t(k)) * n);
         }
+        return simd::to_bits(((setup.plain >> i) & 1u)
+                                 ? simd::slab_test_plain<T>(near_plane, far_plane, org, rcp_near, rcp_far, tnear, tfar, t)
+                                 : simd::slab_test<T>(near_plane, far_plane, org, rcp_near, rcp_far, tnear, tfar, t));
+    };
+    std::uint32_t deeper = 0;  // rays whose first child is a node
+    for (std::size_t i = 0; i < count; ++i) {
+        int near_is_hi[3];
+        for (int k = 0; k < 3; ++k) near_is_hi[k] = int((setup.near_is_hi[k] >> i) & 1u);
         T t;
-        const std::uint32_t bits =
-            simd::to_bits(((setup.plain >> i) & 1u)
-                              ? simd::slab_test_plain<T>(near_plane, far_plane, org, rcp_near, rcp_far, tnear, tfar, t)
-                              : simd::slab_test<T>(near_plane, far_plane, org, rcp_near, rcp_far, tnear, tfar, t));
+        const std::uint32_t bits = test(i, &root.boxes.b[0][0][0], t);
         // (Masks and |1 instead of conditions: as branches, they were mispredicted on incoherent
         // rays, and made the group's root tests cost three times as much.)
         const std::uint32_t hit = bits & (0u - ((setup.traceable >> i) & 1u));
         const std::uint32_t lone = 0u - std::uint32_t(std::popcount(hit) == 1);
-        const std::uint32_t live = hit & (simd::to_bits(t <= tfar) | lone);
+        const std::uint32_t live = hit & (simd::to_bits(t <= T(setup.f[S::tfar][i])) | lone);
         const std::uint8_t* order = layout.orders.data() + std::size_t(ray_octant(near_is_hi)) * N;
         const std::uint32_t ranked = ordered_bits<N>(live, order);
         const unsigned first = order[31 - std::countl_zero(ranked | 1u)];  // (order[0] when none)
@@ -82,6 +97,17 @@ __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd
         out.child[i] = root.child[first];
         out.count[i] = root.count[first];
         out.live[i] = live != 0;
+        out.bits2[i] = 0;  // (set below for a node; a walk from a leaf never reads it)
+        deeper |= std::uint32_t(live != 0 && root.count[first] == 0) << i;
+    }
+    // Then the first child's own test for the rays whose first child is a node, one after another
+    // (independent of each other, so they overlap), the same operations on the same operands as
+    // the walk's test of that node: the walk takes the outcome instead (first_bits, first_t).
+    for (std::uint32_t m = deeper; m != 0; m &= m - 1) {
+        const std::size_t i = std::size_t(std::countr_zero(m));
+        T t2;
+        out.bits2[i] = test(i, &layout.nodes[out.child[i]].boxes.b[0][0][0], t2);
+        simd::store_lanes(t2, out.t2[i]);
     }
 }
 

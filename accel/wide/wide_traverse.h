@@ -36,11 +36,12 @@ template <std::size_t N> constexpr bool wide_width_available() {
 namespace detail {
 /// The walk of traverse_wide and traverse_wide_root: from (child, count); Root: with the root's
 /// children `root_rest` (entry distances `root_t`) deferred first, pushed as a node's hit
-/// children are (the root test done by the caller, wide_root.h).
+/// children are (the root test done by the caller, wide_root.h), and when (child, count) is a
+/// node, its test's outcome given too (`first_bits`, distances at `first_t`: test_root's).
 template <bool AnyHit, bool Plain, bool Root, std::size_t N, class LeafFn>
 ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar, WideStack& stack,
                             std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
-                            const WideLane<N>& root_t, LeafFn&& leaf) {
+                            const WideLane<N>& root_t, std::uint32_t first_bits, const float* first_t, LeafFn&& leaf) {
     using T = WideLane<N>;
     const WideNode<N>* nodes = layout.nodes.data();
     const WideBlock<N>* blocks = layout.blocks.data();
@@ -65,13 +66,18 @@ ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<
         // children are in cache); the walk goes on at (child, count) meanwhile.
         sp = push_hits<N>(root_rest, orders, nodes[0], root_t, stack, 0);
     }
+    bool first = Root;  // Root: the first node's test is done (first_bits, first_t)
     for (;;) {
         if (count == 0) {
             const WideNode<N>& n = nodes[child];
             T t;
             std::uint32_t bits;
-            if constexpr (Plain) bits = simd::to_bits(simd::ray_boxes_plain<T>(r, &n.boxes.b[0][0][0], t));
+            if (first) {
+                bits = first_bits;
+                t = simd::load_lanes<T>(first_t);
+            } else if constexpr (Plain) bits = simd::to_bits(simd::ray_boxes_plain<T>(r, &n.boxes.b[0][0][0], t));
             else bits = simd::to_bits(simd::ray_boxes<T>(r, &n.boxes.b[0][0][0], t));
+            first = false;
             if (bits != 0) {
                 if ((bits & (bits - 1)) == 0) {  // one child hit: no push (measured 1.0-1.07x on shadow rays)
                     const int i = std::countr_zero(bits);
@@ -88,8 +94,9 @@ ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<
                     for (std::size_t q = 0; q < sizeof(WideNode<N>) / 64; ++q) _mm_prefetch(p + 64 * q, _MM_HINT_T0);
                 }
             }
-        } else if (leaf(child, count) && AnyHit) {
-            return;
+        } else {
+            first = false;
+            if (leaf(child, count) && AnyHit) return;
         }
         if (!pop()) return;
     }
@@ -106,19 +113,20 @@ ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<
 template <bool AnyHit, bool Plain = false, std::size_t N, class LeafFn>
 inline void traverse_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
                           WideStack& stack, std::uint32_t child, std::uint32_t count, LeafFn&& leaf) {
-    detail::walk_wide<AnyHit, Plain, false>(layout, r, tfar, stack, child, count, 0, WideLane<N>(0.0f), leaf);
+    detail::walk_wide<AnyHit, Plain, false>(layout, r, tfar, stack, child, count, 0, WideLane<N>(0.0f), 0, nullptr, leaf);
 }
 
 /// The same walk from the root, with the root's test already done (test_root, wide_root.h, for a
 /// group of rays at once): the walk visits (child, count) first, with the root's hit children
-/// `root_rest` (entry distances `root_t`) deferred, as the root's own test would have left it. The
-/// nodes and leaves visited, in the same order, and the hits are those of traverse_wide from
-/// (0, 0).
+/// `root_rest` (entry distances `root_t`) deferred, as the root's own test would have left it;
+/// when (child, count) is a node, its test is done too (`first_bits`, `first_t`: RootTests::bits2
+/// and t2) and the walk goes on from its outcome. The nodes and leaves visited, in the same order,
+/// and the hits are those of traverse_wide from (0, 0).
 template <bool AnyHit, bool Plain = false, std::size_t N, class LeafFn>
 inline void traverse_wide_root(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
                                WideStack& stack, std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
-                               const WideLane<N>& root_t, LeafFn&& leaf) {
-    detail::walk_wide<AnyHit, Plain, true>(layout, r, tfar, stack, child, count, root_rest, root_t, leaf);
+                               const WideLane<N>& root_t, std::uint32_t first_bits, const float* first_t, LeafFn&& leaf) {
+    detail::walk_wide<AnyHit, Plain, true>(layout, r, tfar, stack, child, count, root_rest, root_t, first_bits, first_t, leaf);
 }
 
 }  // namespace arbor::accel
