@@ -136,12 +136,7 @@ TEST_CASE("kdtree stiff: far from the origin and tiny scenes") {
         CAPTURE(scale);
         engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.2f, 2);
         mesh.append(testing::random_soup(300, 0.2f, 5));
-        for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
-            mesh.x[i] = mesh.x[i] * scale + offset;
-            mesh.y[i] = mesh.y[i] * scale - offset;
-            mesh.z[i] = mesh.z[i] * scale + 0.5f * offset;
-        }
-        mesh.compute_bounds();
+        testing::place(mesh, offset, scale);
         std::vector<Ray> rays = testing::random_rays_into(mesh.bounds, 800, 6);
         const auto inside = testing::random_rays_inside(mesh.bounds, 800, 7);
         rays.insert(rays.end(), inside.begin(), inside.end());

@@ -122,12 +122,7 @@ std::vector<std::uint32_t> walk_leaves(const accel::KdTree& tree, const Ray& r) 
 engine::Mesh placed_mesh(float offset, float scale) {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.15f, 5);
     mesh.append(testing::random_soup(400, 0.15f, 3));
-    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
-        mesh.x[i] = mesh.x[i] * scale + offset;
-        mesh.y[i] = mesh.y[i] * scale - offset;
-        mesh.z[i] = mesh.z[i] * scale + 0.5f * offset;
-    }
-    mesh.compute_bounds();
+    testing::place(mesh, offset, scale);
     return mesh;
 }
 

@@ -7,6 +7,7 @@
 #include "accel/wide/wide_paths_impl.h"
 #include "engine/obj_loader.h"
 #include "testing.h"
+#include "wide_bvh.h"
 
 #include <doctest/doctest.h>
 
@@ -21,12 +22,8 @@ namespace {
 
 template <std::size_t N> void check_forms(const accel::TriangleView& view, const std::vector<Ray>& rays) {
     if constexpr (accel::wide_width_available<N>()) {
-        accel::BuildConfig cfg;
-        cfg.layouts = accel::Layouts::simd;
-        cfg.wide.width = N;
-        const auto acc = accel::make_accel(accel::AccelKind::bvh_sah, view, cfg);
+        const auto acc = testing::wide_bvh<N>(view);
         const auto* w = dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get());
-        REQUIRE(w != nullptr);
         accel::WideStack stack(w->wide_layout().stack_size());
         std::size_t plain = 0, hits = 0, differ = 0;
         for (const Ray& ray : rays) {

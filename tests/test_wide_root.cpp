@@ -11,6 +11,7 @@
 #include "accel/wide/wide_paths_impl.h"
 #include "engine/obj_loader.h"
 #include "testing.h"
+#include "wide_bvh.h"
 
 #include <doctest/doctest.h>
 
@@ -25,16 +26,6 @@ using accel::Hit;
 using accel::Ray;
 
 namespace {
-
-/// bvh-sah with only the SIMD layouts, at width N: the layout both checks below walk.
-template <std::size_t N> std::unique_ptr<accel::Accel> wide_bvh(const accel::TriangleView& view) {
-    accel::BuildConfig cfg;
-    cfg.layouts = accel::Layouts::simd;
-    cfg.wide.width = N;
-    auto acc = accel::make_accel(accel::AccelKind::bvh_sah, view, cfg);
-    REQUIRE(dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get()) != nullptr);
-    return acc;
-}
 
 /// The rays, then the same rays over [-2L, -L / 8] and [-L, L] (L: the bounds' diagonal).
 std::vector<Ray> with_ranges(const accel::Bounds& b, std::vector<Ray> rays) {
@@ -73,7 +64,7 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
     if constexpr (accel::wide_width_available<N>()) {
         using T = accel::WideLane<N>;
         using Setup = simd::WideRaySetup<simd::SetupLane>;
-        const auto acc = wide_bvh<N>(view);
+        const auto acc = testing::wide_bvh<N>(view);
         const auto* w = dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get());
         const accel::WideLayout<N>& layout = w->wide_layout();
         REQUIRE(!layout.empty());
@@ -181,7 +172,7 @@ template <std::size_t N> void check_past_tfar(const engine::Mesh& mesh, const Ra
     if constexpr (accel::wide_width_available<N>()) {
         using T = accel::WideLane<N>;
         using Setup = simd::WideRaySetup<simd::SetupLane>;
-        const auto acc = wide_bvh<N>(mesh.view());
+        const auto acc = testing::wide_bvh<N>(mesh.view());
         const auto* w = dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get());
         const accel::WideLayout<N>& layout = w->wide_layout();
         accel::WideStack stack(layout.stack_size());

@@ -124,4 +124,13 @@ std::size_t count_occlusion_disagreements(const std::vector<Hit>& any, const std
     return bad;
 }
 
+void place(engine::Mesh& mesh, float offset, float scale) {
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
+        mesh.x[i] = mesh.x[i] * scale + offset;
+        mesh.y[i] = mesh.y[i] * scale - offset;
+        mesh.z[i] = mesh.z[i] * scale + 0.5f * offset;
+    }
+    mesh.compute_bounds();
+}
+
 }  // namespace arbor::testing

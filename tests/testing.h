@@ -36,6 +36,10 @@ std::vector<Ray> three_kinds(const accel::Bounds& b, std::size_t n, std::uint32_
 /// The procedural scene of the oracle tests: a jittered icosphere, a torus through it and a thin
 /// slab under both (curved, thin and large flat parts).
 engine::Mesh procedural_shapes();
+/// Moves the mesh to (offset, -offset, offset / 2) and scales it by `scale` about the origin first
+/// (x * scale + offset, ...), then recomputes its bounds: the far-from-origin and tiny placements
+/// of the stiff tests.
+void place(engine::Mesh& mesh, float offset, float scale);
 
 /// Counts rays whose answers disagree by the rayfile.md rule.
 std::size_t count_disagreements(const std::vector<Hit>& a, const std::vector<Hit>& b);
