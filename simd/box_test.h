@@ -10,6 +10,8 @@
 #include "simd/vec3.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -41,30 +43,56 @@ template <class A> inline xsimd::batch<float, A> pad_2ulp(const xsimd::batch<flo
 ///   differently along k: NaN, so that axis never culls (a NaN distance is ignored by rmax/rmin,
 ///   as for an origin lying in a slab plane). Only near-axis directions with components below
 ///   FLT_MIN * dmax are affected. Found by arbor's fuzzer (tests/fuzz/regressions/rays).
+/// - when 1/d[k] is denormal (|d[k]| > 2^126), it carries as few as 21 bits: its rounding error
+///   (up to 2^-22 relative) exceeds the 2-ulp padding of another axis's exit (2^-23), which Ize's
+///   bound relies on, and a ray grazing a flat box lost its hit. The reciprocal is then shrunk by
+///   two ulps towards zero, below 1/d[k] (3 * 2^-24 relative at least), so the entry distances it
+///   gives never exceed the exact ones; slab_far (below) pads it by four, back above 1/d[k]. Not
+///   NaN: on a ray whose every axis is NaN, empty boxes would pass. Found by arbor's fuzzer
+///   (tests/fuzz/regressions/obj/huge-direction-*.obj).
 inline float slab_rcp(float d, float dmax) {
     const float r = 1.0f / d;
     if (d == 0.0f) return r;
     const float q = std::fabs(d) / dmax;
     if (q == 0.0f) return d < 0.0f ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
-    return q < std::numeric_limits<float>::min() || std::isinf(r) ? std::numeric_limits<float>::quiet_NaN() : r;
+    if (q < std::numeric_limits<float>::min() || std::isinf(r)) return std::numeric_limits<float>::quiet_NaN();
+    return std::fabs(r) < std::numeric_limits<float>::min() ? std::bit_cast<float>(std::bit_cast<std::uint32_t>(r) - 2u) : r;
 }
 template <class A>
 inline xsimd::batch<float, A> slab_rcp(const xsimd::batch<float, A>& d, const xsimd::batch<float, A>& dmax) {
     using B = xsimd::batch<float, A>;
-    const B inf(std::numeric_limits<float>::infinity()), zero(0.0f);
+    using I = xsimd::batch<std::int32_t, A>;
+    const B inf(std::numeric_limits<float>::infinity()), zero(0.0f), fmin(std::numeric_limits<float>::min());
     const B r = B(1.0f) / d, q = xsimd::abs(d) / dmax;
     const auto moving = d != zero;
     const B rule = xsimd::select(d < zero, -inf, inf);
     const B nan(std::numeric_limits<float>::quiet_NaN());
-    const auto unsure = moving & (q != zero) & ((q < B(std::numeric_limits<float>::min())) | (xsimd::abs(r) == inf));
-    return xsimd::select(moving & (q == zero), rule, xsimd::select(unsure, nan, r));
+    const auto unsure = moving & (q != zero) & ((q < fmin) | (xsimd::abs(r) == inf));
+    // (|r| >= 2^-128 here, so its magnitude bits minus 2 stay positive: the sign is kept.)
+    const B shrunk = xsimd::bitwise_cast<B>(xsimd::bitwise_cast<I>(r) - I(2));
+    const B sure = xsimd::select(xsimd::abs(r) < fmin, shrunk, r);
+    return xsimd::select(moving & (q == zero), rule, xsimd::select(unsure, nan, sure));
+}
+
+/// The far-plane reciprocal from slab_rcp's: padded by 2 ulps (Ize), by 4 when it is denormal
+/// (slab_rcp shrank it by 2: the padding is then 2 ulps above the rounded 1/d, as on a normal
+/// axis). Monotone on slab_rcp's values (its denormals are at most FLT_MIN minus 3 ulps, so
+/// padded by 4 they stay below FLT_MIN padded by 2): packet_bounds.h relies on it.
+inline float slab_far(float rcp) {
+    const float p = pad_2ulp(rcp);
+    return std::fabs(rcp) < std::numeric_limits<float>::min() && rcp != 0.0f ? pad_2ulp(p) : p;
+}
+template <class A> inline xsimd::batch<float, A> slab_far(const xsimd::batch<float, A>& rcp) {
+    using B = xsimd::batch<float, A>;
+    const B p = pad_2ulp(rcp), a = xsimd::abs(rcp);
+    return xsimd::select((a < B(std::numeric_limits<float>::min())) & (a != B(0.0f)), pad_2ulp(p), p);
 }
 
 /// Per-ray constants of the slab test.
 struct SlabRay {
     Vec3f org;
     Vec3f rcp_near;            ///< 1/d
-    Vec3f rcp_far;             ///< 1/d padded by 2 ulps
+    Vec3f rcp_far;             ///< 1/d padded by 2 ulps (slab_far)
     int near_is_hi[3] = {};    ///< 1 when d has its sign bit set: the near plane is the box's max
 };
 
@@ -74,7 +102,7 @@ inline SlabRay slab_ray(const Vec3f& o, const Vec3f& d) {
     const float dmax = std::max(std::fabs(d.x), std::max(std::fabs(d.y), std::fabs(d.z)));
     for (int k = 0; k < 3; ++k) {
         r.rcp_near[k] = slab_rcp(d[k], dmax);
-        r.rcp_far[k] = pad_2ulp(r.rcp_near[k]);
+        r.rcp_far[k] = slab_far(r.rcp_near[k]);
         r.near_is_hi[k] = std::signbit(d[k]) ? 1 : 0;
     }
     return r;

@@ -98,9 +98,10 @@ template <class P> ARBOR_INLINE PacketBounds packet_bounds(const RayPacket<P>& p
         if (std::popcount(axes) < 2) return packet_bounds_plain(p, lanes);
         // The same bounds with the 13 reductions done at once (hmin16), and the padded reciprocals'
         // bounds taken from the unpadded ones: on an axis that takes part every lane's reciprocal
-        // has the axis' sign, so after the negation all are > 0, and pad_2ulp is monotone there
-        // (and commutes with the negation): min and max of the padded ones are the padded min and
-        // max. The same bounds as packet_bounds_plain (tested).
+        // has the axis' sign, so after the negation all are > 0, and slab_far is monotone on the
+        // values slab_rcp gives (box_test.h: its denormals are at least 3 ulps below FLT_MIN) and
+        // commutes with the negation: min and max of the padded ones are the padded min and max.
+        // The same bounds as packet_bounds_plain (tested).
         const P inf(INFINITY);
         P v[16];
         for (int k = 0; k < 3; ++k) {
@@ -123,9 +124,9 @@ template <class P> ARBOR_INLINE PacketBounds packet_bounds(const RayPacket<P>& p
             b.o_lo[k] = m[4 * k], b.o_hi[k] = -m[4 * k + 1];
             b.rn_lo[k] = m[4 * k + 2], b.rn_hi[k] = -m[4 * k + 3];
         }
-        // The six paddings in one batch pad_2ulp (bit-identical to the scalar one, no nextafter calls).
+        // The six paddings in one batch slab_far (bit-identical to the scalar one, no nextafter calls).
         alignas(64) float rf[16];
-        pad_2ulp(Float16(_mm512_setr_ps(m[2], m[6], m[10], 0.0f, -m[3], -m[7], -m[11], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,
+        slab_far(Float16(_mm512_setr_ps(m[2], m[6], m[10], 0.0f, -m[3], -m[7], -m[11], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,
                                         0.0f, 0.0f, 0.0f, 0.0f)))
             .store_aligned(rf);
         for (int k = 0; k < 3; ++k)

@@ -97,7 +97,7 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
     const T dmax = rmax(vabs(dir.x), rmax(vabs(dir.y), vabs(dir.z)));
     for (int k = 0; k < 3; ++k) {
         p.rcp_near[k] = slab_rcp(dir[k], dmax);
-        p.rcp_far[k] = pad_2ulp(p.rcp_near[k]);
+        p.rcp_far[k] = slab_far(p.rcp_near[k]);
         p.near_is_hi[k] = signbit_mask(dir[k]);
     }
     p.woop = woop_lanes(dir, p.active);

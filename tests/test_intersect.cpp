@@ -6,6 +6,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -223,6 +224,72 @@ TEST_CASE("box: a direction component too small for its reciprocal never culls (
     CHECK(slab_test(slab_ray(o2, d2), {-0.92f, 0.0f, 0.0f}, {-0.82f, 0.54f, 0.51f}, -1.0774e+08f, 2.53466e-38f, t));
     // A zero component still culls boxes beside the ray.
     CHECK_FALSE(slab_test(slab_ray(o, {2.3e-41f, -1.0f, 0.0f}), {-0.54f, -1.1f, 0.0f}, {0.0f, -0.8f, 0.5f}, 0.0f, inf, t));
+}
+
+TEST_CASE("box: a direction component above 2^126 (denormal reciprocal) stays conservative (found by arbor's fuzzer)") {
+    using arbor::simd::slab_far;
+    using arbor::simd::slab_rcp;
+    // Directions from 2^125 to FLT_MAX, both signs: 1/d crosses into the denormals at 2^126.
+    std::vector<float> ds;
+    for (float d = 0x1p125f; d < 3.4e38f; d = std::nextafter(d * 1.0001f, INFINITY)) ds.push_back(d);
+    ds.push_back(std::numeric_limits<float>::max());
+    ds.push_back(0x1p126f);
+    ds.push_back(std::nextafter(0x1p126f, 0.0f));
+    ds.push_back(std::nextafter(0x1p126f, INFINITY));
+    for (float d : std::vector<float>(ds)) ds.push_back(-d);
+    std::size_t denormal = 0;
+    std::vector<float> near_magnitudes;
+    for (const float d : ds) {
+        CAPTURE(d);
+        const float rn = slab_rcp(d, std::fabs(d)), rf = slab_far(rn);
+        const double exact = 1.0 / double(d);
+        REQUIRE(std::isfinite(rn));
+        CHECK(std::signbit(rn) == std::signbit(d));
+        // Padded above 1/d by at least 1.5 ulps of the denormals (2^-149), as on a normal axis
+        // (half an ulp of rounding, two of padding); a denormal one shrunk below 1/d by as much.
+        CHECK(std::fabs(double(rf)) >= std::fabs(exact) + 1.5 * 0x1p-149);
+        if (std::fabs(rn) < std::numeric_limits<float>::min()) {
+            ++denormal;
+            CHECK(std::fabs(exact) - std::fabs(double(rn)) >= 1.5 * 0x1p-149);
+        }
+        if (d > 0.0f) near_magnitudes.push_back(rn);
+    }
+    CHECK(denormal > 100);
+    // slab_far is monotone on slab_rcp's values (packet_bounds.h takes it of the lanes' min and max).
+    std::sort(near_magnitudes.begin(), near_magnitudes.end());
+    for (std::size_t i = 1; i < near_magnitudes.size(); ++i)
+        CHECK(slab_far(near_magnitudes[i - 1]) <= slab_far(near_magnitudes[i]));
+    // The batch forms equal the scalar forms lane by lane.
+    using B = xsimd::batch<float>;
+    for (std::size_t i = 0; i + B::size <= ds.size(); i += B::size) {
+        alignas(64) float dl[B::size], ml[B::size], rn[B::size], rf[B::size];
+        for (std::size_t l = 0; l < B::size; ++l) dl[l] = ds[i + l], ml[l] = std::fabs(ds[i + l]);
+        const B r = slab_rcp(B::load_aligned(dl), B::load_aligned(ml));
+        r.store_aligned(rn);
+        slab_far(r).store_aligned(rf);
+        for (std::size_t l = 0; l < B::size; ++l) {
+            CAPTURE(dl[l]);
+            CHECK(rn[l] == slab_rcp(dl[l], ml[l]));
+            CHECK(rf[l] == slab_far(slab_rcp(dl[l], ml[l])));
+        }
+    }
+    // The fuzzer's ray (tests/fuzz/regressions/obj/huge-direction-grazing-flat-box.obj): a box flat
+    // in x that the ray enters on z where it crosses the x plane. Its entry on z must not come out
+    // beyond its exit on x.
+    const Vec3f o{0x1.507c7ap+80f, -0x1.30fb4ap+1f, 0x1.b4a6c4p+127f}, d{-0x1.507c7ap+80f, 0x1.30fb5p+1f, -0x1.b4a6c4p+127f};
+    const auto r = arbor::simd::slab_ray(o, d);
+    CHECK(std::fabs(r.rcp_near.z) < std::numeric_limits<float>::min());
+    int culled = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const double t = 1.0 + i * 1e-7;  // points along the ray, as exactly as a double can
+        const float px = float(double(o.x) + t * double(d.x)), pz = float(double(o.z) + t * double(d.z));
+        // The box [px, px] x [-10, 10] x [pz, pz + |pz|]: the ray's entry on z is ~t, its exit on x ~t.
+        float te = 0.0f;
+        const bool hit = arbor::simd::slab_test(r, {px, -10.0f, std::min(pz, pz * 2.0f)}, {px, 10.0f, std::max(pz, pz * 2.0f)},
+                                                0.0f, inf, te);
+        culled += hit ? 0 : 1;
+    }
+    CHECK(culled == 0);
 }
 
 TEST_CASE("box: packet bounds leave out an axis on which a lane's reciprocal is NaN (found by arbor's fuzzer)") {
