@@ -2,6 +2,7 @@
 // lines of integer-grid meshes (inside split planes, through leaf edges and corners), origins
 // exactly on split planes and on leaf corners, far and tiny scenes.
 #include "accel/kdtree/kdtree_build.h"
+#include "accel/kdtree/kdtree_walk_dir.h"
 #include "engine/procedural.h"
 #include "kdtree_checks.h"
 #include "kdtree_oracle.h"
@@ -142,4 +143,58 @@ TEST_CASE("kdtree stiff: far from the origin and tiny scenes") {
         rays.insert(rays.end(), inside.begin(), inside.end());
         testing::require_agreement(mesh, rays);
     }
+}
+
+TEST_CASE("kdtree stiff: a direction component whose shear underflows is walked as zero (found by a search over extreme rays)") {
+    using accel::kd::shears_to_zero;
+    using accel::kd::walk_direction;
+    // shears_to_zero is the triangle test's own rounding, |d| / dmax == 0 in float, without the
+    // division: on both sides of the 2^-150 boundary, at it, and far from it.
+    std::mt19937 rng(20261203);
+    std::uniform_int_distribution<int> ex(-149, 127);
+    std::uniform_real_distribution<float> mant(1.0f, 2.0f);
+    std::size_t zeros = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const float dmax = std::ldexp(mant(rng), ex(rng) / 2 + 63);  // >= 2^-11, normal
+        float dk = std::ldexp(mant(rng), ex(rng));
+        if (i % 4 == 0) dk = std::nextafter(float(double(dmax) * 0x1p-150), i % 8 == 0 ? 0.0f : INFINITY);
+        if (i % 16 == 1) dk = float(double(dmax) * 0x1p-150);
+        if (!(std::fabs(dk) <= dmax) || dk == 0.0f) continue;
+        for (const float s : {dk, -dk}) {
+            CAPTURE(s);
+            CAPTURE(dmax);
+            const bool ref = std::fabs(s) / dmax == 0.0f;
+            CHECK(shears_to_zero(s, dmax) == ref);
+            zeros += ref ? 1 : 0;
+        }
+    }
+    CHECK(zeros > 1000);
+    // The batch form lane by lane.
+    using P = xsimd::batch<float>;
+    alignas(64) float d[P::size], m[P::size];
+    for (std::size_t l = 0; l < P::size; ++l) d[l] = std::ldexp(1.0f, -150 + int(l) % 3) * 3.0f, m[l] = l % 2 ? 3.0f : 2.0f;
+    const std::uint32_t bits = simd::to_bits(shears_to_zero(P::load_aligned(d), P::load_aligned(m)));
+    for (std::size_t l = 0; l < P::size; ++l) CHECK(((bits >> l) & 1u) == (shears_to_zero(d[l], m[l]) ? 1u : 0u));
+    const Vec3f w = walk_direction({-3e30f, -1.7e-42f, 2e29f});
+    CHECK(w.x == -3e30f);
+    CHECK(w.y == 0.0f);
+    CHECK(std::signbit(w.y));
+    CHECK(w.z == 2e29f);
+
+    // Rays lying in the bottom face of a box (origin on it, d.y ~ 1e-42 against d ~ 1e30 along it):
+    // the triangle test sees no motion along y and hits the face; every path of the kd-tree agrees.
+    engine::Mesh mesh = engine::make_box({-2, -2, -2}, {2, -1.5f, 2});
+    mesh.append(engine::make_icosphere({0, 0, 0}, 1.0f, 1, 0.1f, 3));
+    mesh.compute_bounds();
+    std::vector<Ray> rays;
+    std::uniform_real_distribution<float> u(-1.9f, 1.9f);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3f o{u(rng), -2.0f, u(rng)};
+        const Vec3f dir{u(rng) * std::ldexp(1.0f, 60 + i % 60), -std::ldexp(1.0f, -141 + i % 3), u(rng) * std::ldexp(1.0f, 60 + i % 60)};
+        rays.push_back({o, 0.0f, dir, inf});
+    }
+    testing::require_agreement(mesh, rays);  // scalar vs brute, every SIMD path vs scalar
+    const auto kd = accel::make_kdtree_accel(mesh.view(), {});
+    const testing::OracleResult r = testing::compare_with_brute(*kd, accel::BruteAccel(mesh.view()), mesh.view(), rays);
+    CHECK(r.hits > 1000);  // the face's triangles are hit (the rays do not leave it at t = 0)
 }

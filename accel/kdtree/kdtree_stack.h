@@ -27,6 +27,7 @@
 ///   tolerance of such an axis is 0 (the triangle test is exact in sign there).
 #include "accel/kdtree/kdtree_node.h"
 #include "accel/kdtree/kdtree_traverse.h"
+#include "accel/kdtree/kdtree_walk_dir.h"
 #include "accel/core/ray.h"
 #include "simd/simd.h"
 
@@ -73,15 +74,16 @@ ARBOR_INLINE void stack_interval(StackWalk& w, double tmin, double tmax) {
 /// Sets up the walk of ray `r` (traceable) from the root. False when the ray passes the scene box
 /// farther than the tolerance (nothing to visit).
 inline bool stack_start(const KdTree& tree, const Ray& r, StackWalk& w) {
-    const double dmax = std::max({std::fabs(double(r.dir.x)), std::fabs(double(r.dir.y)), std::fabs(double(r.dir.z))});
+    const Vec3f dir = walk_direction(r.dir);
+    const double dmax = std::max({std::fabs(double(dir.x)), std::fabs(double(dir.y)), std::fabs(double(dir.z))});
     double enter[3], leave[3];
     double t0 = r.tnear, t1 = r.tfar;
     for (int k = 0; k < 3; ++k) {
         w.o[k] = r.org[k];
-        w.d[k] = r.dir[k];
-        w.neg[k] = std::signbit(r.dir[k]);
-        w.flat[k] = r.dir[k] == 0.0f;
-        w.rcp[k] = 1.0 / double(r.dir[k]);
+        w.d[k] = dir[k];
+        w.neg[k] = std::signbit(dir[k]);
+        w.flat[k] = dir[k] == 0.0f;
+        w.rcp[k] = 1.0 / double(dir[k]);
         w.e[k] = 0.0;
         if (w.flat[k]) {
             if (w.o[k] < tree.box.lo[k] || w.o[k] > tree.box.hi[k]) return false;

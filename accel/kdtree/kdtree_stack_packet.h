@@ -110,8 +110,20 @@ template <std::size_t K> struct PacketStack {
         constexpr std::size_t H = D::size;
         static_assert(2 * H == K);
         alignas(64) double tn[K], tf[K], a[3][K], b[3][K];
+        alignas(64) float wdir[3][K];
+        // The walk's direction (walk_direction, kdtree_walk_dir.h) per lane: a component whose
+        // shear underflows is +-0.
+        for (std::size_t i = 0; i < K; i += P::size) {
+            const P x = P::load_aligned(dir[0] + i), y = P::load_aligned(dir[1] + i), z = P::load_aligned(dir[2] + i);
+            const P dmax = xsimd::max(xsimd::abs(x), xsimd::max(xsimd::abs(y), xsimd::abs(z)));
+            const P c[3] = {x, y, z};
+            for (int k = 0; k < 3; ++k) {
+                const auto under = shears_to_zero(c[k], dmax);
+                xsimd::select(under, xsimd::copysign(P(0.0f), c[k]), c[k]).store_aligned(wdir[k] + i);
+            }
+        }
         for (int k = 0; k < 3; ++k)
-            for (std::size_t i = 0; i < K; ++i) o[k][i] = org[k][i], d[k][i] = dir[k][i];
+            for (std::size_t i = 0; i < K; ++i) o[k][i] = org[k][i], d[k][i] = wdir[k][i];
         for (std::size_t i = 0; i < K; ++i) tn[i] = tnear[i], tf[i] = tfar[i];
         std::uint32_t live = 0, flat[3] = {};
         const D zero(0.0), one(1.0);

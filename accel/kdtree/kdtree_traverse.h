@@ -25,6 +25,7 @@
 ///   other side(s), so triangles touching the plane from either side are found. (On such an axis
 ///   the triangle test is exact in sign, so no tolerance is needed there.)
 #include "accel/kdtree/kdtree_node.h"
+#include "accel/kdtree/kdtree_walk_dir.h"
 #include "accel/core/ray.h"
 
 #include <algorithm>
@@ -293,15 +294,16 @@ enum class RopeStart { none, walk, point };  ///< nothing to visit; walk from t0
 inline RopeStart rope_start(const KdTree& tree, const Ray& r, RopeRay& s, double& t0_out) {
     double t0 = r.tnear, t1 = r.tfar;  // in registers, not through t0_out (a store per axis)
     t0_out = t0;
-    const double dmax = std::max({std::fabs(double(r.dir.x)), std::fabs(double(r.dir.y)), std::fabs(double(r.dir.z))});
+    const Vec3f dir = walk_direction(r.dir);
+    const double dmax = std::max({std::fabs(double(dir.x)), std::fabs(double(dir.y)), std::fabs(double(dir.z))});
     s.dmax = dmax;
     for (int k = 0; k < 3; ++k) {
         s.o[k] = r.org[k];
-        s.d[k] = r.dir[k];
-        s.flat[k] = r.dir[k] == 0.0f;
-        s.up[k] = !std::signbit(r.dir[k]);
+        s.d[k] = dir[k];
+        s.flat[k] = dir[k] == 0.0f;
+        s.up[k] = !std::signbit(dir[k]);
         s.tie_right[k] = s.up[k];
-        s.rcp[k] = 1.0 / double(r.dir[k]);
+        s.rcp[k] = 1.0 / double(dir[k]);
         s.tol[k] = point_tolerance * dmax * std::fabs(s.rcp[k]);
         const float lo = tree.box.lo[k], hi = tree.box.hi[k];
         if (s.flat[k]) {

@@ -1,0 +1,37 @@
+#pragma once
+/// The direction the kd-tree's walks follow (ropes, stack, packet start): the ray's, except that a
+/// component whose shear d[k] / dmax underflows to zero in float is taken as zero (its sign kept).
+/// The watertight triangle test shears by exactly that quotient (simd/tri_test.h, woop_shear), so
+/// it sees a ray that does not move along k, and the BVHs' box test follows it (slab_rcp's
+/// zero-direction rule, simd/box_test.h). Walked in double with the true component, a ray lying
+/// in a face of the scene box (origin on it, d[k] ~ 1e-42 against d ~ 1e30 along it) left the box
+/// at t = 0 and missed the face's triangles the triangle test hits. Found by a search over extreme
+/// rays against the fuzzer's ray scene (test 'kdtree: a direction component whose shear
+/// underflows ...').
+#include "simd/simd.h"
+#include "simd/vec3.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace arbor::accel::kd {
+
+/// Whether component `dk` of a direction whose largest |component| is `dmax` shears to zero:
+/// |dk| / dmax rounds to 0 in float exactly when the quotient is at most 2^-150 (half the smallest
+/// denormal, ties to even), i.e. when |dk| * 2^150 <= dmax; the two exact power-of-two scalings
+/// say that without a division (a product past FLT_MAX is +inf, and then the quotient is far
+/// from 0). Equal to `dk != 0 && std::fabs(dk) / dmax == 0` (tested).
+inline bool shears_to_zero(float dk, float dmax) { return dk != 0.0f && std::fabs(dk) * 0x1p100f * 0x1p50f <= dmax; }
+template <class P> inline auto shears_to_zero(const P& dk, const P& dmax) {
+    return (dk != P(0.0f)) & (xsimd::abs(dk) * P(0x1p100f) * P(0x1p50f) <= dmax);
+}
+
+inline simd::Vec3f walk_direction(const simd::Vec3f& d) {
+    const float dmax = std::max(std::fabs(d.x), std::max(std::fabs(d.y), std::fabs(d.z)));
+    simd::Vec3f w = d;
+    for (int k = 0; k < 3; ++k)
+        if (shears_to_zero(d[k], dmax)) w[k] = std::copysign(0.0f, d[k]);
+    return w;
+}
+
+}  // namespace arbor::accel::kd
