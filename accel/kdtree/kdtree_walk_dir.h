@@ -6,7 +6,7 @@
 /// zero-direction rule, simd/box_test.h). Walked in double with the true component, a ray lying
 /// in a face of the scene box (origin on it, d[k] ~ 1e-42 against d ~ 1e30 along it) left the box
 /// at t = 0 and missed the face's triangles the triangle test hits. Found by a search over extreme
-/// rays against the fuzzer's ray scene (test 'kdtree: a direction component whose shear
+/// rays against the fuzzer's ray scene (test 'kdtree stiff: a direction component whose shear
 /// underflows ...').
 #include "simd/simd.h"
 #include "simd/vec3.h"
