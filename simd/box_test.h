@@ -116,10 +116,16 @@ inline SlabRay slab_ray(const Vec3f& o, const Vec3f& d) {
 /// The acceptance rule of slab_test: entry <= exit, with room for negative exits. The padded
 /// reciprocal widens [entry, exit] only where distances are positive. A box behind the origin
 /// (reachable when tnear < 0) has a negative exit, which the padding moves towards the entry: a flat
-/// box there would be lost. Negative exits get 2^-20 (16 ulps) of room back. Monotone in t_exit
-/// (packet_bounds.h relies on it: a larger exit never turns a hit into a miss).
+/// box there would be lost. Negative exits get 2^-17 (128 ulps) of room back: the far reciprocal
+/// exceeds the near one by 2 ulps of a normal 1/d (2^-22..2^-23 relative) and by 6 ulps of a
+/// denormal one (slab_rcp, slab_far: up to 6 * 2^-149 / 2^-128 < 2^-18 relative, for |d| up to
+/// FLT_MAX), plus the rounding of the subtraction and product. (It was 2^-20, which the denormal
+/// reciprocals' 6-ulp gap exceeded: a box behind the origin of a ray with |d.x| = 2.4e38 and
+/// tnear < 0, 3.7e10 from the scene, so that the box's planes minus the origin round to one value,
+/// was culled; found by CI's ray fuzzer, tests/fuzz/regressions/rays/huge-direction-behind-origin-far.rays.)
+/// Monotone in t_exit (packet_bounds.h relies on it: a larger exit never turns a hit into a miss).
 template <class T> inline Mask<T> slab_accept(const T& t_entry, const T& t_exit) {
-    const T slack = rmin(t_exit, T(0.0f)) * T(-0x1p-20f);
+    const T slack = rmin(t_exit, T(0.0f)) * T(-0x1p-17f);
     return t_entry <= t_exit + slack;
 }
 
@@ -152,7 +158,7 @@ template <class T> inline Mask<T> is_plain(const T& tnear, const Vec3<T>& rcp_ne
 ///     and times a finite non-zero reciprocal stays non-NaN; so the NaN-ignoring folds of slab_test
 ///     are plain max/min and can be taken as a tree (two steps instead of three);
 ///   - slab_accept is the plain comparison t_entry <= t_exit: t_entry >= tnear >= 0, so when
-///     t_exit >= 0 the slack is zero, and when t_exit < 0, t_exit plus its slack (2^-20 of it)
+///     t_exit >= 0 the slack is zero, and when t_exit < 0, t_exit plus its slack (2^-17 of it)
 ///     stays negative and both forms reject.
 /// Per node that takes the slack's three steps and two fold steps off the chain from a node's loads
 /// to the next node's address.

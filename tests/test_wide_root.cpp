@@ -218,7 +218,7 @@ TEST_CASE("wide root: a root child entered just past a negative tfar (within the
     // A ray along +x from the origin over [tnear, tfar] = [-10, -5]. Group C (triangles 20-39, x in
     // [-7, -6]) is entered at -7 <= tfar. Group A (triangles 0-19, x from 1 ulp above -5 to -1) is
     // entered at -4.9999995 > tfar, and the box test accepts it all the same (a negative exit, here
-    // tfar, gets 2^-20 of room: slab_accept). A's boxes reach down to y = -100, so the root's order
+    // tfar, gets 2^-17 of room: slab_accept). A's boxes reach down to y = -100, so the root's order
     // for the ray's octant puts them nearer than C's: the walk pops an A child first, skips it (its
     // distance is past tfar) and visits C. A first child picked without the distance check would
     // visit A's leaves.
