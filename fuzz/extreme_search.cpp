@@ -29,6 +29,7 @@ struct Options {
     int iterations = 1000;
     int emin = 60, emax = 127;
     bool meshes = false;
+    bool far = false;
     int show = 5;
 };
 
@@ -85,7 +86,17 @@ std::vector<Ray> surface_rays(const engine::Mesh& m, std::mt19937& rng, const Op
         Vec3f d = Vec3f{u(rng), u(rng), u(rng)} * std::ldexp(1.0f, std::uniform_int_distribution<int>(opt.emin, opt.emax)(rng));
         if (i % 7 == 0) d.x = 0.0f;
         if (i % 11 == 0) d.y = std::ldexp(u(rng), -140);
-        rays.push_back({o, i % 5 == 0 ? -INFINITY : 0.0f, d, INFINITY});
+        float tnear = i % 5 == 0 ? -INFINITY : 0.0f, tfar = INFINITY;
+        if (opt.far) {
+            // The origin moved back along the ray by 2^0..2^40 units (the surface point at t = s),
+            // one coordinate made denormal, and the range around s or behind the origin.
+            const float s = std::ldexp(unit(rng) + 0.5f, std::uniform_int_distribution<int>(0, 40)(rng));
+            const float len = std::max(std::fabs(d.x), std::max(std::fabs(d.y), std::fabs(d.z)));
+            o = o - d * (s / len);
+            o[int(i % 3)] = std::ldexp(u(rng), -135);
+            if (i % 2) tnear = -std::ldexp(1.0f, 30), tfar = 0.0f;
+        }
+        rays.push_back({o, tnear, d, tfar});
     }
     return rays;
 }
@@ -100,6 +111,7 @@ int main(int argc, char** argv) {
     app.add_option("--emin", opt.emin, "smallest direction exponent")->check(CLI::Range(-100, 127));
     app.add_option("--emax", opt.emax, "largest direction exponent")->check(CLI::Range(-100, 127));
     app.add_flag("--meshes", opt.meshes, "a new extreme mesh per batch instead of the fuzz harness's ray scene");
+    app.add_flag("--far", opt.far, "origins moved back along the ray by 1..2^40 units, one coordinate denormal, some ranges behind the origin");
     app.add_option("--show", opt.show, "disagreements to print");
     CLI11_PARSE(app, argc, argv);
     if (opt.emin > opt.emax) {
@@ -141,8 +153,9 @@ int main(int argc, char** argv) {
     }
     std::size_t total = 0;
     for (const auto& [name, n] : differ) total += n;
-    std::printf("%zu rays (%s, directions 2^%d..2^%d, seed %u): %zu disagreements with brute\n", rays_traced,
-                opt.meshes ? "extreme meshes" : "the fuzz harness's ray scene", opt.emin, opt.emax, opt.seed, total);
+    std::printf("%zu rays (%s%s, directions 2^%d..2^%d, seed %u): %zu disagreements with brute\n", rays_traced,
+                opt.meshes ? "extreme meshes" : "the fuzz harness's ray scene", opt.far ? ", far origins" : "", opt.emin, opt.emax,
+                opt.seed, total);
     for (const auto& [name, n] : differ) std::printf("  %-22s %zu\n", name.c_str(), n);
     return total == 0 ? 0 : 1;
 }
