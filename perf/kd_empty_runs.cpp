@@ -37,6 +37,18 @@ double thread_ns() {
 }
 
 /// A leaf entered by the walk's loop: the state after the rope step into it.
+/// The scalar path's leaf test (KdTreeAccel::trace_one, closest hit): every reference of `leaf`,
+/// the hits offered to `best`, `tfar` lowered to each accepted one.
+void test_leaf(const accel::KdTree& tree, const accel::KdLeaf& leaf, const accel::Ray& ray, const simd::WoopShear& shear,
+               float& tfar, accel::HitRecord<false>& best) {
+    for (std::uint32_t i = leaf.first, end = leaf.first + leaf.count; i < end; ++i) {
+        const accel::KdTriangle& tri = tree.tris[tree.refs[i]];
+        const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
+        if (!h.hit || !best.offer(h.t, tri.prim, h.u, h.v)) continue;
+        tfar = h.t;
+    }
+}
+
 struct State {
     std::uint32_t node;
     bool empty;
@@ -55,13 +67,7 @@ accel::Hit trace(const accel::KdTree& tree, const accel::Ray& ray, std::vector<S
     const simd::WoopShear shear = simd::woop_shear(ray.dir);
     float tfar = ray.tfar;
     auto leaf_fn = [&](std::uint32_t li) {
-        const accel::KdLeaf& leaf = tree.leaves[li];
-        for (std::uint32_t i = leaf.first, end = leaf.first + leaf.count; i < end; ++i) {
-            const accel::KdTriangle& tri = tree.tris[tree.refs[i]];
-            const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
-            if (!h.hit || !best.offer(h.t, tri.prim, h.u, h.v)) continue;
-            tfar = h.t;
-        }
+        test_leaf(tree, tree.leaves[li], ray, shear, tfar, best);
         return false;
     };
     kd::RopeRay s;
@@ -177,12 +183,7 @@ int main(int argc, char** argv) {
                 const accel::KdLeaf& leaf = tree.leaves[li];
                 seq.push_back({leaf.count == 0, visited - last});
                 last = visited;
-                for (std::uint32_t i = leaf.first, end = leaf.first + leaf.count; i < end; ++i) {
-                    const accel::KdTriangle& tri = tree.tris[tree.refs[i]];
-                    const simd::TriHit<float> h = simd::woop_test(ray.org, shear, ray.tnear, tfar, tri.v0, tri.v1, tri.v2);
-                    if (!h.hit || !best.offer(h.t, tri.prim, h.u, h.v)) continue;
-                    tfar = h.t;
-                }
+                test_leaf(tree, leaf, ray, shear, tfar, best);
                 return false;
             };
             accel::kd::walk_ropes<false, true>(tree, ray, best.hit.t, leaf_fn, visited);
