@@ -6,7 +6,7 @@
 // path; the first disagreements are printed as rays (hex floats) to replay. Exit 1 when any is
 // found. README, section Robustness checks in CI, lists what it finds today.
 #include "accel/brute/brute_accel.h"
-#include "engine/procedural.h"
+#include "fuzz/fuzz_targets.h"
 #include "stress/run.h"
 
 #include <CLI/CLI.hpp>
@@ -32,15 +32,6 @@ struct Options {
     bool far = false;
     int show = 5;
 };
-
-/// The fuzz harness's ray scene (fuzz_targets.cpp, fuzz_rays): a sphere, a box and a ground.
-engine::Mesh ray_scene() {
-    engine::Mesh m = engine::make_icosphere({0, 0, 0}, 1.0f, 1, 0.1f, 3);
-    m.append(engine::make_box({-2, -2, -2}, {2, -1.5f, 2}));
-    m.append(engine::make_ground(2.0f, 0.0f, 0.0f, 3.0f));
-    m.compute_bounds();
-    return m;
-}
 
 /// A few triangles with coordinates of any magnitude (0, ~1, ~scale, powers of two, ~FLT_MAX).
 engine::Mesh extreme_mesh(std::mt19937& rng, int triangles) {
@@ -119,7 +110,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     std::mt19937 rng(opt.seed);
-    const engine::Mesh scene = ray_scene();
+    const engine::Mesh& scene = fuzz::ray_scene();
     std::map<std::string, std::size_t> differ;
     std::size_t rays_traced = 0, shown = 0;
     for (int it = 0; it < opt.iterations; ++it) {

@@ -90,17 +90,6 @@ std::vector<accel::Ray> probe_rays(const engine::Mesh& m) {
     return rays;
 }
 
-const engine::Mesh& ray_scene() {
-    static const engine::Mesh scene = [] {
-        engine::Mesh m = engine::make_icosphere({0, 0, 0}, 1.0f, 1, 0.1f, 3);
-        m.append(engine::make_box({-2, -2, -2}, {2, -1.5f, 2}));
-        m.append(engine::make_ground(2.0f, 0.0f, 0.0f, 3.0f));
-        m.compute_bounds();
-        return m;
-    }();
-    return scene;
-}
-
 }  // namespace
 
 namespace {
@@ -125,6 +114,17 @@ void check_mesh(const engine::Mesh& mesh, const engine::Warnings& warnings) {
 }
 
 }  // namespace
+
+const engine::Mesh& ray_scene() {
+    static const engine::Mesh scene = [] {
+        engine::Mesh m = engine::make_icosphere({0, 0, 0}, 1.0f, 1, 0.1f, 3);
+        m.append(engine::make_box({-2, -2, -2}, {2, -1.5f, 2}));
+        m.append(engine::make_ground(2.0f, 0.0f, 0.0f, 3.0f));
+        m.compute_bounds();
+        return m;
+    }();
+    return scene;
+}
 
 void check_structure(const accel::Accel& a, const accel::TriangleView& tris, std::span<const accel::Ray> rays) {
     const accel::BruteAccel brute(tris);

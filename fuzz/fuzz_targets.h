@@ -7,6 +7,7 @@
 /// when a result breaks a contract (a loaded mesh with an index out of range, a structure whose
 /// answer differs from brute force, an untraceable ray that hits).
 #include "accel/accel.h"
+#include "engine/mesh.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -24,6 +25,10 @@ struct FuzzFinding : std::logic_error {
 /// closest does, with t in [tnear, tfar], untraceable rays miss, and `a` dropped as many non-finite
 /// triangles as brute. Throws FuzzFinding naming the structure, path and ray otherwise.
 void check_structure(const accel::Accel& a, const accel::TriangleView& tris, std::span<const accel::Ray> rays);
+
+/// The fixed scene fuzz_rays traces its rays through: a sphere, a box and a ground
+/// (arbor_extreme_search searches it too).
+const engine::Mesh& ray_scene();
 
 /// The OBJ loader (engine::load_obj_text) on `data` as a file's text; a mesh that loads is
 /// checked and, when small, traced by every structure and path against brute force.
