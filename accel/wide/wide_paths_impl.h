@@ -11,6 +11,7 @@
 #include "accel/wide/wide_paths.h"
 #include "accel/wide/wide_queries.h"
 #include "accel/wide/wide_root.h"
+#include "accel/wide/wide_shared_leaves.h"
 #include "accel/wide/wide_traverse.h"
 #include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
@@ -34,6 +35,7 @@ public:
             layout_ = make_wide_layout<N>(bvh, tris, cfg.wide);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });
+        shared_slots_ = shared_leaf_slots(layout_);
         offer_.add(TracePath::single);
         offer_.add(TracePath::packet);
         offer_.packets_pay = true;
@@ -66,7 +68,7 @@ public:
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count).
     template <bool AnyHit>
     Hit trace_from(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, WideStack& stack) const {
-        return walk_ray<AnyHit, false>(r, tfar, child, count, 0, T(0.0f), 0, nullptr, stack);
+        return walk_ray<AnyHit, false>(r, tfar, child, count, 0, T(0.0f), 0, nullptr, Hit{}, stack);
     }
 
     /// Ray `r` (traceable, far distance `tfar`) from the root, whose test test_root (wide_root.h)
@@ -74,7 +76,7 @@ public:
     template <bool AnyHit, std::size_t Rays>
     Hit trace_root(simd::WideRay<T>& r, float tfar, const RootTests<N, Rays>& root, std::size_t i, WideStack& stack) const {
         return walk_ray<AnyHit, true>(r, tfar, root.child[i], root.count[i], root.rest[i], root.entry(i), root.bits2[i],
-                                      root.t2[i], stack);
+                                      root.t2[i], Hit{}, stack);
     }
 
 private:
@@ -82,11 +84,13 @@ private:
     /// (child, count) with the root's children `rest`, entry distances `root_t`, deferred), with
     /// the hit record and the leaf test. Forced inline into trace_single: as a call (the walk's
     /// WideRay then in memory, not in registers), cheap rays such as the flat models' shadow rays
-    /// took 1.3x as long.
+    /// took 1.3x as long. `start`: the record's first hit (a miss, or a closest hit found before
+    /// the walk, test_shared_leaves; `tfar` and r.tfar are then its t).
     template <bool AnyHit, bool Root>
     ARBOR_INLINE Hit walk_ray(simd::WideRay<T>& r, float tfar, std::uint32_t child, std::uint32_t count, std::uint32_t rest,
-                              const T& root_t, std::uint32_t first_bits, const float* first_t, WideStack& stack) const {
-        HitRecord<AnyHit> best;
+                              const T& root_t, std::uint32_t first_bits, const float* first_t, const Hit& start,
+                              WideStack& stack) const {
+        HitRecord<AnyHit> best{start};
         const WideBlock<N>* blocks = layout_.blocks.data();
         auto leaf = [&](std::uint32_t first, std::uint32_t n) {
             bool found = false;
@@ -162,34 +166,43 @@ private:
         simd::WideRay<T> r;
         for (std::size_t base = 0; base < rays.size(); base += setup.size) {
             const auto in = rays.subspan(base, std::min(setup.size, rays.size() - base));
-            simd::wide_ray_setup(in, setup);
+            const simd::RayPacket<simd::SetupLane> p = simd::load_packet<simd::SetupLane>(in);
+            simd::wide_ray_setup(p, setup);
             if (!mixed_octants(setup)) {
                 for (std::size_t i = 0; i < in.size(); ++i) {
                     setup.get(i, r);
-                    hits[base + i] = r.traceable ? walk_ray<AnyHit, false>(r, in[i].tfar, 0, 0, 0, T(0.0f), 0, nullptr, stack) : Hit{};
+                    hits[base + i] = r.traceable ? walk_ray<AnyHit, false>(r, in[i].tfar, 0, 0, 0, T(0.0f), 0, nullptr, Hit{}, stack) : Hit{};
                 }
                 continue;
             }
-            trace_group<AnyHit>(in, hits.subspan(base, in.size()), setup, root, stack);
+            trace_group<AnyHit>(in, hits.subspan(base, in.size()), p, setup, root, stack);
         }
     }
 
-    /// trace_single's rays `in` of a group in different octants (set up in `setup`): their root
-    /// tests, then their walks. (A call of its own: inlined, it made the one-octant rays' loop of
-    /// trace_single 1.03-1.05x slower on camera rays.)
-    template <bool AnyHit, class Setup, class Root>
-    __attribute__((noinline)) void trace_group(std::span<const Ray> in, std::span<Hit> hits, const Setup& setup, Root& root,
-                                               WideStack& stack) const {
-        test_root(layout_, setup, in.size(), root);
+    /// trace_single's rays `in` of a group in different octants (packet `p`, set up in `setup`):
+    /// for closest hits the root's small leaves that many of them hit first, for the group at once
+    /// (wide_shared_leaves.h), then their root tests, then their walks. (A call of its own: inlined,
+    /// it made the one-octant rays' loop of trace_single 1.03-1.05x slower on camera rays.)
+    template <bool AnyHit, class P, class Setup, class Root>
+    __attribute__((noinline)) void trace_group(std::span<const Ray> in, std::span<Hit> hits, const simd::RayPacket<P>& p,
+                                               Setup& setup, Root& root, WideStack& stack) const {
+        using S = Setup;
+        std::uint32_t skip[S::size];
+        SharedHits<S::size> shared;
+        bool have_shared = false;
+        if constexpr (!AnyHit)
+            if (shared_slots_ != 0) have_shared = test_shared_leaves(layout_, shared_slots_, p, setup, skip, shared);
+        test_root(layout_, setup, in.size(), root, have_shared ? skip : nullptr);
         simd::WideRay<T> r;
         for (std::size_t i = 0; i < in.size(); ++i) {
-            if (!root.live[i]) {  // (untraceable, or no root child to visit)
-                hits[i] = Hit{};
+            const Hit start = have_shared ? shared.hit(i) : Hit{};
+            if (!root.live[i]) {  // (untraceable, or no root child left to visit)
+                hits[i] = start;
                 continue;
             }
             setup.get(i, r);
-            hits[i] = walk_ray<AnyHit, true>(r, in[i].tfar, root.child[i], root.count[i], root.rest[i], root.entry(i),
-                                             root.bits2[i], root.t2[i], stack);
+            hits[i] = walk_ray<AnyHit, true>(r, setup.f[S::tfar][i], root.child[i], root.count[i], root.rest[i], root.entry(i),
+                                             root.bits2[i], root.t2[i], start, stack);
         }
     }
 
@@ -283,6 +296,7 @@ private:
     }
 
     WideLayout<N> layout_;
+    std::uint32_t shared_slots_ = 0;  ///< shared_leaf_slots(layout_)
 };
 
 /// The BVH of width N (defined in wide_paths{N}.cpp).
