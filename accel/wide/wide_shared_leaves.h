@@ -48,8 +48,8 @@ template <std::size_t Rays> struct SharedHits {
     Hit hit(std::size_t i) const { return {t[i], std::uint32_t(prim[i]), u[i], v[i]}; }
 };
 
-/// For each root leaf in `slots` (shared_leaf_slots): the rays of packet `p` (the group set up in
-/// `setup`) whose slab test hits its box; when they are at least `min_rays` and their block tests
+/// For each root leaf in `slots` (shared_leaf_slots): the plain rays of packet `p` (the group set
+/// up in `setup`) whose slab test hits its box; when they are at least `min_rays` and their block tests
 /// would have been at least as many as the leaf's triangles, the leaf is tested for them here, one
 /// triangle at a time, their hits kept in `out`, their far distances in setup lowered to them, and
 /// the leaf's slot set in their `skip` entry (zeroed here for every ray). Returns whether any leaf
@@ -62,7 +62,12 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, const 
     using IntP = simd::IntOf<P>;
     const WideNode<N>& root = layout.nodes[0];
     const WideBlock<N>* blocks = layout.blocks.data();
-    const std::uint32_t active = simd::to_bits(p.active);
+    // Plain rays only (tnear >= 0, finite normal reciprocals: WideRay::plain): their box entry
+    // distances are never above the true ones (Ize's padding), so no walk culls a box that holds
+    // a hit at the t of the one found here, and the order of the tests does not change the record.
+    // Behind the origin the slab test is not that tight (a box entered at a tied negative t can
+    // be culled by either order), and such rays keep their own walks.
+    const std::uint32_t active = simd::to_bits(p.active & p.plain_lanes);
     simd::PacketHit<P> rec;
     P tfar = p.tfar;
     bool tested = false;
