@@ -186,23 +186,34 @@ private:
     template <bool AnyHit, class P, class Setup, class Root>
     __attribute__((noinline)) void trace_group(std::span<const Ray> in, std::span<Hit> hits, const simd::RayPacket<P>& p,
                                                Setup& setup, Root& root, WideStack& stack) const {
-        using S = Setup;
-        std::uint32_t skip[S::size];
-        SharedHits<S::size> shared;
-        bool have_shared = false;
-        if constexpr (!AnyHit)
-            if (shared_slots_ != 0) have_shared = test_shared_leaves(layout_, shared_slots_, p, setup, skip, shared);
-        test_root(layout_, setup, in.size(), root, have_shared ? skip : nullptr);
+        if constexpr (!AnyHit) {
+            std::uint32_t skip[Setup::size];
+            SharedHits<Setup::size> shared;
+            if (shared_slots_ != 0 && test_shared_leaves(layout_, shared_slots_, p, setup, skip, shared)) {
+                walk_group<AnyHit, true>(in, hits, setup, root, stack, skip, &shared);
+                return;
+            }
+        }
+        walk_group<AnyHit, false>(in, hits, setup, root, stack, nullptr, nullptr);
+    }
+
+    /// trace_group's root tests and walks; Shared: after test_shared_leaves, which left the
+    /// leaves it tested in `skip` and its hits in `shared` (as two copies, the groups without
+    /// it pay nothing for it: bunny random rays 0.96x with one copy that checked at every ray).
+    template <bool AnyHit, bool Shared, class Setup, class Root>
+    ARBOR_INLINE void walk_group(std::span<const Ray> in, std::span<Hit> hits, const Setup& setup, Root& root, WideStack& stack,
+                                 const std::uint32_t* skip, const SharedHits<Setup::size>* shared) const {
+        test_root<Shared>(layout_, setup, in.size(), root, skip);
         simd::WideRay<T> r;
         for (std::size_t i = 0; i < in.size(); ++i) {
-            const Hit start = have_shared ? shared.hit(i) : Hit{};
+            const Hit start = Shared ? shared->hit(i) : Hit{};
             if (!root.live[i]) {  // (untraceable, or no root child left to visit)
                 hits[i] = start;
                 continue;
             }
             setup.get(i, r);
-            hits[i] = walk_ray<AnyHit, true>(r, setup.f[S::tfar][i], root.child[i], root.count[i], root.rest[i], root.entry(i),
-                                             root.bits2[i], root.t2[i], start, stack);
+            hits[i] = walk_ray<AnyHit, true>(r, setup.f[Setup::tfar][i], root.child[i], root.count[i], root.rest[i],
+                                             root.entry(i), root.bits2[i], root.t2[i], start, stack);
         }
     }
 

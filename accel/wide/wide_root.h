@@ -54,9 +54,9 @@ template <std::size_t N, std::size_t Rays> struct RootTests {
 /// does with its outcome (one child or several, push, pop) stays in the walk, on predicted
 /// branches (done here as well, branch-free, it cost more than it saved: 0.86x on random rays).
 ///
-/// `skip` (when not null): per ray, root children its walk must not visit (their leaves were
+/// Skip: `skip` holds per ray the root children its walk must not visit (their leaves were
 /// tested for it already, test_shared_leaves in wide_shared_leaves.h); they count as missed.
-template <std::size_t N, class P, std::size_t Rays>
+template <bool Skip = false, std::size_t N, class P, std::size_t Rays>
 __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd::WideRaySetup<P>& setup, std::size_t count,
                       RootTests<N, Rays>& out, const std::uint32_t* skip = nullptr) {
     using S = simd::WideRaySetup<P>;
@@ -89,7 +89,8 @@ __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd
         const std::uint32_t bits = test(i, &root.boxes.b[0][0][0], t);
         // (Masks and |1 instead of conditions: as branches, they were mispredicted on incoherent
         // rays, and made the group's root tests cost three times as much.)
-        const std::uint32_t hit = bits & (0u - ((setup.traceable >> i) & 1u)) & (skip ? ~skip[i] : ~0u);
+        std::uint32_t hit = bits & (0u - ((setup.traceable >> i) & 1u));
+        if constexpr (Skip) hit &= ~skip[i];
         const std::uint32_t lone = 0u - std::uint32_t(std::popcount(hit) == 1);
         const std::uint32_t live = hit & (simd::to_bits(t <= T(setup.f[S::tfar][i])) | lone);
         const std::uint8_t* order = layout.orders.data() + std::size_t(ray_octant(near_is_hi)) * N;
