@@ -166,8 +166,7 @@ private:
         simd::WideRay<T> r;
         for (std::size_t base = 0; base < rays.size(); base += setup.size) {
             const auto in = rays.subspan(base, std::min(setup.size, rays.size() - base));
-            const simd::RayPacket<simd::SetupLane> p = simd::load_packet<simd::SetupLane>(in);
-            simd::wide_ray_setup(p, setup);
+            simd::wide_ray_setup(in, setup);
             if (!mixed_octants(setup)) {
                 for (std::size_t i = 0; i < in.size(); ++i) {
                     setup.get(i, r);
@@ -175,34 +174,24 @@ private:
                 }
                 continue;
             }
-            trace_group<AnyHit>(in, hits.subspan(base, in.size()), p, setup, root, stack);
+            if constexpr (!AnyHit)
+                if (shared_slots_ != 0) {
+                    trace_group_shared(in, hits.subspan(base, in.size()), setup, root, stack);
+                    continue;
+                }
+            trace_group<AnyHit, false>(in, hits.subspan(base, in.size()), setup, root, stack, nullptr, nullptr);
         }
     }
 
-    /// trace_single's rays `in` of a group in different octants (packet `p`, set up in `setup`):
-    /// for closest hits the root's small leaves that many of them hit first, for the group at once
-    /// (wide_shared_leaves.h), then their root tests, then their walks. (A call of its own: inlined,
-    /// it made the one-octant rays' loop of trace_single 1.03-1.05x slower on camera rays.)
-    template <bool AnyHit, class P, class Setup, class Root>
-    __attribute__((noinline)) void trace_group(std::span<const Ray> in, std::span<Hit> hits, const simd::RayPacket<P>& p,
-                                               Setup& setup, Root& root, WideStack& stack) const {
-        if constexpr (!AnyHit) {
-            std::uint32_t skip[Setup::size];
-            SharedHits<Setup::size> shared;
-            if (shared_slots_ != 0 && test_shared_leaves(layout_, shared_slots_, p, setup, skip, shared)) {
-                walk_group<AnyHit, true>(in, hits, setup, root, stack, skip, &shared);
-                return;
-            }
-        }
-        walk_group<AnyHit, false>(in, hits, setup, root, stack, nullptr, nullptr);
-    }
-
-    /// trace_group's root tests and walks; Shared: after test_shared_leaves, which left the
-    /// leaves it tested in `skip` and its hits in `shared` (as two copies, the groups without
-    /// it pay nothing for it: bunny random rays 0.96x with one copy that checked at every ray).
+    /// trace_single's rays `in` of a group in different octants (set up in `setup`): their root
+    /// tests, then their walks. Shared: after test_shared_leaves (trace_group_shared), which left
+    /// the root leaves it tested for each ray in `skip` and its hits in `shared`. (A call of its
+    /// own: inlined, it made the one-octant rays' loop of trace_single 1.03-1.05x slower on camera
+    /// rays.)
     template <bool AnyHit, bool Shared, class Setup, class Root>
-    ARBOR_INLINE void walk_group(std::span<const Ray> in, std::span<Hit> hits, const Setup& setup, Root& root, WideStack& stack,
-                                 const std::uint32_t* skip, const SharedHits<Setup::size>* shared) const {
+    __attribute__((noinline)) void trace_group(std::span<const Ray> in, std::span<Hit> hits, const Setup& setup, Root& root,
+                                               WideStack& stack, const std::uint32_t* skip,
+                                               const SharedHits<Setup::size>* shared) const {
         test_root<Shared>(layout_, setup, in.size(), root, skip);
         simd::WideRay<T> r;
         for (std::size_t i = 0; i < in.size(); ++i) {
@@ -212,9 +201,26 @@ private:
                 continue;
             }
             setup.get(i, r);
-            hits[i] = walk_ray<AnyHit, true>(r, setup.f[Setup::tfar][i], root.child[i], root.count[i], root.rest[i],
-                                             root.entry(i), root.bits2[i], root.t2[i], start, stack);
+            // (The far distance of the set-up: the ray's own, or its hit in the shared leaves.)
+            hits[i] = walk_ray<AnyHit, true>(r, Shared ? setup.f[Setup::tfar][i] : in[i].tfar, root.child[i], root.count[i],
+                                             root.rest[i], root.entry(i), root.bits2[i], root.t2[i], start, stack);
         }
+    }
+
+    /// trace_group for closest hits on a layout with small root leaves (shared_slots_): those
+    /// that many of the group's rays hit tested for the group at once first (wide_shared_leaves.h).
+    /// (Its own call, with the group's packet loaded again here: carried over from trace_single,
+    /// the other layouts' random rays lost 4-6%, bunny random 0.93-0.95x.)
+    template <class Setup, class Root>
+    __attribute__((noinline)) void trace_group_shared(std::span<const Ray> in, std::span<Hit> hits, Setup& setup, Root& root,
+                                                      WideStack& stack) const {
+        const simd::RayPacket<simd::SetupLane> p = simd::load_packet<simd::SetupLane>(in);
+        std::uint32_t skip[Setup::size];
+        SharedHits<Setup::size> shared;
+        if (test_shared_leaves(layout_, shared_slots_, p, setup, skip, shared))
+            trace_group<false, true>(in, hits, setup, root, stack, skip, &shared);
+        else
+            trace_group<false, false>(in, hits, setup, root, stack, nullptr, nullptr);
     }
 
     /// Packets of lanes<P> consecutive rays (the last one partial), see wide_packet.h.
