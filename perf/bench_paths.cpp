@@ -6,7 +6,7 @@
 //
 //   bench_paths --rays DIR [--models DIR] [--scenes a,b] [--kinds primary,shadow,diffuse,random]
 //               [--structures bvh-sah,...] [--widths 4,8,16] [--paths scalar,single,packet,best]
-//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--cpu-time] [--min-ms 0] [-o OUT.md]
+//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--shared-leaves 0,32] [--cpu-time] [--min-ms 0] [-o OUT.md]
 //
 // Each structure is built once with the scalar layout only (its scalar path, the reference) and
 // once per variant with the SIMD layouts only (the other paths), as `arbor trace` builds them.
@@ -63,6 +63,7 @@ struct Options {
     /// only, as `arbor trace` makes it (0: the leaf floor of that build; 1: the fine tree), the
     /// scalar path on a build of the scalar layout only.
     std::vector<std::uint32_t> floors{0};
+    std::vector<std::uint32_t> shared{32};
     std::vector<int> switches{-1}, switches_mixed{-1};
     std::uint32_t packet_lanes = 0;
     bool embree = true;
@@ -137,12 +138,14 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
             for (const std::uint32_t merge : o.merges)
                 for (const int sw : o.switches)
                 for (const int swx : o.switches_mixed)
-                for (const std::uint32_t floor : o.floors) {
+                for (const std::uint32_t floor : o.floors)
+                for (const std::uint32_t shared : o.shared) {
                     accel::BuildConfig cfg;
                     cfg.layouts = accel::Layouts::simd;
                     cfg.bvh.simd_leaf_floor = floor;
                     cfg.wide.width = std::uint32_t(width);
                     cfg.wide.merge_triangles = merge;
+                    cfg.wide.shared_leaf_triangles = shared;
                     cfg.packets.switch_lanes = sw;
                     cfg.packets.switch_mixed = swx;
                     cfg.packets.lanes = o.packet_lanes;
@@ -159,6 +162,7 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
                     if (sw >= 0) name += "s" + std::to_string(sw);
                     if (swx >= 0) name += "x" + std::to_string(swx);
                     if (o.floors.size() > 1 || floor != 0) name += (name == s ? "/f" : "f") + std::to_string(floor);
+                    if (o.shared.size() > 1 || shared != 32) name += (name == s ? "/L" : "L") + std::to_string(shared);
                     names.push_back(name);
                     reference.push_back(false);
                 }
@@ -292,6 +296,7 @@ int main(int argc, char** argv) {
     app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packets.lanes (8 or 16; 0 = default)");
     app.add_option("--merges", o.merges, "values of BuildConfig::wide.merge_triangles (0 = the width)")->delimiter(',');
     app.add_option("--floors", o.floors, "values of BuildConfig::bvh.simd_leaf_floor (0 = the width, 1 = the fine tree)")->delimiter(',');
+    app.add_option("--shared-leaves", o.shared, "values of BuildConfig::wide.shared_leaf_triangles (0 = no shared root leaves)")->delimiter(',');
     app.add_flag("!--no-embree", o.embree, "leave Embree out");
     app.add_option("--brute-sample", o.brute_sample, "rays per file checked against brute")->capture_default_str();
     app.add_flag("--cpu-time", o.cpu_time, "time by process CPU time / threads, not the wall clock (for a loaded machine)");

@@ -19,6 +19,10 @@ struct WideConfig {
     /// SAH costs of the collapse: one N-wide node test and one N-triangle block test (block / node
     /// = 2, 3 or 4 measured alike; perf/results/wide-2026-11-22.md).
     float node_cost = 1.0f, block_cost = 3.0f;
+    /// Root leaves of at most this many triangles are tested once for a group of incoherent rays
+    /// on the single path when enough of the group hit them (wide_shared_leaves.h); 0 = never.
+    /// `bench_paths --shared-leaves` (perf/results/heldout-minima-2026-12-03e.md).
+    std::uint32_t shared_leaf_triangles = 32;
 };
 
 }  // namespace arbor::accel

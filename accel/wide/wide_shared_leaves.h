@@ -25,18 +25,15 @@
 
 namespace arbor::accel {
 
-/// Most triangles of a root leaf that test_shared_leaves considers (larger leaves: their rays'
-/// own block tests, as before).
-inline constexpr std::uint32_t shared_leaf_max_triangles = 32;
-
-/// The root slots of `layout` that are leaves of at most shared_leaf_max_triangles triangles, as
-/// bits (0 for an empty layout).
-template <std::size_t N> std::uint32_t shared_leaf_slots(const WideLayout<N>& layout) {
+/// The root slots of `layout` that are leaves of at most `max_triangles` triangles
+/// (WideConfig::shared_leaf_triangles; larger leaves: their rays' own block tests), as bits (0 for
+/// an empty layout).
+template <std::size_t N> std::uint32_t shared_leaf_slots(const WideLayout<N>& layout, std::uint32_t max_triangles = 32) {
     if (layout.empty()) return 0;
     const WideNode<N>& root = layout.nodes[0];
     std::uint32_t slots = 0;
     for (std::size_t c = 0; c < root.children; ++c)
-        if (root.count[c] != 0 && root.count[c] <= shared_leaf_max_triangles) slots |= 1u << c;
+        if (root.count[c] != 0 && root.count[c] <= max_triangles) slots |= 1u << c;
     return slots;
 }
 
