@@ -48,13 +48,13 @@ ARBOR_INLINE void packet_vertices(const RayPacket<T>& p, bool uniform, const Vec
         c = permute_lanes(p.woop, c);
     }
 }
-template <class T>
+template <class T, bool EarlyOut = false>
 ARBOR_INLINE TriHit<T> packet_triangle_impl(const RayPacket<T>& p, bool uniform, const T& tfar, const Vec3f& v0,
                                             const Vec3f& v1, const Vec3f& v2) {
     Vec3<T> a, b, c;
     packet_vertices(p, uniform, v0, v1, v2, a, b, c);
     // One copy of the test for both permutation paths (two inlined copies measured up to 1.7x slower).
-    TriHit<T> h = woop_permuted<T>(a, b, c, p.woop.sx, p.woop.sy, p.woop.sz, p.tnear, tfar);
+    TriHit<T> h = woop_permuted<T, EarlyOut>(a, b, c, p.woop.sx, p.woop.sy, p.woop.sz, p.tnear, tfar);
     h.hit = h.hit & p.active;
     return h;
 }
@@ -68,10 +68,11 @@ ARBOR_INLINE TriHit<T> packet_triangle(const RayPacket<T>& p, const Vec3f& v0, c
 }
 /// The same with the lanes' far distances `tfar` in place of p.tfar: for a caller that keeps them
 /// in a local while it tests a leaf (each lane then as packet_triangle with p.tfar = tfar).
-template <class T>
+/// EarlyOut: as ray_triangles' (woop_permuted: no division when no lane can hit).
+template <class T, bool EarlyOut = false>
 ARBOR_INLINE TriHit<T> packet_triangle(const RayPacket<T>& p, const T& tfar, const Vec3f& v0, const Vec3f& v1,
                                        const Vec3f& v2) {
-    return detail::packet_triangle_impl(p, p.woop.uniform, tfar, v0, v1, v2);
+    return detail::packet_triangle_impl<T, EarlyOut>(p, p.woop.uniform, tfar, v0, v1, v2);
 }
 template <class T>
 inline TriHit<T> packet_triangle_lanes(const RayPacket<T>& p, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2) {

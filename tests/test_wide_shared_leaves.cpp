@@ -94,7 +94,7 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
             const simd::RayPacket<simd::SetupLane> p = simd::load_packet<simd::SetupLane>(in);
             simd::wide_ray_setup(p, setup);
             ++tally.groups;
-            if (!accel::test_shared_leaves(layout, slots, p, setup, skip, shared)) continue;
+            if (!accel::test_shared_leaves(layout, slots, in, setup, skip, shared)) continue;
             ++tally.shared_groups;
             for (std::size_t i = 0; i < in.size(); ++i) {
                 wrong += (skip[i] & ~slots) != 0;

@@ -209,15 +209,13 @@ private:
 
     /// trace_group for closest hits on a layout with small root leaves (shared_slots_): those
     /// that many of the group's rays hit tested for the group at once first (wide_shared_leaves.h).
-    /// (Its own call, with the group's packet loaded again here: carried over from trace_single,
-    /// the other layouts' random rays lost 4-6%, bunny random 0.93-0.95x.)
+    /// (Its own call, so that trace_single stays as it was for the other layouts.)
     template <class Setup, class Root>
     __attribute__((noinline)) void trace_group_shared(std::span<const Ray> in, std::span<Hit> hits, Setup& setup, Root& root,
                                                       WideStack& stack) const {
-        const simd::RayPacket<simd::SetupLane> p = simd::load_packet<simd::SetupLane>(in);
         std::uint32_t skip[Setup::size];
         SharedHits<Setup::size> shared;
-        if (test_shared_leaves(layout_, shared_slots_, p, setup, skip, shared))
+        if (test_shared_leaves(layout_, shared_slots_, in, setup, skip, shared))
             trace_group<false, true>(in, hits, setup, root, stack, skip, &shared);
         else
             trace_group<false, false>(in, hits, setup, root, stack, nullptr, nullptr);
