@@ -64,7 +64,7 @@ template <std::size_t N> void check_width(const accel::TriangleView& view, const
         const auto* w = dynamic_cast<const accel::WideBvhAccel<N>*>(acc.get());
         REQUIRE(w != nullptr);
         const accel::WideLayout<N>& layout = w->wide_layout();
-        const std::uint32_t slots = accel::shared_leaf_slots(layout);
+        const std::uint32_t slots = accel::shared_leaf_slots(layout, 32, simd::WideRaySetup<simd::SetupLane>::size);
         REQUIRE(slots != 0);  // the scenes below have a small leaf under the root
 
         std::vector<Hit> scalar(rays.size()), single(rays.size()), brute(rays.size());

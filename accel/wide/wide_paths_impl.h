@@ -35,7 +35,7 @@ public:
             layout_ = make_wide_layout<N>(bvh, tris, cfg.wide);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });
-        shared_slots_ = shared_leaf_slots(layout_, cfg.wide.shared_leaf_triangles);
+        shared_slots_ = shared_leaf_slots(layout_, cfg.wide.shared_leaf_triangles, simd::WideRaySetup<simd::SetupLane>::size);
         offer_.add(TracePath::single);
         offer_.add(TracePath::packet);
         offer_.packets_pay = true;

@@ -24,20 +24,47 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <span>
 
 namespace arbor::accel {
 
 /// The root slots of `layout` that are leaves of at most `max_triangles` triangles
-/// (WideConfig::shared_leaf_triangles; larger leaves: their rays' own block tests), as bits (0 for
-/// an empty layout).
-template <std::size_t N> std::uint32_t shared_leaf_slots(const WideLayout<N>& layout, std::uint32_t max_triangles = 32) {
+/// (WideConfig::shared_leaf_triangles; larger leaves: their rays' own block tests) and that a
+/// group of `group` rays can be expected to test often enough for the pass to take them: by the
+/// surface-area argument of the SAH, a ray through the root box enters a child box with
+/// probability area(child) / area(root), so `group` rays give group * area(child) / area(root)
+/// rays in it, of which test_shared_leaves needs as many as the leaf has triangles per block;
+/// a slot is kept when the expectation reaches half that (rays that start inside the scene are
+/// not rays through the root box: the groups decide, this only leaves out the hopeless slots). A
+/// ground plane or a room's walls pass; the small leaves under the root of a flat model (woody,
+/// the alligator's lbvh) do not, and their groups skip the box tests. As bits (0 for an empty
+/// layout).
+template <std::size_t N>
+std::uint32_t shared_leaf_slots(const WideLayout<N>& layout, std::uint32_t max_triangles = 32, std::size_t group = 16) {
     if (layout.empty()) return 0;
     const WideNode<N>& root = layout.nodes[0];
-    std::uint32_t slots = 0;
+    const auto area = [](const float* lo, const float* hi) {
+        const float x = hi[0] - lo[0], y = hi[1] - lo[1], z = hi[2] - lo[2];
+        return double(x) * y + double(y) * z + double(z) * x;
+    };
+    float rlo[3] = {INFINITY, INFINITY, INFINITY}, rhi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (std::size_t c = 0; c < root.children; ++c)
-        if (root.count[c] != 0 && root.count[c] <= max_triangles) slots |= 1u << c;
+        for (int k = 0; k < 3; ++k) {
+            rlo[k] = std::min(rlo[k], root.boxes.b[0][k][c]);
+            rhi[k] = std::max(rhi[k], root.boxes.b[1][k][c]);
+        }
+    const double root_area = area(rlo, rhi);
+    std::uint32_t slots = 0;
+    for (std::size_t c = 0; c < root.children; ++c) {
+        const std::uint32_t count = root.count[c];
+        if (count == 0 || count > max_triangles) continue;
+        const float lo[3] = {root.boxes.b[0][0][c], root.boxes.b[0][1][c], root.boxes.b[0][2][c]};
+        const float hi[3] = {root.boxes.b[1][0][c], root.boxes.b[1][1][c], root.boxes.b[1][2][c]};
+        const double expected = root_area > 0.0 ? double(group) * area(lo, hi) / root_area : double(group);
+        if (2.0 * expected * wide_blocks<N>(count) >= double(count)) slots |= 1u << c;
+    }
     return slots;
 }
 
