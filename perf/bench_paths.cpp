@@ -6,7 +6,7 @@
 //
 //   bench_paths --rays DIR [--models DIR] [--scenes a,b] [--kinds primary,shadow,diffuse,random]
 //               [--structures bvh-sah,...] [--widths 4,8,16] [--paths scalar,single,packet,best]
-//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--kd-walks ropes,cells] [--kd-kts 12,4] [--cpu-time] [--min-ms 0] [-o OUT.md]
+//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--kd-walks ropes,cells,tight] [--kd-kts 12,4] [--cpu-time] [--min-ms 0] [-o OUT.md]
 //
 // Each structure is built once with the scalar layout only (its scalar path, the reference) and
 // once per variant with the SIMD layouts only (the other paths), as `arbor trace` builds them.
@@ -156,7 +156,8 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
                     accel::BuildConfig cfg;
                     if (walk == "ropes") cfg.kd_blocks.walk = accel::KdWalk::ropes;
                     else if (walk == "cells") cfg.kd_blocks.walk = accel::KdWalk::cells;
-                    else if (walk != "default") throw engine::InputError("--kd-walks: ropes, cells or default, not '" + walk + "'");
+                    else if (walk == "tight") cfg.kd_blocks.walk = accel::KdWalk::tight_cells;
+                    else if (walk != "default") throw engine::InputError("--kd-walks: ropes, cells, tight or default, not '" + walk + "'");
                     if (kt > 0.0f) cfg.kd.traversal_cost = kt;
                     cfg.layouts = accel::Layouts::simd;
                     cfg.bvh.simd_leaf_floor = floor;
@@ -310,7 +311,7 @@ int main(int argc, char** argv) {
     app.add_option("--switches", o.switches, "values of BuildConfig::packets.switch_lanes (-1 = default)")->delimiter(',');
     app.add_option("--switches-mixed", o.switches_mixed, "values of BuildConfig::packets.switch_mixed (-1 = default)")
         ->delimiter(',');
-    app.add_option("--kd-walks", o.kd_walks, "kd-tree SIMD walks: ropes, cells, default")->delimiter(',');
+    app.add_option("--kd-walks", o.kd_walks, "kd-tree SIMD walks: ropes, cells, tight (cells cut to their triangles' bounds), default")->delimiter(',');
     app.add_option("--kd-kts", o.kd_kts, "kd-tree SAH traversal costs K_T of the SIMD builds (0 = default)")->delimiter(',');
     app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packets.lanes (8 or 16; 0 = default)");
     app.add_option("--merges", o.merges, "values of BuildConfig::wide.merge_triangles (0 = the width)")->delimiter(',');

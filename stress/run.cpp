@@ -107,7 +107,7 @@ std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, co
             if (path == accel::TracePath::scalar && !with_scalar) continue;
             StressRow row = base;
             row.path = path;
-            if (kd && path != accel::TracePath::scalar) row.walk = kd->walk() == accel::KdWalk::cells ? "cells" : "ropes";
+            if (kd && path != accel::TracePath::scalar) row.walk = accel::kd_walk_name(kd->walk());
             std::vector<Hit> closest(c.rays.size()), any(c.rays.size());
             accel::trace_parallel(a, c.rays, closest, accel::Query::closest, path, 256);
             accel::trace_parallel(a, c.rays, any, accel::Query::any, path, 256);
@@ -117,11 +117,13 @@ std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, co
         }
     };
     judge_paths(*structure, true);
-    if (kind == accel::AccelKind::kdtree && cfg.layouts != accel::Layouts::scalar) {
-        accel::BuildConfig other = cfg;
-        other.kd_blocks.walk = cfg.kd_blocks.walk == accel::KdWalk::cells ? accel::KdWalk::ropes : accel::KdWalk::cells;
-        judge_paths(*accel::make_accel(kind, c.mesh.view(), other), false);
-    }
+    if (kind == accel::AccelKind::kdtree && cfg.layouts != accel::Layouts::scalar)
+        for (const accel::KdWalk walk : {accel::KdWalk::tight_cells, accel::KdWalk::cells, accel::KdWalk::ropes}) {
+            if (walk == cfg.kd_blocks.walk) continue;
+            accel::BuildConfig other = cfg;
+            other.kd_blocks.walk = walk;
+            judge_paths(*accel::make_accel(kind, c.mesh.view(), other), false);
+        }
     return rows;
 }
 

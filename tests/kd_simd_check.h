@@ -23,8 +23,8 @@ inline bool same_hit(const accel::Hit& a, const accel::Hit& b) { return std::mem
 
 /// Settings of the SIMD paths to check. The rope walks (KdWalk::ropes): block widths 8 and 16
 /// (when the build has AVX-512), packets of 8 and 16 lanes, switch thresholds 0 (always together),
-/// 1 and 3. The cell walks (KdWalk::cells): the wide widths the build can trace (16, 8, 4) with
-/// packets of 16 and 8 lanes.
+/// 1 and 3. The cell walks (KdWalk::cells and tight_cells): the wide widths the build can trace
+/// (16, 8, 4) with packets of 16 and 8 lanes.
 inline std::vector<accel::BuildConfig> kd_simd_configs() {
     std::vector<accel::BuildConfig> out;
     const bool has16 = accel::wide_width_supported(16);  // the kernel set in use has AVX-512
@@ -40,14 +40,15 @@ inline std::vector<accel::BuildConfig> kd_simd_configs() {
         out.push_back(c);
     }
     const std::uint32_t widths[] = {16, 8, 4};
-    for (int i = 0; i < 3; ++i) {
-        if (!accel::wide_width_supported(widths[i])) continue;
-        accel::BuildConfig c;
-        c.kd_blocks.walk = accel::KdWalk::cells;
-        c.wide.width = widths[i];
-        c.packets.lanes = has16 && i == 0 ? 16 : 8;
-        out.push_back(c);
-    }
+    for (int i = 0; i < 3; ++i)
+        for (const accel::KdWalk walk : {accel::KdWalk::tight_cells, accel::KdWalk::cells}) {
+            if (!accel::wide_width_supported(widths[i])) continue;
+            accel::BuildConfig c;
+            c.kd_blocks.walk = walk;
+            c.wide.width = widths[i];
+            c.packets.lanes = has16 && i == 0 ? 16 : 8;
+            out.push_back(c);
+        }
     return out;
 }
 
@@ -102,7 +103,7 @@ inline std::size_t check_kd_simd(const accel::KdTreeAccel& kd, const std::vector
     accel::KdWalk walk = kd.walk();  // of the paths compared
     const auto compare = [&](const std::vector<Hit>& got, bool any_hit, const std::string& what) {
         const std::vector<Hit>& ref = any_hit ? any : closest;
-        const bool contract = any_hit && walk == accel::KdWalk::cells;
+        const bool contract = any_hit && walk != accel::KdWalk::ropes;
         std::size_t bad = 0, first_bad = rays.size();
         for (std::size_t i = 0; i < rays.size(); ++i)
             if (contract ? !any_hit_ok(kd.tree(), tri_of_prim, rays[i], got[i], ref[i]) : !same_hit(got[i], ref[i])) {
@@ -146,7 +147,7 @@ inline std::size_t check_kd_simd(const accel::KdTreeAccel& kd, const std::vector
             for (const auto path : {accel::TracePath::single, accel::TracePath::packet})
                 for (const bool any_hit : {false, true}) {
                     const std::string what = std::string(accel::to_string(path)) + (any_hit ? " any" : " closest") +
-                                             (walk == accel::KdWalk::cells ? " cells" : " ropes") + " block " +
+                                             " " + accel::kd_walk_name(walk) + " block " +
                                              std::to_string(paths->simd_block_width()) + " lanes " +
                                              std::to_string(paths->offer().packet_lanes) + " switch " +
                                              std::to_string(cfg.packets.switch_lanes) + " chunk " + std::to_string(chunk);

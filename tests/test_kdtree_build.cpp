@@ -181,10 +181,10 @@ TEST_CASE("kdtree build: statistics") {
     CHECK(st.mean_leaf_depth > 1.0);
     CHECK(st.mean_leaf_depth <= st.max_depth);
     // The traversal structure plus the SIMD paths' layout: with the rope walks, the leaves' triangle
-    // blocks (40 bytes per slot: 9 floats and an id); with the cell walks (the default), the cells'
-    // wide BVH.
+    // blocks (40 bytes per slot: 9 floats and an id); with the cell walks (the default: tight cells),
+    // the cells' wide BVH.
     const std::size_t tree_bytes = tree.nodes.size() * 8 + tree.leaves.size() * 56 + tree.refs.size() * 4 + tree.tris.size() * 40;
-    REQUIRE(kd.walk() == accel::KdWalk::cells);
+    REQUIRE(kd.walk() == accel::KdWalk::tight_cells);
     REQUIRE(kd.cell_paths() != nullptr);
     CHECK(kd.cell_paths()->stats().memory_bytes > 0);
     CHECK(st.memory_bytes == tree_bytes + kd.cell_paths()->stats().memory_bytes);

@@ -1,7 +1,7 @@
 // The kd-tree's cells as a binary BVH (accel/kdtree/kdtree_cells.h) and its N-wide collapse:
-// every non-empty kd leaf is one binary leaf, with its cell as box and its triangles in order; no
-// empty leaf; siblings adjacent, children after parents, boxes nested; every kd leaf's triangles
-// reachable through the wide layout under boxes that hold its cell, each wide leaf listing a
+// every non-empty kd leaf is one binary leaf, with its cell as box (tight: the cell cut to its
+// triangles' bounds) and its triangles in order; no empty leaf; siblings adjacent, children after parents, boxes nested; every kd leaf's triangles
+// reachable through the wide layout under boxes that hold its leaf's box, each wide leaf listing a
 // triangle once; the same tree and answers with 1 and 2 threads. (validate_bvh does not apply:
 // a triangle crossing a plane is in several leaves.) The paths themselves: kd_simd_check.h.
 #include "accel/kdtree/kdtree_build.h"
@@ -154,16 +154,37 @@ std::size_t check_wide(const accel::KdTree& tree, const accel::BinaryBvh& bvh, c
     return merged;
 }
 
-void check_cells(const engine::Mesh& mesh) {
+/// `tight`: the leaves' boxes are their cells cut to their triangles' bounds, interior boxes the
+/// union of their children's; else the pure cells.
+void check_cells(const engine::Mesh& mesh, bool tight) {
+    CAPTURE(tight);
     const accel::KdTree tree = accel::build_kdtree(mesh.view());
     std::vector<CellLeaf> cells;
     kd_cells(tree, 0, tree.box, cells);
+    std::vector<std::uint32_t> tri_of(mesh.triangle_count(), accel::invalid_prim);
+    for (std::uint32_t i = 0; i < tree.tris.size(); ++i) tri_of[tree.tris[i].prim] = i;
+    std::vector<Bounds> expect(cells.size());  // each binary leaf's box
+    std::size_t smaller = 0;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        expect[i] = cells[i].cell;
+        if (!tight) continue;
+        Bounds tris;
+        for (std::uint32_t p : cells[i].prims) {
+            const accel::KdTriangle& t = tree.tris[tri_of[p]];
+            tris.grow(t.v0), tris.grow(t.v1), tris.grow(t.v2);
+        }
+        expect[i].lo = simd::vmax(expect[i].lo, tris.lo);
+        expect[i].hi = simd::vmin(expect[i].hi, tris.hi);
+        smaller += !same_box(expect[i], cells[i].cell);
+    }
+    CHECK((!tight || smaller > 0));
     std::size_t empty_leaves = 0;
     for (const accel::KdLeaf& l : tree.leaves) empty_leaves += l.count == 0;
     REQUIRE(empty_leaves > 0);  // the scenes have empty space: the conversion leaves it out
-    const accel::BinaryBvh bvh = accel::kd_cell_bvh(tree);
+    const accel::BinaryBvh bvh = accel::kd_cell_bvh(tree, tight);
     REQUIRE(!bvh.nodes.empty());
-    CHECK(same_box(bvh.nodes[0].box, tree.box));
+    CHECK(tree.box.contains(bvh.nodes[0].box));
+    CHECK((tight || same_box(bvh.nodes[0].box, tree.box)));
     std::vector<std::uint32_t> seen(bvh.nodes.size(), 0);
     std::vector<CellLeaf> leaves;
     CHECK(walk_binary(bvh, 0, seen, leaves) == 0);
@@ -174,18 +195,20 @@ void check_cells(const engine::Mesh& mesh) {
     CHECK(leaves.size() + empty_leaves == tree.leaves.size());
     std::size_t differ = 0, refs = 0;
     for (std::size_t i = 0; i < cells.size(); ++i) {
-        differ += !same_box(leaves[i].cell, cells[i].cell) || leaves[i].prims != cells[i].prims || leaves[i].prims.empty();
+        differ += !same_box(leaves[i].cell, expect[i]) || leaves[i].prims != cells[i].prims || leaves[i].prims.empty();
         refs += cells[i].prims.size();
     }
     CHECK(differ == 0);
     CHECK(bvh.prim_ids.size() == refs);
     CHECK(bvh.prim_ids.size() == tree.refs.size());
-    check_wide<4>(tree, bvh, cells);
-    check_wide<8>(tree, bvh, cells);
-    check_wide<16>(tree, bvh, cells);
+    std::vector<CellLeaf> boxed = cells;  // the cells with their leaves' boxes
+    for (std::size_t i = 0; i < cells.size(); ++i) boxed[i].cell = expect[i];
+    check_wide<4>(tree, bvh, boxed);
+    check_wide<8>(tree, bvh, boxed);
+    check_wide<16>(tree, bvh, boxed);
     // Leaves merged from several cells (the default merges none here: the kd leaves are bigger
     // than N), where a triangle crossing a plane would be listed twice.
-    CHECK(check_wide<8>(tree, bvh, cells, 256) > 0);
+    CHECK(check_wide<8>(tree, bvh, boxed, 256) > 0);
 }
 
 }  // namespace
@@ -193,8 +216,10 @@ void check_cells(const engine::Mesh& mesh) {
 TEST_CASE("kdtree cells: every non-empty leaf once with its cell, nested boxes, reachable through the wide layout") {
     engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 2, 0.1f, 3);
     mesh.append(engine::make_torus({2.5f, 0.2f, -0.3f}, 1.0f, 0.25f, 24, 8));
-    SUBCASE("icosphere and torus") { check_cells(mesh); }
-    SUBCASE("builtin:cornell") { check_cells(engine::make_builtin_scene("builtin:cornell").mesh); }
+    for (const bool tight : {false, true}) {
+        check_cells(mesh, tight);
+        check_cells(engine::make_builtin_scene("builtin:cornell").mesh, tight);
+    }
 }
 
 TEST_CASE("kdtree cells: an empty tree has no cells; one triangle is one leaf") {
@@ -214,16 +239,18 @@ TEST_CASE("kdtree cells: the same cell tree and answers with 1 and 2 threads") {
     auto rays = testing::random_rays_into(mesh.bounds, 3000, 5);
     const auto cam = testing::camera_rays(mesh.bounds, 40, 40);
     rays.insert(rays.end(), cam.begin(), cam.end());
+    for (const accel::KdWalk walk : {accel::KdWalk::cells, accel::KdWalk::tight_cells}) {
+    CAPTURE(accel::kd_walk_name(walk));
     accel::BuildConfig cfg;
-    cfg.kd_blocks.walk = accel::KdWalk::cells;
+    cfg.kd_blocks.walk = walk;
     std::vector<Hit> hits[2];
     accel::BinaryBvh bvh[2];
     for (int t = 0; t < 2; ++t) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t + 1));
         const auto kd = accel::make_kdtree_accel(mesh.view(), cfg);
-        REQUIRE(kd->walk() == accel::KdWalk::cells);
+        REQUIRE(kd->walk() == walk);
         REQUIRE(kd->cell_paths() != nullptr);
-        bvh[t] = accel::kd_cell_bvh(kd->tree());
+        bvh[t] = accel::kd_cell_bvh(kd->tree(), walk == accel::KdWalk::tight_cells);
         for (const auto path : {accel::TracePath::single, accel::TracePath::packet})
             for (const auto q : {accel::Query::closest, accel::Query::any}) {
                 std::vector<Hit> h(rays.size());
@@ -236,4 +263,5 @@ TEST_CASE("kdtree cells: the same cell tree and answers with 1 and 2 threads") {
     CHECK(bvh[0].prim_ids == bvh[1].prim_ids);
     REQUIRE(hits[0].size() == hits[1].size());
     CHECK(std::memcmp(hits[0].data(), hits[1].data(), hits[0].size() * sizeof(Hit)) == 0);
+}
 }

@@ -15,7 +15,8 @@ namespace {
 /// non-empty leaf; a node with one full child is skipped down to that child (its cell the box).
 class CellConverter {
 public:
-    CellConverter(const KdTree& tree, BinaryBvh& out) : tree_(tree), out_(out), full_(tree.nodes.size(), 0) {}
+    CellConverter(const KdTree& tree, bool tight, BinaryBvh& out)
+        : tree_(tree), out_(out), full_(tree.nodes.size(), 0), tight_(tight) {}
 
     void run() {
         if (tree_.nodes.empty() || !mark(0)) return;
@@ -41,11 +42,18 @@ private:
             if (node.is_leaf()) {
                 const KdLeaf& leaf = tree_.leaves[node.index()];
                 BvhBuildNode& b = out_.nodes[slot];
-                b.box = cell;
                 b.first = std::uint32_t(out_.prim_ids.size());
                 b.count = leaf.count;
-                for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
-                    out_.prim_ids.push_back(tree_.tris[tree_.refs[i]].prim);
+                Bounds tris;
+                for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+                    const KdTriangle& t = tree_.tris[tree_.refs[i]];
+                    out_.prim_ids.push_back(t.prim);
+                    tris.grow(t.v0), tris.grow(t.v1), tris.grow(t.v2);
+                }
+                // Tight: the cell cut to its triangles' bounds (still holds every point of a
+                // triangle inside the cell).
+                b.box = cell;
+                if (tight_) b.box.lo = simd::vmax(cell.lo, tris.lo), b.box.hi = simd::vmin(cell.hi, tris.hi);
                 return;
             }
             const int axis = node.axis();
@@ -57,12 +65,16 @@ private:
                 const auto first = std::uint32_t(out_.nodes.size());
                 out_.nodes.emplace_back();
                 out_.nodes.emplace_back();
-                BvhBuildNode& b = out_.nodes[slot];
-                b.box = cell;
-                b.first = first;
-                b.count = 0;
                 place(lc, below, first);
                 place(rc, above, first + 1);
+                BvhBuildNode& b = out_.nodes[slot];
+                b.box = cell;
+                if (tight_) {
+                    b.box = out_.nodes[first].box;
+                    b.box.grow(out_.nodes[first + 1].box);
+                }
+                b.first = first;
+                b.count = 0;
                 return;
             }
             // One full child: it takes this node's place, with its own (smaller) cell.
@@ -74,14 +86,15 @@ private:
     const KdTree& tree_;
     BinaryBvh& out_;
     std::vector<std::uint8_t> full_;
+    bool tight_;
 };
 
 }  // namespace
 
-BinaryBvh kd_cell_bvh(const KdTree& tree) {
+BinaryBvh kd_cell_bvh(const KdTree& tree, bool tight) {
     BinaryBvh out;
     out.dropped_nonfinite = tree.dropped_nonfinite;
-    CellConverter(tree, out).run();
+    CellConverter(tree, tight, out).run();
     return out;
 }
 
@@ -111,11 +124,12 @@ namespace {
 /// the counted mode stay the rope walk.
 class KdCellAccel final : public KdTreeAccel {
 public:
-    KdCellAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms) : KdTreeAccel(std::move(tree), cfg, build_ms) {
+    KdCellAccel(KdTree&& tree, const BuildConfig& cfg, double build_ms)
+        : KdTreeAccel(std::move(tree), cfg, build_ms), walk_(cfg.kd_blocks.walk) {
         const Timer timer;
         std::size_t temp_bytes = 0;
         {
-            const BinaryBvh cells = kd_cell_bvh(tree_);
+            const BinaryBvh cells = kd_cell_bvh(tree_, cfg.kd_blocks.walk == KdWalk::tight_cells);
             const KdPrimView prims = kd_prim_view(tree_);
             temp_bytes = cells.nodes.capacity() * sizeof(BvhBuildNode) + cells.prim_ids.capacity() * sizeof(std::uint32_t) +
                          (prims.x.capacity() * 3 + prims.indices.capacity()) * sizeof(float);
@@ -137,7 +151,7 @@ public:
         block_width_ = wide_width_or_default(cfg.wide.width);
     }
 
-    KdWalk walk() const override { return KdWalk::cells; }
+    KdWalk walk() const override { return walk_; }
     const Accel* cell_paths() const override { return cells_.get(); }
 
 private:
@@ -147,6 +161,7 @@ private:
         cells_->trace(rays, hits, {query, path});
     }
 
+    KdWalk walk_;
     std::unique_ptr<Accel> cells_;
     std::size_t cell_bytes_ = 0;
 };

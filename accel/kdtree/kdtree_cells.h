@@ -22,8 +22,10 @@ namespace arbor::accel {
 
 /// The cell tree of `tree`: pre-order, siblings adjacent, children after parents; leaves hold the
 /// kd leaves' prims (original numbers) in the leaf's ascending prim order. No node (empty) when
-/// the tree has no non-empty leaf.
-BinaryBvh kd_cell_bvh(const KdTree& tree);
+/// the tree has no non-empty leaf. `tight`: each leaf's box is its cell cut to its triangles'
+/// bounds, each interior box the union of its children's (a step towards a spatial-split BVH;
+/// KdWalk::tight_cells).
+BinaryBvh kd_cell_bvh(const KdTree& tree, bool tight = false);
 
 /// The kd-tree's triangles as a TriangleView indexed by their original prim numbers (the view the
 /// collapse reads corners from; prims the tree dropped point at corner 0, never referenced).
@@ -34,8 +36,9 @@ struct KdPrimView {
 };
 KdPrimView kd_prim_view(const KdTree& tree);
 
-/// The kd-tree with its cell paths: `single` and `packet` trace the cell tree's N-wide layout with
-/// the BVHs' walks (wide_paths.h; width cfg.wide.width), the scalar path stays the rope walk.
+/// The kd-tree with its cell paths (cfg.kd_blocks.walk cells or tight_cells): `single` and `packet`
+/// trace the cell tree's N-wide layout with the BVHs' walks (wide_paths.h; width cfg.wide.width),
+/// the scalar path stays the rope walk.
 std::unique_ptr<KdTreeAccel> make_kd_cell_accel(KdTree tree, const BuildConfig& cfg, double build_ms);
 
 }  // namespace arbor::accel

@@ -1,6 +1,6 @@
 /// `arbor stress [--accel NAME] [--json] [--model FILE]... [--small] [--case NAME]... [--threads N]`
 /// (spec/cli.md): the stiff-case suite over every structure and traversal path (the kd-tree's
-/// SIMD paths for both walks, "kdtree/ropes" and "kdtree/cells"), as a table of
+/// SIMD paths for each walk, "kdtree/tight-cells", "kdtree/cells", "kdtree/ropes"), as a table of
 /// case x structure x path -> rays, hit rate, band, false misses, false hits, double hits,
 /// max |dt| against the double-precision oracle, work and time per ray. Exits 1 when any false
 /// miss, false hit or double hit (or a failed structural check) was found, 0 otherwise.
@@ -38,13 +38,13 @@ std::string accel_name(const stress::StressRow& r) {
 }
 
 void print_header() {
-    std::printf("%-20s %-12s %-6s %7s %6s %6s %6s %6s %6s %9s %9s %9s %8s\n", "case", "accel", "path", "rays", "hit%",
+    std::printf("%-20s %-18s %-6s %7s %6s %6s %6s %6s %6s %9s %9s %9s %8s\n", "case", "accel", "path", "rays", "hit%",
                 "band", "f.miss", "f.hit", "double", "max|dt|", "nodes/ray", "tris/ray", "ns/ray");
 }
 
 void print_row(const stress::StressRow& r) {
     const auto& t = r.tally;
-    std::printf("%-20s %-12s %-6s %7zu %6s %6zu %6zu %6zu %6zu %9s %9s %9s %8s%s\n", r.case_name.c_str(),
+    std::printf("%-20s %-18s %-6s %7zu %6s %6zu %6zu %6zu %6zu %9s %9s %9s %8s%s\n", r.case_name.c_str(),
                 accel_name(r).c_str(), std::string(accel::to_string(r.path)).c_str(), t.rays,
                 fmt("%.1f", t.rays ? 100.0 * double(t.hits) / double(t.rays) : 0.0).c_str(), t.band, t.false_miss,
                 t.false_hit, t.double_hit, fmt("%.1e", t.max_dt).c_str(),
