@@ -122,12 +122,21 @@ int main(int argc, char** argv) {
         std::vector<accel::Hit> ref(rays.size()), got(rays.size());
         brute.trace(rays, ref, {accel::Query::closest, accel::TracePath::scalar});
         rays_traced += rays.size();
-        for (accel::AccelKind kind : stress::buildable_kinds()) {
-            if (kind == accel::AccelKind::brute) continue;
-            const auto a = accel::make_accel(kind, view);
+        for (accel::AccelKind kind : stress::buildable_kinds())
+        for (const accel::KdWalk walk : {accel::KdWalk::tight_cells, accel::KdWalk::cells, accel::KdWalk::ropes}) {
+            // (The kd-tree's SIMD paths of both walks, KdBlockConfig::walk; the others once.)
+            if (kind == accel::AccelKind::brute || (kind != accel::AccelKind::kdtree && walk != accel::KdWalk::tight_cells)) continue;
+            accel::BuildConfig cfg;
+            cfg.kd_blocks.walk = walk;
+            const auto a = accel::make_accel(kind, view, cfg);
             for (accel::TracePath path : stress::paths_of(*a)) {
+                if (kind == accel::AccelKind::kdtree && walk != accel::KdWalk::tight_cells && path == accel::TracePath::scalar) continue;
                 a->trace(rays, got, {accel::Query::closest, path});
-                const std::string name = std::string(accel::to_string(kind)) + "/" + std::string(accel::to_string(path));
+                const std::string name = std::string(accel::to_string(kind)) +
+                                         (kind == accel::AccelKind::kdtree && path != accel::TracePath::scalar
+                                              ? "/" + std::string(accel::kd_walk_name(walk))
+                                              : "") +
+                                         "/" + std::string(accel::to_string(path));
                 for (std::size_t i = 0; i < rays.size(); ++i) {
                     if (accel::hits_agree(ref[i], got[i])) continue;
                     ++differ[name];

@@ -63,6 +63,12 @@ void check_structures(const accel::TriangleView& tris, const std::vector<accel::
     static const std::vector<accel::AccelKind> kinds = stress::buildable_kinds();
     for (accel::AccelKind kind : kinds)
         if (kind != accel::AccelKind::brute) check_paths(*accel::make_accel(kind, tris), brute, rays, ref);
+    // The kd-tree's SIMD paths of its other walks too (the default: tight cells; KdBlockConfig::walk).
+    for (const accel::KdWalk walk : {accel::KdWalk::cells, accel::KdWalk::ropes}) {
+        accel::BuildConfig cfg;
+        cfg.kd_blocks.walk = walk;
+        check_paths(*accel::make_accel(accel::AccelKind::kdtree, tris, cfg), brute, rays, ref);
+    }
 }
 
 /// A few rays into the bounds of a mesh (deterministic), axis-parallel and oblique.

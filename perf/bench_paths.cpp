@@ -6,7 +6,8 @@
 //
 //   bench_paths --rays DIR [--models DIR] [--scenes a,b] [--kinds primary,shadow,diffuse,random]
 //               [--structures bvh-sah,...] [--widths 4,8,16] [--paths scalar,single,packet,best]
-//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--shared-leaves 0,32] [--cpu-time] [--min-ms 0] [-o OUT.md]
+//               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--shared-leaves 0,32] [--kd-walks ropes,cells,tight]
+//               [--kd-kts 12,4] [--cpu-time] [--min-ms 0] [-o OUT.md]
 //
 // Each structure is built once with the scalar layout only (its scalar path, the reference) and
 // once per variant with the SIMD layouts only (the other paths), as `arbor trace` builds them.
@@ -65,6 +66,10 @@ struct Options {
     std::vector<std::uint32_t> floors{0};
     std::vector<std::uint32_t> shared{32};
     std::vector<int> switches{-1}, switches_mixed{-1};
+    /// The kd-tree's SIMD walks (KdBlockConfig::walk) and SAH traversal costs of its build
+    /// (KdBuildConfig::traversal_cost; 0 = the default) of the SIMD builds; other structures ignore them.
+    std::vector<std::string> kd_walks{"default"};
+    std::vector<float> kd_kts{0.0f};
     std::uint32_t packet_lanes = 0;
     bool embree = true;
     /// Time by the process's CPU time divided by the thread count instead of the wall clock: on a
@@ -105,6 +110,13 @@ struct Config {
 
 bool agree(const accel::Hit& a, const accel::Hit& b, bool any) { return any ? a.is_hit() == b.is_hit() : accel::hits_agree(a, b); }
 
+/// K_T as written in a configuration's name ("12", "1.5").
+std::string fmt_kt(float kt) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", double(kt));
+    return buf;
+}
+
 /// A built structure's SIMD layout, for the report.
 struct LayoutRow {
     std::string scene, structure;
@@ -139,8 +151,17 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
                 for (const int sw : o.switches)
                 for (const int swx : o.switches_mixed)
                 for (const std::uint32_t floor : o.floors)
-                for (const std::uint32_t shared : o.shared) {
+                for (const std::uint32_t shared : o.shared)
+                for (const std::string& walk : o.kd_walks)
+                for (const float kt : o.kd_kts) {
+                    const bool kd = *kind == accel::AccelKind::kdtree;
+                    if (!kd && (walk != o.kd_walks.front() || kt != o.kd_kts.front())) continue;
                     accel::BuildConfig cfg;
+                    if (walk == "ropes") cfg.kd_blocks.walk = accel::KdWalk::ropes;
+                    else if (walk == "cells") cfg.kd_blocks.walk = accel::KdWalk::cells;
+                    else if (walk == "tight") cfg.kd_blocks.walk = accel::KdWalk::tight_cells;
+                    else if (walk != "default") throw engine::InputError("--kd-walks: ropes, cells, tight or default, not '" + walk + "'");
+                    if (kt > 0.0f) cfg.kd.traversal_cost = kt;
                     cfg.layouts = accel::Layouts::simd;
                     cfg.bvh.simd_leaf_floor = floor;
                     cfg.wide.width = std::uint32_t(width);
@@ -163,6 +184,8 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
                     if (swx >= 0) name += "x" + std::to_string(swx);
                     if (o.floors.size() > 1 || floor != 0) name += (name == s ? "/f" : "f") + std::to_string(floor);
                     if (o.shared.size() > 1 || shared != 32) name += (name == s ? "/L" : "L") + std::to_string(shared);
+                    if (kd && walk != "default") name += (name == s ? "/" : "-") + walk;
+                    if (kd && kt > 0.0f) name += "kt" + fmt_kt(kt);
                     names.push_back(name);
                     reference.push_back(false);
                 }
@@ -293,6 +316,8 @@ int main(int argc, char** argv) {
     app.add_option("--switches", o.switches, "values of BuildConfig::packets.switch_lanes (-1 = default)")->delimiter(',');
     app.add_option("--switches-mixed", o.switches_mixed, "values of BuildConfig::packets.switch_mixed (-1 = default)")
         ->delimiter(',');
+    app.add_option("--kd-walks", o.kd_walks, "kd-tree SIMD walks: ropes, cells, tight (cells cut to their triangles' bounds), default")->delimiter(',');
+    app.add_option("--kd-kts", o.kd_kts, "kd-tree SAH traversal costs K_T of the SIMD builds (0 = default)")->delimiter(',');
     app.add_option("--packet-lanes", o.packet_lanes, "BuildConfig::packets.lanes (8 or 16; 0 = default)");
     app.add_option("--merges", o.merges, "values of BuildConfig::wide.merge_triangles (0 = the width)")->delimiter(',');
     app.add_option("--floors", o.floors, "values of BuildConfig::bvh.simd_leaf_floor (0 = the width, 1 = the fine tree)")->delimiter(',');

@@ -4,6 +4,10 @@
 //
 //   kdtree_bench [--model FILE] [--replicate N] [--repeat R] [--threads T] [--rays N] [--validate N]
 //                [--build-only] [--no-embree] [--compare-bvh] [--no-perfect-splits] [--kt K_T] [--exact-below N]
+//
+// The SIMD paths' layouts of each kd walk (KdBlockConfig::walk: the ropes' leaf blocks, the cells'
+// and the tight cells' wide BVH) are timed on the built tree after the build: ms (median of R)
+// and MB beside the tree's own.
 #include "accel/brute/brute_accel.h"
 #include "accel/kdtree/kdtree_accel.h"
 #include "accel/kdtree/kdtree_build.h"
@@ -132,6 +136,24 @@ void run(const Options& o, const engine::Mesh& mesh, const char* label) {
         std::printf("embree build   %9.2f ms (median, default quality)  ratio kdtree/embree %.1f\n", median(em_ms),
                 median(kd_ms) / median(em_ms));
 #endif
+    // The SIMD layout of each walk, made from (a copy of) the built tree: its time and bytes alone.
+    const double tree_mb = double(kd->tree().memory_bytes()) / 1e6;
+    for (const accel::KdWalk walk : {accel::KdWalk::ropes, accel::KdWalk::cells, accel::KdWalk::tight_cells}) {
+        accel::BuildConfig wcfg = cfg;
+        wcfg.layouts = accel::Layouts::simd;
+        wcfg.kd_blocks.walk = walk;
+        std::vector<double> ms;
+        std::size_t bytes = 0, peak = 0;
+        for (int r = 0; r < o.repeat; ++r) {
+            accel::KdTree copy = kd->tree();
+            const auto a = accel::make_kdtree_accel(std::move(copy), wcfg, 0.0);
+            ms.push_back(a->stats().build_ms);
+            bytes = a->stats().memory_bytes - a->tree().memory_bytes();
+            peak = a->stats().build_peak_bytes;
+        }
+        std::printf("layout %-11s %8.2f ms (median of %d)  %.2f MB (tree %.2f MB)  build peak %.1f MB\n",
+                    accel::kd_walk_name(walk), median(ms), o.repeat, double(bytes) / 1e6, tree_mb, double(peak) / 1e6);
+    }
 
     if (o.build_only) return;
     const std::vector<Ray> coherent = camera_rays(mesh.bounds, 512, std::max<int>(1, int(o.rays / 512)));

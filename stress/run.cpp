@@ -1,5 +1,7 @@
 #include "stress/run.h"
 
+#include "accel/kdtree/kdtree_accel.h"
+
 #include "accel/util/timer.h"
 #include "accel/trace.h"
 
@@ -99,16 +101,29 @@ std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, co
     }
 
     std::vector<StressRow> rows;
-    for (accel::TracePath path : paths_of(*structure)) {
-        StressRow row = base;
-        row.path = path;
-        std::vector<Hit> closest(c.rays.size()), any(c.rays.size());
-        accel::trace_parallel(*structure, c.rays, closest, accel::Query::closest, path, 256);
-        accel::trace_parallel(*structure, c.rays, any, accel::Query::any, path, 256);
-        row.tally = judge(c, *p.oracle, p.answers, closest, any);
-        row.ns_per_ray = time_per_ray(*structure, c.rays, path);
-        rows.push_back(std::move(row));
-    }
+    const auto judge_paths = [&](const accel::Accel& a, bool with_scalar) {
+        const auto* kd = dynamic_cast<const accel::KdTreeAccel*>(&a);
+        for (accel::TracePath path : paths_of(a)) {
+            if (path == accel::TracePath::scalar && !with_scalar) continue;
+            StressRow row = base;
+            row.path = path;
+            if (kd && path != accel::TracePath::scalar) row.walk = accel::kd_walk_name(kd->walk());
+            std::vector<Hit> closest(c.rays.size()), any(c.rays.size());
+            accel::trace_parallel(a, c.rays, closest, accel::Query::closest, path, 256);
+            accel::trace_parallel(a, c.rays, any, accel::Query::any, path, 256);
+            row.tally = judge(c, *p.oracle, p.answers, closest, any);
+            row.ns_per_ray = time_per_ray(a, c.rays, path);
+            rows.push_back(std::move(row));
+        }
+    };
+    judge_paths(*structure, true);
+    if (kind == accel::AccelKind::kdtree && cfg.layouts != accel::Layouts::scalar)
+        for (const accel::KdWalk walk : {accel::KdWalk::tight_cells, accel::KdWalk::cells, accel::KdWalk::ropes}) {
+            if (walk == cfg.kd_blocks.walk) continue;
+            accel::BuildConfig other = cfg;
+            other.kd_blocks.walk = walk;
+            judge_paths(*accel::make_accel(kind, c.mesh.view(), other), false);
+        }
     return rows;
 }
 

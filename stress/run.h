@@ -14,6 +14,8 @@ struct StressRow {
     std::string case_name;
     accel::AccelKind kind = accel::AccelKind::brute;
     accel::TracePath path = accel::TracePath::scalar;
+    /// The kd-tree's SIMD walk of this row (accel::kd_walk_name); empty otherwise.
+    std::string walk;
     Tally tally;
     double build_ms = 0.0;
     double ns_per_ray = 0.0;  ///< closest-hit queries on one thread (fastest of a few passes)
@@ -39,7 +41,9 @@ std::vector<accel::AccelKind> buildable_kinds();
 /// `scalar`, then `single` and `packet` when `a` implements them (Accel::offer).
 std::vector<accel::TracePath> paths_of(const accel::Accel& a);
 
-/// Builds `kind` over the case's mesh and judges every path (closest and any hit). Also checks
+/// Builds `kind` over the case's mesh and judges every path (closest and any hit); the kd-tree's
+/// `single` and `packet` for each of its walks (KdBlockConfig::walk: cfg's, then a build for each
+/// other). Also checks
 /// the dropped-triangle count (when the case sets one) and, through the counted mode when the
 /// structure implements it, that untraceable rays visit no node and no triangle.
 std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, const accel::BuildConfig& cfg = {});

@@ -180,12 +180,23 @@ TEST_CASE("kdtree build: statistics") {
     CHECK(st.max_depth <= tree.depth_limit);
     CHECK(st.mean_leaf_depth > 1.0);
     CHECK(st.mean_leaf_depth <= st.max_depth);
-    // The traversal structure plus the SIMD paths' triangle blocks (40 bytes per slot: 9 floats and an id).
-    const std::size_t n = kd.simd_block_width();
+    // The traversal structure plus the SIMD paths' layout: with the rope walks, the leaves' triangle
+    // blocks (40 bytes per slot: 9 floats and an id); with the cell walks (the default: tight cells),
+    // the cells' wide BVH.
+    const std::size_t tree_bytes = tree.nodes.size() * 8 + tree.leaves.size() * 56 + tree.refs.size() * 4 + tree.tris.size() * 40;
+    REQUIRE(kd.walk() == accel::KdWalk::tight_cells);
+    REQUIRE(kd.cell_paths() != nullptr);
+    CHECK(kd.cell_paths()->stats().memory_bytes > 0);
+    CHECK(st.memory_bytes == tree_bytes + kd.cell_paths()->stats().memory_bytes);
+    BuildConfig ropes;
+    ropes.kd_blocks.walk = accel::KdWalk::ropes;
+    const auto kd_ropes = accel::make_kdtree_accel(mesh.view(), ropes);
+    CHECK(kd_ropes->walk() == accel::KdWalk::ropes);
+    CHECK(kd_ropes->cell_paths() == nullptr);
+    const std::size_t n = kd_ropes->simd_block_width();
     std::size_t slots = 0;
     for (const accel::KdLeaf& leaf : tree.leaves) slots += (leaf.count + n - 1) / n * n;
-    CHECK(st.memory_bytes == tree.nodes.size() * 8 + tree.leaves.size() * 56 + tree.refs.size() * 4 + tree.tris.size() * 40 +
-                                 (tree.leaves.size() + 1) * 4 + slots * 40);
+    CHECK(kd_ropes->stats().memory_bytes == tree_bytes + (tree.leaves.size() + 1) * 4 + slots * 40);
     CHECK(st.build_peak_bytes > 0);
     CHECK(st.build_ms >= 0.0);
     // SAH cost: a root-only tree costs K_I * N; a real tree costs much less.

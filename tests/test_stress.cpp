@@ -31,6 +31,7 @@ void check_cases(const std::vector<StressCase>& cases) {
                 CAPTURE(c.name);
                 CAPTURE(accel::to_string(kind));
                 CAPTURE(accel::to_string(r.path));
+                CAPTURE(r.walk);
                 for (const auto& e : r.tally.examples) MESSAGE(e);
                 CHECK(r.tally.rays == c.rays.size());
                 CHECK(r.tally.false_miss == 0);

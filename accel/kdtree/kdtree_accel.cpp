@@ -2,6 +2,7 @@
 
 #include "accel/core/hit_record.h"
 #include "accel/kdtree/kdtree_build.h"
+#include "accel/kdtree/kdtree_cells.h"
 #include "accel/kdtree/kdtree_queries.h"
 #include "accel/kdtree/kdtree_simd.h"
 #include "accel/kdtree/kdtree_stack.h"
@@ -97,6 +98,7 @@ void KdTreeAccel::closest_points(std::span<const Vec3f> points, float max_distan
 
 std::unique_ptr<KdTreeAccel> make_kdtree_accel(KdTree tree, const BuildConfig& cfg, double build_ms) {
     if (cfg.layouts == Layouts::scalar) return std::unique_ptr<KdTreeAccel>(new KdTreeAccel(std::move(tree), cfg, build_ms));
+    if (cfg.kd_blocks.walk != KdWalk::ropes) return make_kd_cell_accel(std::move(tree), cfg, build_ms);
     return make_kd_simd_accel(std::move(tree), cfg, build_ms);
 }
 

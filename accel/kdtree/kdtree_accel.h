@@ -23,6 +23,10 @@ public:
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
     /// Triangles per SIMD block of the SIMD paths (0: built without them).
     std::uint32_t simd_block_width() const { return block_width_; }
+    /// The layout the SIMD paths trace (ropes also when built without them).
+    virtual KdWalk walk() const { return KdWalk::ropes; }
+    /// With the cell walk: the wide BVH of the cells that the SIMD paths trace (kdtree_cells.h).
+    virtual const Accel* cell_paths() const { return nullptr; }
 
 protected:
     /// Takes over `tree` (built with `cfg`, in `build_ms`) for its scalar path.

@@ -31,9 +31,24 @@ struct KdBuildConfig {
     std::uint32_t parallel_threshold = 1024;
 };
 
-/// The SIMD paths' leaf blocks.
+/// Which layout the kd-tree's SIMD paths (`single`, `packet`) trace. `ropes`: the kd nodes with
+/// the leaves' triangles in SIMD blocks (kdtree_simd.h: the rope walk, the stack walk and its packet
+/// form, leaf for leaf the scalar path's). `cells`: the kd partition as a binary BVH of its
+/// non-empty cells, collapsed to N-wide nodes and traced by the BVHs' walks (kdtree_cells.h).
+/// `tight_cells`: the same with each cell's box cut to its triangles' bounds (a step from the kd
+/// partition towards a spatial-split BVH); the default, measured fastest
+/// (perf/results/kdtree-cells-2026-12-03e.md).
+enum class KdWalk : std::uint8_t { ropes, cells, tight_cells };
+/// "ropes", "cells", "tight-cells" (`--kd-walk`).
+inline const char* kd_walk_name(KdWalk w) {
+    return w == KdWalk::ropes ? "ropes" : w == KdWalk::cells ? "cells" : "tight-cells";
+}
+
+/// The SIMD paths' layout.
 struct KdBlockConfig {
-    /// Triangles per SIMD block of a leaf, 8 or 16 (0 = the measured best, kdtree_simd.h; 16 needs
+    /// The walk of the SIMD paths (`--kd-walk`).
+    KdWalk walk = KdWalk::tight_cells;
+    /// ropes: triangles per SIMD block of a leaf, 8 or 16 (0 = the measured best, kdtree_simd.h; 16 needs
     /// AVX-512, else 8 is used).
     std::uint32_t width = 0;
 };

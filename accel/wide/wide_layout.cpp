@@ -264,13 +264,18 @@ private:
         else gather(job.bin, prims);
         // The leaf's triangles in ascending prim order, so that the lowest of the lanes of a block
         // tied at the smallest t is the lowest prim (the tie rule, core/hit_record.h).
-        std::sort(prims.begin() + job.offset, prims.begin() + job.offset + job.count);
+        // A triangle listed twice (a subtree of the kd-tree's cells, kdtree_cells.h, merged into
+        // one leaf: a triangle crossing a plane is in both cells) is kept once; the lanes it frees
+        // at the end are padding. (A BVH lists each triangle once: nothing changes.)
+        const auto begin = prims.begin() + job.offset;
+        std::sort(begin, begin + job.count);
+        const auto unique = std::uint32_t(std::unique(begin, begin + job.count) - begin);
         const std::uint32_t* src = prims.data();
         for (std::uint32_t b = 0; b < wide_blocks<N>(job.count); ++b) {
             WideBlock<N>& block = out_.blocks[job.first_block + b];
             for (std::uint32_t l = 0; l < N; ++l) {
                 const std::uint32_t i = b * std::uint32_t(N) + l;
-                if (i >= job.count) {
+                if (i >= unique) {
                     block.tris.set_empty(l);
                     block.ids[l] = invalid_prim;
                     continue;

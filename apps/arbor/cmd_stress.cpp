@@ -1,5 +1,6 @@
 /// `arbor stress [--accel NAME] [--json] [--model FILE]... [--small] [--case NAME]... [--threads N]`
-/// (spec/cli.md): the stiff-case suite over every structure and traversal path, as a table of
+/// (spec/cli.md): the stiff-case suite over every structure and traversal path (the kd-tree's
+/// SIMD paths for each walk, "kdtree/tight-cells", "kdtree/cells", "kdtree/ropes"), as a table of
 /// case x structure x path -> rays, hit rate, band, false misses, false hits, double hits,
 /// max |dt| against the double-precision oracle, work and time per ray. Exits 1 when any false
 /// miss, false hit or double hit (or a failed structural check) was found, 0 otherwise.
@@ -31,15 +32,20 @@ std::string fmt(const char* f, double v) {
     return buf;
 }
 
+/// The structure of a row: its name, and the kd-tree's walk for its SIMD paths ("kdtree/cells").
+std::string accel_name(const stress::StressRow& r) {
+    return std::string(accel::to_string(r.kind)) + (r.walk.empty() ? "" : "/" + r.walk);
+}
+
 void print_header() {
-    std::printf("%-20s %-10s %-6s %7s %6s %6s %6s %6s %6s %9s %9s %9s %8s\n", "case", "accel", "path", "rays", "hit%",
+    std::printf("%-20s %-18s %-6s %7s %6s %6s %6s %6s %6s %9s %9s %9s %8s\n", "case", "accel", "path", "rays", "hit%",
                 "band", "f.miss", "f.hit", "double", "max|dt|", "nodes/ray", "tris/ray", "ns/ray");
 }
 
 void print_row(const stress::StressRow& r) {
     const auto& t = r.tally;
-    std::printf("%-20s %-10s %-6s %7zu %6s %6zu %6zu %6zu %6zu %9s %9s %9s %8s%s\n", r.case_name.c_str(),
-                std::string(accel::to_string(r.kind)).c_str(), std::string(accel::to_string(r.path)).c_str(), t.rays,
+    std::printf("%-20s %-18s %-6s %7zu %6s %6zu %6zu %6zu %6zu %9s %9s %9s %8s%s\n", r.case_name.c_str(),
+                accel_name(r).c_str(), std::string(accel::to_string(r.path)).c_str(), t.rays,
                 fmt("%.1f", t.rays ? 100.0 * double(t.hits) / double(t.rays) : 0.0).c_str(), t.band, t.false_miss,
                 t.false_hit, t.double_hit, fmt("%.1e", t.max_dt).c_str(),
                 r.counted ? fmt("%.1f", r.nodes_per_ray).c_str() : "-", r.counted ? fmt("%.1f", r.triangles_per_ray).c_str() : "-",
@@ -53,6 +59,7 @@ nlohmann::json row_json(const stress::StressRow& r) {
     j["case"] = r.case_name;
     j["accel"] = accel::to_string(r.kind);
     j["path"] = accel::to_string(r.path);
+    if (!r.walk.empty()) j["kd_walk"] = r.walk;
     j["rays"] = t.rays;
     j["hits"] = t.hits;
     j["band"] = t.band;
@@ -115,7 +122,7 @@ int run_stress(const StressOptions& o) {
                 if (o.json) rows.push_back(row_json(r));
                 else print_row(r);
                 if (r.failed()) {
-                    const std::string where = r.case_name + " / " + std::string(accel::to_string(r.kind)) + " / " +
+                    const std::string where = r.case_name + " / " + accel_name(r) + " / " +
                                               std::string(accel::to_string(r.path)) + ": ";
                     if (!r.problem.empty()) failures.push_back(where + r.problem);
                     for (const auto& e : r.tally.examples) failures.push_back(where + e);

@@ -49,7 +49,8 @@ std::vector<std::string> split_list(const std::string& s);
 /// Adds the build settings shared by every command that builds a structure: `--leaf-size N`
 /// (BvhBuildConfig::max_leaf_size; the seed report used 1), `--sah-bins N` (BvhBuildConfig::sah_bins),
 /// `--max-memory BYTES` (BuildConfig::max_memory), `--simd-leaf-floor N`
-/// (BvhBuildConfig::simd_leaf_floor) and `--bvh-width 4|8|16` (WideConfig::width).
+/// (BvhBuildConfig::simd_leaf_floor), `--bvh-width 4|8|16` (WideConfig::width) and `--kd-walk
+/// tight-cells|cells|ropes` (KdBlockConfig::walk).
 void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg);
 /// Adds `--threads N` (N >= 1; default: all hardware threads).
 CLI::Option* add_threads_option(CLI::App& cmd, int& threads);
