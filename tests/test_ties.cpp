@@ -193,3 +193,22 @@ TEST_CASE("ties: the rule itself, one lane and a batch: smaller t wins, equal t 
         CHECK(bool(bits >> i & 1u) == simd::closer(t[i], std::uint32_t(p[i]), Hit{bt[i], std::uint32_t(bp[i]), 0, 0}));
     }
 }
+
+TEST_CASE("ties: behind the origin (tnear < 0), a box entered at the tied t is not culled") {
+    // The grid rays reversed and given [tnear, tfar] = [-1e6, 1e6], directions scaled by 1, 3 and
+    // 7 (inexact reciprocals): the closest hit is behind the origin, where the box tests' entry
+    // distances may round a hair past the hit's t. A deferred child popped against a negative tfar
+    // needs slab_test's room for negative exits (slab_accept), as when it was pushed; with a plain
+    // `entry <= tfar` the scalar path culled the lower prim's leaf and answered the higher prim.
+    const engine::Mesh grid = shuffled_grid(6, 23);
+    std::vector<Ray> rays;
+    for (const Ray& r : grid_rays(6))
+        for (const float s : {1.0f, 3.0f, 7.0f}) rays.push_back({r.org, -1e6f, r.dir * -s, 1e6f});
+    std::size_t ties = 0;
+    const std::vector<Hit> expect = expected_hits(grid.view(), rays, ties);
+    std::size_t behind = 0;
+    for (const Hit& h : expect) behind += h.is_hit() && h.t < 0.0f;
+    CHECK(behind == rays.size());
+    CHECK(ties >= 3 * (2 * 13 * 13 - 4 * 2));
+    check_every_structure(grid, rays, expect);
+}

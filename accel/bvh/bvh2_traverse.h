@@ -71,7 +71,7 @@ inline void traverse_bvh2(const Bvh2Layout& layout, const Vec3f& org, const Vec3
         for (;;) {
             if (sp == 0) return;
             const Bvh2StackEntry& e = stack[--sp];
-            if (e.t <= tfar) {
+            if (simd::slab_accept(e.t, tfar)) {  // slab_test's rule: room for a negative tfar
                 child = e.child, count = e.count;
                 break;
             }

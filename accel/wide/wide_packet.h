@@ -67,6 +67,9 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
     const P inf(INFINITY), nan(NAN);
     std::size_t sp = 0;
     std::uint32_t child = 0, count = 0;
+    // Whether some lane may reach behind its origin: only then can a tfar drop below zero, where a
+    // popped entry needs slab_test's room for negative exits (slab_accept); else the plain compare.
+    const bool behind = simd::to_bits((p.tnear < P(0.0f)) & p.active) != 0;
     // Lanes that are finished (any hit) leave `lanes` at once; the others as their tfar drops.
     const auto finish = [&](std::uint32_t done) {
         if constexpr (AnyHit) {
@@ -140,7 +143,7 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
         for (;;) {
             if (sp == 0) return;
             const PacketStackEntry<P>& e = stack[--sp];
-            lanes = simd::to_bits((e.t <= p.tfar) & p.active);
+            lanes = simd::to_bits((behind ? simd::slab_accept(e.t, p.tfar) : e.t <= p.tfar) & p.active);
             if (lanes != 0) {
                 child = e.child, count = e.count;
                 break;

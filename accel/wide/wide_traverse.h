@@ -55,7 +55,9 @@ ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<
         for (;;) {
             if (sp == 0) return false;
             --sp;
-            if (stack_t[sp] <= tfar) {
+            // slab_test's rule (room for a negative tfar, reachable when tnear < 0); plain rays
+            // have tfar >= 0, where it is the plain comparison.
+            if (Plain ? stack_t[sp] <= tfar : bool(simd::slab_accept(stack_t[sp], tfar))) {
                 child = stack_child[sp], count = stack_count[sp];
                 return true;
             }
