@@ -222,7 +222,7 @@ TEST_CASE("kdtree cells: every non-empty leaf once with its cell, nested boxes, 
     }
 }
 
-TEST_CASE("kdtree cells: an empty tree has no cells; one triangle is one leaf") {
+TEST_CASE("kdtree cells: an empty tree has no cells, one triangle is one leaf") {
     const accel::KdTree empty;
     CHECK(accel::kd_cell_bvh(empty).nodes.empty());
     const float x[3] = {0, 1, 0}, y[3] = {0, 0, 1}, z[3] = {0, 0, 0};
