@@ -73,6 +73,13 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
         throw InputError(name, 0, "glTF: no asset.version (not a glTF file?)");
     const std::string version = j["asset"]["version"];
     if (version.rfind("2.", 0) != 0) throw InputError(name, 0, "glTF version " + version + " (only glTF 2.0 is read)");
+    // glTF 2.0 allows two image types; Debian's Assimp 5 crashed (SEGV in its glTF2 importer) on
+    // an embedded image with another mimeType (found by CI's mesh fuzzer, 2026-12-03).
+    if (j.contains("images") && j["images"].is_array())
+        for (const auto& image : j["images"])
+            if (image.is_object() && image.contains("mimeType") &&
+                !(image["mimeType"].is_string() && (image["mimeType"] == "image/png" || image["mimeType"] == "image/jpeg")))
+                throw InputError(name, 0, "glTF: an image's mimeType is " + image["mimeType"].dump() + " (glTF 2.0 allows image/png and image/jpeg)");
     GltfCounts c;
     if (!j.contains("meshes")) return c;
     const nlohmann::json empty = nlohmann::json::array();
