@@ -23,6 +23,9 @@ template <std::size_t N> struct BoxesSoA {
         }
     }
     void set_empty(std::size_t i) { set(i, Vec3f(INFINITY), Vec3f(-INFINITY)); }
+    /// Corners of box i.
+    Vec3f lo(std::size_t i) const { return {b[0][0][i], b[0][1][i], b[0][2][i]}; }
+    Vec3f hi(std::size_t i) const { return {b[1][0][i], b[1][1][i], b[1][2][i]}; }
 };
 
 /// A packet against one box [lo, hi]: the near plane of each axis is chosen per lane by the sign

@@ -124,10 +124,9 @@ inline SlabRay slab_ray(const Vec3f& o, const Vec3f& d) {
 /// tnear < 0, 3.7e10 from the scene, so that the box's planes minus the origin round to one value,
 /// was culled; found by CI's ray fuzzer, tests/fuzz/regressions/rays/huge-direction-behind-origin-far.rays.)
 /// Monotone in t_exit (packet_bounds.h relies on it: a larger exit never turns a hit into a miss).
-template <class T> inline Mask<T> slab_accept(const T& t_entry, const T& t_exit) {
-    const T slack = rmin(t_exit, T(0.0f)) * T(-0x1p-17f);
-    return t_entry <= t_exit + slack;
-}
+/// The largest entry slab_accept takes for `t_exit` (for callers that compare many entries with one exit).
+template <class T> inline T slab_accept_bound(const T& t_exit) { return t_exit + rmin(t_exit, T(0.0f)) * T(-0x1p-17f); }
+template <class T> inline Mask<T> slab_accept(const T& t_entry, const T& t_exit) { return t_entry <= slab_accept_bound(t_exit); }
 
 /// Slab test on planes already sorted into near and far per axis. Returns the entry distance in
 /// `t_entry` and the lanes whose [entry, exit] overlaps [tnear, tfar].

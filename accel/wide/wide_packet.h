@@ -101,8 +101,7 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
             maybe &= (1u << n.children) - 1u;
             for (; maybe != 0; maybe &= maybe - 1) {
                 const int c = std::countr_zero(maybe);
-                const Vec3f lo{n.boxes.b[0][0][c], n.boxes.b[0][1][c], n.boxes.b[0][2][c]};
-                const Vec3f hi{n.boxes.b[1][0][c], n.boxes.b[1][1][c], n.boxes.b[1][2][c]};
+                const Vec3f lo = n.boxes.lo(c), hi = n.boxes.hi(c);
                 P t;
                 const auto m = (p.plain ? simd::packet_box_plain(p, lo, hi, t) : simd::packet_box(p, lo, hi, t)) & live;
                 lanes_of[c] = simd::to_bits(m);

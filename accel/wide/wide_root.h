@@ -94,8 +94,7 @@ __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd
         const std::uint32_t lone = 0u - std::uint32_t(std::popcount(hit) == 1);
         // The walk's pop rule, slab_accept(t, tfar), with its bound worked out once per ray in scalar
         // (the same operations: bit-identical; as a vector it cost 5% on random rays).
-        const float tf = setup.f[S::tfar][i], bound = tf + simd::rmin(tf, 0.0f) * -0x1p-17f;
-        const std::uint32_t live = hit & (simd::to_bits(t <= T(bound)) | lone);
+        const std::uint32_t live = hit & (simd::to_bits(t <= T(simd::slab_accept_bound(setup.f[S::tfar][i]))) | lone);
         const std::uint8_t* order = layout.orders.data() + std::size_t(ray_octant(near_is_hi)) * N;
         const std::uint32_t ranked = ordered_bits<N>(live, order);
         const unsigned first = order[31 - std::countl_zero(ranked | 1u)];  // (order[0] when none)

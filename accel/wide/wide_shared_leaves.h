@@ -45,24 +45,18 @@ template <std::size_t N>
 std::uint32_t shared_leaf_slots(const WideLayout<N>& layout, std::uint32_t max_triangles = 32, std::size_t group = 16) {
     if (layout.empty()) return 0;
     const WideNode<N>& root = layout.nodes[0];
-    const auto area = [](const float* lo, const float* hi) {
+    const auto area = [](const Vec3f& lo, const Vec3f& hi) {
         const float x = hi[0] - lo[0], y = hi[1] - lo[1], z = hi[2] - lo[2];
         return double(x) * y + double(y) * z + double(z) * x;
     };
-    float rlo[3] = {INFINITY, INFINITY, INFINITY}, rhi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (std::size_t c = 0; c < root.children; ++c)
-        for (int k = 0; k < 3; ++k) {
-            rlo[k] = std::min(rlo[k], root.boxes.b[0][k][c]);
-            rhi[k] = std::max(rhi[k], root.boxes.b[1][k][c]);
-        }
+    Vec3f rlo(INFINITY), rhi(-INFINITY);
+    for (std::size_t c = 0; c < root.children; ++c) rlo = simd::vmin(rlo, root.boxes.lo(c)), rhi = simd::vmax(rhi, root.boxes.hi(c));
     const double root_area = area(rlo, rhi);
     std::uint32_t slots = 0;
     for (std::size_t c = 0; c < root.children; ++c) {
         const std::uint32_t count = root.count[c];
         if (count == 0 || count > max_triangles) continue;
-        const float lo[3] = {root.boxes.b[0][0][c], root.boxes.b[0][1][c], root.boxes.b[0][2][c]};
-        const float hi[3] = {root.boxes.b[1][0][c], root.boxes.b[1][1][c], root.boxes.b[1][2][c]};
-        const double expected = root_area > 0.0 ? double(group) * area(lo, hi) / root_area : double(group);
+        const double expected = root_area > 0.0 ? double(group) * area(root.boxes.lo(c), root.boxes.hi(c)) / root_area : double(group);
         if (2.0 * expected * wide_blocks<N>(count) >= double(count)) slots |= 1u << c;
     }
     return slots;
@@ -89,12 +83,11 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
     static_assert(Rays >= S::size);
     using IntP = simd::IntOf<P>;
     const WideNode<N>& root = layout.nodes[0];
-    const WideBlock<N>* blocks = layout.blocks.data();
     // Plain rays only (tnear >= 0, finite normal reciprocals: WideRay::plain): their box entry
     // distances are never above the true ones (Ize's padding), so no walk culls a box that holds
     // a hit at the t of the one found here, and the order of the tests does not change the record.
-    // Behind the origin the slab test is not that tight (a box entered at a tied negative t can
-    // be culled by either order), and such rays keep their own walks.
+    // Behind the origin the entries are not that tight (negative exits get slab_accept's room
+    // instead), and such rays keep their own walks.
     // The box tests read the set-up's arrays (the packet's own fields, stored); the full packet,
     // with its Woop set-up, is made again only for a group that tests a leaf (made for every
     // group, the alligator's lbvh diffuse rays, with a 1- and a 14-triangle root leaf, ran at
@@ -113,10 +106,8 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
     std::uint32_t tested = 0, lanes_of[N];
     for (std::uint32_t m = slots; m != 0; m &= m - 1) {
         const int c = std::countr_zero(m);
-        const Vec3f lo{root.boxes.b[0][0][c], root.boxes.b[0][1][c], root.boxes.b[0][2][c]};
-        const Vec3f hi{root.boxes.b[1][0][c], root.boxes.b[1][1][c], root.boxes.b[1][2][c]};
         P t_entry;
-        const std::uint32_t lanes = simd::to_bits(simd::packet_box_plain(box, lo, hi, t_entry)) & active;
+        const std::uint32_t lanes = simd::to_bits(simd::packet_box_plain(box, root.boxes.lo(c), root.boxes.hi(c), t_entry)) & active;
         const auto n = unsigned(std::popcount(lanes));
         // (Packet tests no more than the block tests they replace: with 1.5x as many, the
         // ground leaf of builtin:default, 4 triangles, took only groups of 6 rays or more, and
@@ -134,18 +125,12 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
         const int c = std::countr_zero(m);
         const std::uint32_t count = root.count[c], first = root.child[c];
         const auto live = simd::from_bits<P>(lanes_of[c]);
-        for (std::uint32_t b = 0; b < wide_blocks<N>(count); ++b) {
-            const simd::TrisSoA<N>& blk = blocks[first + b].tris;
-            const std::uint32_t used = std::min<std::uint32_t>(count - b * std::uint32_t(N), std::uint32_t(N));
-            for (std::uint32_t l = 0; l < used; ++l) {
-                const Vec3f v0{blk.v[0][0][l], blk.v[0][1][l], blk.v[0][2][l]};
-                const Vec3f v1{blk.v[1][0][l], blk.v[1][1][l], blk.v[1][2][l]};
-                const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
-                const simd::TriHit<P> h = simd::packet_triangle<P, true>(p, tfar, v0, v1, v2);
-                const auto take = simd::offer_lanes<false>(rec, h.hit & live, h.t, IntP(std::int32_t(blocks[first + b].ids[l])),
-                                                            h.u, h.v);
-                tfar = simd::select(take, h.t, tfar);
-            }
+        // The leaf's triangles are slots first * N .. first * N + count (its blocks are whole).
+        for (std::size_t s = std::size_t(first) * N; s < std::size_t(first) * N + count; ++s) {
+            const simd::TriHit<P> h =
+                simd::packet_triangle<P, true>(p, tfar, layout.vertex(s, 0), layout.vertex(s, 1), layout.vertex(s, 2));
+            const auto take = simd::offer_lanes<false>(rec, h.hit & live, h.t, IntP(std::int32_t(layout.prim(s))), h.u, h.v);
+            tfar = simd::select(take, h.t, tfar);
         }
         for (std::uint32_t r = lanes_of[c]; r != 0; r &= r - 1) skip[std::countr_zero(r)] |= 1u << c;
     }
