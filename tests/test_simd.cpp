@@ -206,6 +206,96 @@ TEST_CASE_TEMPLATE("RayPacket: every lane matches the scalar slab and Woop const
     if constexpr (lanes<T> > 1) CHECK(mixed > 0);  // the per-lane permutation was exercised
 }
 
+TEST_CASE_TEMPLATE("slab_rcps: slab_rcp bit for bit, with and without the quotient, over every exponent", T, ARBOR_TEST_BATCHES) {
+    // Packets whose directions are one scale 2^e times components in [0.5, 1] or zero (the
+    // quotient-free form: every lane's q >= 2^-64), from denormal components (1/d overflows: NaN)
+    // to components above 2^126 (denormal reciprocals, shrunk); and packets where each lane has
+    // its own scale (near-axis directions: the full slab_rcp).
+    constexpr std::size_t n = lanes<T>;
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<float> unit(0.5f, 1.0f);
+    Mismatches bad;
+    std::size_t quotient_free = 0, overflow = 0, denormal = 0;
+    for (int e = -150; e <= 127; ++e)
+        for (int mixed = 0; mixed < 2; ++mixed) {
+            alignas(64) float d[3][n], dmax[n];
+            for (std::size_t i = 0; i < n; ++i) {
+                const int scale = mixed ? e - int(rng() % 80) : e;
+                for (int k = 0; k < 3; ++k) {
+                    const float c = rng() % 5 == 0 ? 0.0f : std::ldexp(unit(rng), scale);
+                    d[k][i] = rng() % 2 ? -c : c;
+                }
+                if (mixed && i % 3 == 0) d[int(rng() % 3)][i] = std::ldexp(1.0f, e);  // one component far above the others
+                dmax[i] = std::max(std::fabs(d[0][i]), std::max(std::fabs(d[1][i]), std::fabs(d[2][i])));
+            }
+            const Vec3<T> got = slab_rcps(Vec3<T>{load_lanes<T>(d[0]), load_lanes<T>(d[1]), load_lanes<T>(d[2])}, load_lanes<T>(dmax));
+            bool free = true;
+            for (std::size_t i = 0; i < n; ++i)
+                for (int k = 0; k < 3; ++k) {
+                    free = free && (d[k][i] == 0.0f || std::fabs(d[k][i]) * 0x1p64f >= dmax[i]);
+                    const float ref = slab_rcp(d[k][i], dmax[i]);
+                    if (!same_float(lane(got[k], i), ref)) bad.add("lane", e, mixed, i, k, d[k][i], dmax[i], ref, lane(got[k], i));
+                    overflow += d[k][i] != 0.0f && std::isnan(ref) && std::fabs(d[k][i]) * 0x1p64f >= dmax[i];
+                    denormal += ref != 0.0f && std::fabs(ref) < FLT_MIN;
+                }
+            quotient_free += free;
+        }
+    ARBOR_CHECK_NONE(bad);
+    // Both forms ran, and the quotient-free one met 1/d overflowing and denormal reciprocals.
+    CHECK(quotient_free > 200);
+    CHECK(quotient_free < 2 * 278);
+    CHECK(overflow > 0);
+    CHECK(denormal > 0);
+}
+
+TEST_CASE_TEMPLATE("RayPacket: make_packet_boxes and add_woop make make_packet's packet", T, float, ARBOR_TEST_BATCHES) {
+    const std::vector<Ray> rays = arbor::testing::stiff_rays(17, 300, {{0, 0, 0}, {1, -1, 0.5f}});
+    Mismatches bad;
+    for (std::size_t s = 0; s < rays.size(); s += lanes<T>) {
+        const auto chunk = std::span<const Ray>(rays).subspan(s, std::min(lanes<T>, rays.size() - s));
+        const RayPacket<T> p = load_packet<T, Ray>(chunk);
+        RayPacket<T> q = load_packet_boxes<T, Ray>(chunk);
+        add_woop(q, q.active);
+        for (std::size_t i = 0; i < lanes<T>; ++i) check_lane(q, i, i < chunk.size() ? &chunk[i] : nullptr, bad);
+        if (p.plain != q.plain || to_bits(p.plain_lanes) != to_bits(q.plain_lanes)) bad.add("plain", s);
+        if (p.woop.uniform != q.woop.uniform || p.woop.kx != q.woop.kx || p.woop.ky != q.woop.ky || p.woop.kz != q.woop.kz)
+            bad.add("uniform permutation", s);
+    }
+    ARBOR_CHECK_NONE(bad);
+}
+
+TEST_CASE_TEMPLATE("store_hits: full and partial packets write every field's bits", T, float, ARBOR_TEST_BATCHES) {
+    // (Float16: a full packet takes the in-register transpose, a partial one the lane loop.)
+    constexpr std::size_t n = lanes<T>;
+    std::mt19937 rng(41);
+    const std::vector<float> special = special_floats();
+    Mismatches bad;
+    for (int round = 0; round < 50; ++round) {
+        alignas(64) float t[n], u[n], v[n];
+        alignas(64) std::int32_t prim[n];
+        for (std::size_t i = 0; i < n; ++i) {
+            t[i] = special[rng() % special.size()], u[i] = special[rng() % special.size()], v[i] = special[rng() % special.size()];
+            prim[i] = std::int32_t(rng());
+        }
+        PacketHit<T> h;
+        h.t = load_lanes<T>(t), h.u = load_lanes<T>(u), h.v = load_lanes<T>(v);
+        h.prim = load_lanes<IntOf<T>>(prim);
+        for (const std::size_t count : {n, n + 3, std::size_t(round % int(n))}) {
+            std::vector<arbor::accel::Hit> out(n + 3, arbor::accel::Hit{1.5f, 77u, 2.5f, 3.5f});
+            store_hits(h, std::span<arbor::accel::Hit>(out).first(count));
+            for (std::size_t i = 0; i < out.size(); ++i) {
+                const bool written = i < std::min(count, n);
+                const arbor::accel::Hit want = written ? arbor::accel::Hit{t[i], std::uint32_t(prim[i]), u[i], v[i]}
+                                                       : arbor::accel::Hit{1.5f, 77u, 2.5f, 3.5f};
+                if (bits_of(out[i].t) != bits_of(want.t) || out[i].prim != want.prim || bits_of(out[i].u) != bits_of(want.u) ||
+                    bits_of(out[i].v) != bits_of(want.v))
+                    bad.add("record", round, count, i);
+            }
+        }
+    }
+    ARBOR_CHECK_NONE(bad);
+}
+
 TEST_CASE_TEMPLATE("RayPacket: partial packets and the uniform permutation flag", T, ARBOR_TEST_BATCHES) {
     constexpr std::size_t n = lanes<T>;
     std::vector<Ray> rays;

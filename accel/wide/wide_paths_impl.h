@@ -238,7 +238,13 @@ private:
         simd::WideRaySetup<P> setup;
         for (std::size_t base = 0; base < rays.size(); base += K) {
             const auto in = rays.subspan(base, std::min(K, rays.size() - base));
-            simd::RayPacket<P> p = simd::load_packet<P>(in);
+            // The triangle test's set-up (p.woop) only once a lane reaches a leaf (make_packet_boxes).
+            simd::RayPacket<P> p = simd::load_packet_boxes<P>(in);
+            const simd::Mask<P> loaded = p.active;
+            bool have_woop = false;
+            const auto need_woop = [&] {
+                if (!have_woop) simd::add_woop(p, loaded), have_woop = true;
+            };
             simd::PacketHit<P> best;
             // The hit record of the packet's lanes (simd::offer_lanes: the rule of HitRecord).
             const auto offer = [&](const simd::Mask<P>& candidates, const P& t, const IntP& prim, const P& u, const P& v) {
@@ -248,6 +254,7 @@ private:
             };
             const simd::PacketBounds bounds = simd::packet_bounds(p, p.active);
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
+                need_woop();
                 auto live = simd::from_bits<P>(lanes);
                 const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
                 // The far distances and the hit record in locals for the leaf's tests (as members
@@ -294,6 +301,7 @@ private:
                 // The lanes' WideRays from the packet itself, worked out once per packet (a lane's
                 // far distance only drops, to a hit's t >= tnear, so the rest stays as it was).
                 if (!have_setup) {
+                    need_woop();
                     simd::wide_ray_setup(p, setup);
                     have_setup = true;
                 }
