@@ -57,11 +57,11 @@ inline void refine_edges(float& U, float& V, float& W, float ax, float ay, float
         W = edge_exact(bx, ay, by, ax);
     }
 }
-template <class A>
-inline void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>& V, xsimd::batch<float, A>& W,
-                         const xsimd::batch<float, A>& ax, const xsimd::batch<float, A>& ay,
-                         const xsimd::batch<float, A>& bx, const xsimd::batch<float, A>& by,
-                         const xsimd::batch<float, A>& cx, const xsimd::batch<float, A>& cy) {
+template <class A>  // (forced inline: as push_ordered16, accel/wide/wide_push.h)
+ARBOR_INLINE void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>& V, xsimd::batch<float, A>& W,
+                               const xsimd::batch<float, A>& ax, const xsimd::batch<float, A>& ay,
+                               const xsimd::batch<float, A>& bx, const xsimd::batch<float, A>& by,
+                               const xsimd::batch<float, A>& cx, const xsimd::batch<float, A>& cy) {
     using B = xsimd::batch<float, A>;
     const auto zero = (U == B(0.0f)) | (V == B(0.0f)) | (W == B(0.0f));
     std::uint32_t bits = to_bits(zero);

@@ -54,8 +54,10 @@ inline std::size_t push_ordered(std::uint32_t bits, const std::uint8_t* order, c
 }
 
 #if XSIMD_WITH_AVX512F
-/// push_ordered for 16-wide nodes with the distances in a 16-lane register.
-inline std::size_t push_ordered16(std::uint32_t bits, const std::uint8_t* order, const WideNode<16>& n, __m512 d,
+/// push_ordered for 16-wide nodes with the distances in a 16-lane register. (Forced inline, as
+/// push_hits below: GCC 12 stopped inlining them into the single walk once the packet path's
+/// set-up changed in the same translation unit, wide_paths16.cpp; any-hit single rays 0.84-0.88x.)
+ARBOR_INLINE std::size_t push_ordered16(std::uint32_t bits, const std::uint8_t* order, const WideNode<16>& n, __m512 d,
                                   WideStack& s, std::size_t sp) {
     // (The maskz forms with every lane set: GCC 12 warns of the plain forms' undefined source.)
     constexpr __mmask16 all = 0xffff;
@@ -113,8 +115,8 @@ inline std::size_t push_ordered8(std::uint32_t bits, const std::uint8_t* order, 
 /// The push for lane type T of width N: push_ordered16 / push_ordered8 where the build has them,
 /// else push_ordered.
 template <std::size_t N, class T>
-inline std::size_t push_hits(std::uint32_t bits, const std::uint8_t* order, const WideNode<N>& n, const T& t, WideStack& s,
-                             std::size_t sp) {
+ARBOR_INLINE std::size_t push_hits(std::uint32_t bits, const std::uint8_t* order, const WideNode<N>& n, const T& t, WideStack& s,
+                                   std::size_t sp) {
 #if XSIMD_WITH_AVX512F
     if constexpr (N == 16) {
         return push_ordered16(bits, order, n, __m512(t), s, sp);
