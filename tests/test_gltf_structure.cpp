@@ -142,6 +142,12 @@ TEST_CASE("glTF structure: fields Assimp 5.2 trusts are checked before it reads 
                  json::parse(R"({"count": 5, "indices": {"bufferView": 2, "componentType": 5123}, "values": {"bufferView": 1}})");
          }),
          "accessors[0].sparse.count is 5 (from 1 to the accessor's count 4)"},
+        {"sparse strided", with([](json& d) {
+             d["bufferViews"][1]["byteStride"] = 16, d["bufferViews"][1]["byteLength"] = 60, d["bufferViews"][1]["byteOffset"] = 36;
+             d["accessors"][1]["sparse"] =
+                 json::parse(R"({"count": 1, "indices": {"bufferView": 2, "componentType": 5123}, "values": {"bufferView": 0}})");
+         }),
+         "accessors[1]: a sparse accessor on bufferViews[1] of byteStride 16, not its 12-byte elements"},
         // Short loops, strips and fans: Assimp writes past its face array or allocates 2^32 faces.
         {"line loop", with([](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 2, d["accessors"][2]["count"] = 1; }),
          "meshes[0].primitives[0]: a line loop or strip (mode 2) of 1 vertex"},

@@ -172,6 +172,10 @@ struct Checker {
             if (const auto v = ref_of(a, "bufferView", "bufferViews", where)) {
                 const json& view = views[*v];
                 const std::uint64_t stride = view.contains("byteStride") ? view["byteStride"].get<std::uint64_t>() : elem;
+                // Assimp reads a sparse accessor's patched copy (packed) at its view's stride.
+                if (a.contains("sparse") && stride != elem)
+                    fail(where + ": a sparse accessor on bufferViews[" + std::to_string(*v) + "] of byteStride " + std::to_string(stride) +
+                         ", not its " + std::to_string(elem) + "-byte elements");
                 if (stride < elem)
                     fail(where + ": bufferViews[" + std::to_string(*v) + "].byteStride " + std::to_string(stride) + " is less than its " +
                          std::to_string(elem) + "-byte elements");
