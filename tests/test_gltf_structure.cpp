@@ -50,8 +50,7 @@ json quad_doc() {
         "buffers": [{"byteLength": 108}]})");
 }
 
-std::string glb(const json& doc, std::string bin) {
-    std::string j = doc.dump();
+std::string glb_text(std::string j, std::string bin) {
     while (j.size() % 4) j += ' ';
     while (bin.size() % 4) bin += '\0';
     std::string out = "glTF";
@@ -65,6 +64,8 @@ std::string glb(const json& doc, std::string bin) {
     }
     return out;
 }
+
+std::string glb(const json& doc, const std::string& bin) { return glb_text(doc.dump(), bin); }
 
 std::string load(const std::string& bytes, const std::string& name = "x.glb") {
     engine::Warnings w;
@@ -212,6 +213,13 @@ TEST_CASE("glTF structure: fields Assimp 5.2 trusts are checked before it reads 
         CHECK(msg.find(r.message) != std::string::npos);
         CHECK(msg.find('\n') == std::string::npos);
     }
+    // A key twice in one object (nlohmann keeps the last, Assimp reads the first: a crashing first
+    // "accessors" behind a sound second one).
+    json bad = quad_doc()["accessors"];
+    bad[0]["sparse"] = json::parse(R"({"count": 1, "values": {"bufferView": 1}})");
+    std::string twice = quad_doc().dump();
+    twice.insert(1, "\"accessors\":" + bad.dump() + ",");
+    CHECK(load(glb_text(twice, quad_bin())) == "x.glb: glTF JSON has the key \"accessors\" twice in one object");
     // JSON nested past the limit, refused before any parser recurses into it.
     json d = quad_doc();
     std::string text = d.dump();

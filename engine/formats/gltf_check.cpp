@@ -7,7 +7,9 @@
 
 #include <cstring>
 #include <optional>
+#include <set>
 #include <tuple>
+#include <vector>
 
 namespace arbor::engine::formats {
 
@@ -70,7 +72,20 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
     check_json_depth(text, name);
     nlohmann::json j;
     try {
-        j = nlohmann::json::parse(text.begin(), text.end());
+        // A key twice in one object: this parser keeps the last, Assimp's (rapidjson) finds the
+        // first, so the checks below would pass what Assimp never reads. Refused.
+        std::vector<std::set<std::string>> keys;
+        std::string duplicate;
+        j = nlohmann::json::parse(text.begin(), text.end(), [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+            using E = nlohmann::json::parse_event_t;
+            if (event == E::object_start) keys.emplace_back();
+            else if (event == E::object_end && !keys.empty()) keys.pop_back();
+            else if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second && duplicate.empty())
+                duplicate = parsed.get<std::string>();
+            return true;
+        });
+        if (!duplicate.empty())
+            throw InputError(name, 0, "glTF JSON has the key \"" + duplicate.substr(0, 64) + "\" twice in one object");
     } catch (const nlohmann::json::exception& e) {
         std::string what = e.what();
         for (char& c : what)
