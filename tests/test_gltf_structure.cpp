@@ -220,6 +220,12 @@ TEST_CASE("glTF structure: fields Assimp 5.2 trusts are checked before it reads 
     std::string twice = quad_doc().dump();
     twice.insert(1, "\"accessors\":" + bad.dump() + ",");
     CHECK(load(glb_text(twice, quad_bin())) == "x.glb: glTF JSON has the key \"accessors\" twice in one object");
+    // An escaped NUL in a key: Assimp reads "NORMAL\u0000x" as NORMAL (here a VEC2 it would misread).
+    json n = quad_doc();
+    n["accessors"][1]["type"] = "VEC2";
+    std::string nul = n.dump();
+    nul.replace(nul.find("\"NORMAL\""), 8, "\"NORMAL\\u0000x\"");
+    CHECK(load(glb_text(nul, quad_bin())) == "x.glb: glTF JSON has a key or string holding \\u0000");
     // JSON nested past the limit, refused before any parser recurses into it.
     json d = quad_doc();
     std::string text = d.dump();

@@ -76,16 +76,22 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
         // first, so the checks below would pass what Assimp never reads. Refused.
         std::vector<std::set<std::string>> keys;
         std::string duplicate;
+        bool nul = false;
         j = nlohmann::json::parse(text.begin(), text.end(), [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
             using E = nlohmann::json::parse_event_t;
             if (event == E::object_start) keys.emplace_back();
             else if (event == E::object_end && !keys.empty()) keys.pop_back();
             else if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second && duplicate.empty())
                 duplicate = parsed.get<std::string>();
+            // Assimp reads keys and strings as C strings: "POSITION\u0000x" is its POSITION, not ours.
+            if ((event == E::key || event == E::value) && parsed.is_string() &&
+                parsed.get_ref<const std::string&>().find('\0') != std::string::npos)
+                nul = true;
             return true;
         });
         if (!duplicate.empty())
             throw InputError(name, 0, "glTF JSON has the key \"" + duplicate.substr(0, 64) + "\" twice in one object");
+        if (nul) throw InputError(name, 0, "glTF JSON has a key or string holding \\u0000");
     } catch (const nlohmann::json::exception& e) {
         std::string what = e.what();
         for (char& c : what)
