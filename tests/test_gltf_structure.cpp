@@ -126,6 +126,12 @@ TEST_CASE("glTF structure: fields Assimp 5.2 trusts are checked before it reads 
          "meshes[0].primitives[0].indices is accessors[2] of SCALAR 5126"},
         {"short positions", with([](json& d) { d["accessors"][0]["componentType"] = 5123; }),
          "meshes[0].primitives[0].attributes.POSITION is accessors[0] of VEC3 5123"},
+        {"attribute prefix", with([](json& d) {
+             d["accessors"][1]["type"] = "VEC2";
+             d["meshes"][0]["primitives"][0]["attributes"].erase("NORMAL");
+             d["meshes"][0]["primitives"][0]["attributes"]["NORMALS"] = 1;
+         }),
+         "meshes[0].primitives[0].attributes.NORMALS is accessors[1] of VEC2 5126"},
         // Sparse accessors: Assimp dereferences the missing views (SEGV).
         {"sparse indices view", with([](json& d) {
              d["accessors"][0]["sparse"] = json::parse(R"({"count": 1, "indices": {"componentType": 5125}, "values": {"bufferView": 1}})");

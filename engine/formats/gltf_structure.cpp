@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -226,6 +228,16 @@ struct Checker {
                  why + ")");
     }
 
+    /// What Assimp 5.2 makes of an attribute name: the first semantic it starts with, and the set
+    /// after a '_' (atoi; 0 without one): "POSITIONS" is its POSITION, "TEXCOORD_00" its TEXCOORD_0.
+    static std::pair<std::string, long> assimp_attribute(const std::string& key) {
+        for (const char* s : {"POSITION", "NORMAL", "TANGENT", "TEXCOORD", "COLOR", "JOINTS", "JOINTMATRIX", "WEIGHTS"}) {
+            const std::size_t n = std::strlen(s);
+            if (key.compare(0, n, s) == 0) return {s, key.size() > n && key[n] == '_' ? std::atol(key.c_str() + n + 1) : 0};
+        }
+        return {"", -1};
+    }
+
     void meshes() {
         const json& list = array("meshes");
         for (std::size_t m = 0; m < list.size(); ++m) {
@@ -244,10 +256,11 @@ struct Checker {
                 for (const auto& [key, value] : prim["attributes"].items()) {
                     const std::string w = where + ".attributes." + key;
                     const std::size_t a = ref_value(value, "accessors", w);
-                    if (key == "POSITION") accessor_is(a, "VEC3", {5126}, w, "Assimp 5.2 reads VEC3 of 5126 (float) only");
-                    if (key == "NORMAL") accessor_is(a, "VEC3", {5126}, w, "Assimp 5.2 reads VEC3 of 5126 (float) only");
-                    if (key == "TEXCOORD_0") accessor_is(a, "VEC2", {5126}, w, "Assimp 5.2 reads VEC2 of 5126 (float) only");
-                    const bool j = key.rfind("JOINTS", 0) == 0, wt = key.rfind("WEIGHTS", 0) == 0;
+                    const auto [semantic, set] = assimp_attribute(key);
+                    if (set == 0 && (semantic == "POSITION" || semantic == "NORMAL"))
+                        accessor_is(a, "VEC3", {5126}, w, "Assimp 5.2 reads VEC3 of 5126 (float) only");
+                    if (set == 0 && semantic == "TEXCOORD") accessor_is(a, "VEC2", {5126}, w, "Assimp 5.2 reads VEC2 of 5126 (float) only");
+                    const bool j = semantic == "JOINTS", wt = semantic == "WEIGHTS";
                     joints += j;
                     weights += wt;
                     if (j || wt) {
