@@ -155,6 +155,11 @@ TEST_CASE("glTF structure: fields Assimp 5.2 trusts are checked before it reads 
                  json::parse(R"({"count": 1, "indices": {"bufferView": 2, "componentType": 5123}, "values": {"bufferView": 0}})");
          }),
          "accessors[1]: a sparse accessor on bufferViews[1] of byteStride 16, not its 12-byte elements"},
+        {"sparse huge", with([](json& d) {
+             d["accessors"].push_back(json::parse(
+                 R"({"componentType": 5126, "count": 4000000000, "type": "SCALAR", "sparse": {"count": 1, "indices": {"bufferView": 2, "componentType": 5123}, "values": {"bufferView": 0}}})"));
+         }),
+         "accessors[3]: a sparse accessor without a bufferView of 4000000000 elements of 4 bytes (more than 256 MiB)"},
         // Short loops, strips and fans: Assimp writes past its face array or allocates 2^32 faces.
         {"line loop", with([](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 2, d["accessors"][2]["count"] = 1; }),
          "meshes[0].primitives[0]: a line loop or strip (mode 2) of 1 vertex"},

@@ -187,6 +187,10 @@ struct Checker {
                          std::to_string(elem) + " bytes (stride " + std::to_string(stride) + ") runs past bufferViews[" +
                          std::to_string(*v) + "] (" + std::to_string(view_bytes[*v]) + " bytes)");
             }
+            // Without a view Assimp allocates count x element size of zeros for the sparse values.
+            if (a.contains("sparse") && !a.contains("bufferView") && x.count * elem > gltf_max_sparse_bytes)
+                fail(where + ": a sparse accessor without a bufferView of " + std::to_string(x.count) + " elements of " + std::to_string(elem) +
+                     " bytes (more than " + std::to_string(gltf_max_sparse_bytes >> 20) + " MiB)");
             if (a.contains("sparse")) sparse(a["sparse"], where + ".sparse", x.count, elem);
             acc.push_back(x);
         }

@@ -21,6 +21,9 @@ inline constexpr int gltf_max_extras_depth = 8;
 /// an 8 MB stack).
 inline constexpr int gltf_max_node_depth = 512;
 
+/// Largest sparse accessor without a bufferView (Assimp allocates it whole before reading it).
+inline constexpr std::uint64_t gltf_max_sparse_bytes = std::uint64_t(1) << 28;
+
 /// InputError naming `name` when the text nests arrays and objects deeper than
 /// gltf_max_json_depth (strings skipped); run before any parser sees the text.
 void check_json_depth(std::string_view text, const std::string& name);
