@@ -142,6 +142,61 @@ def gltf(vertices, indices, glb=True, mode=4, position_count=None, index_count=N
             + struct.pack("<I", len(buf)) + b"BIN\0" + buf)
 
 
+def rich_gltf(kind):
+    """A valid quad GLB using one of the glTF features Assimp 5.2 trusts the fields of (checked by
+    engine/formats/gltf_structure.cpp): the fuzzer starts from each and mutates those fields."""
+    buf = b"".join(struct.pack("<3f", *p) for p in [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])  # 0: positions
+    buf += b"".join(struct.pack("<3f", 0, 0, 1) for _ in range(4))                             # 48: normals
+    buf += b"".join(struct.pack("<H", i) for i in [0, 1, 2, 0, 2, 3])                          # 96: indices
+    buf += struct.pack("<I", 2) + struct.pack("<3f", 1, 2, 0)                                  # 108: sparse
+    buf += b"".join(struct.pack("<f", 1.0 if k % 5 == 0 else 0.0) for k in range(16))          # 124: matrix
+    buf += b"".join(struct.pack("<4f", 1, 0, 0, 0) for _ in range(4))                          # 188: weights
+    buf += bytes(16)                                                                            # 252: joints
+    buf += struct.pack("<3f", 0, 0.5, 1)                                                       # 268: key times
+    view = lambda off, n, **kw: dict(buffer=0, byteOffset=off, byteLength=n, **kw)
+    acc = lambda v, ct, n, t, **kw: dict(bufferView=v, componentType=ct, count=n, type=t, **kw)
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
+           "accessors": [acc(0, 5126, 4, "VEC3", min=[0, 0, 0], max=[1, 1, 0]), acc(1, 5126, 4, "VEC3"), acc(2, 5123, 6, "SCALAR")],
+           "bufferViews": [view(0, 48), view(48, 48), view(96, 12), view(108, 4), view(112, 12), view(124, 64), view(188, 64),
+                           view(252, 16), view(268, 12)],
+           "buffers": [{"byteLength": len(buf)}]}
+    prim = doc["meshes"][0]["primitives"][0]
+    if kind == "sparse":
+        doc["accessors"][0]["sparse"] = {"count": 1, "indices": {"bufferView": 3, "componentType": 5125}, "values": {"bufferView": 4}}
+        doc["accessors"][0]["max"] = [1, 2, 0]
+    elif kind == "skin":
+        doc["accessors"] += [acc(5, 5126, 1, "MAT4"), acc(6, 5126, 4, "VEC4"), acc(7, 5121, 4, "VEC4")]
+        prim["attributes"].update({"WEIGHTS_0": 4, "JOINTS_0": 5})
+        doc["nodes"] = [{"children": [1], "extras": {"rig": {"bones": [1, 2]}}}, {"mesh": 0, "skin": 0}]
+        doc["skins"] = [{"joints": [0], "inverseBindMatrices": 3}]
+    elif kind == "animation":
+        doc["accessors"] += [acc(8, 5126, 3, "SCALAR"), acc(1, 5126, 3, "VEC3"), acc(8, 5126, 1, "SCALAR")]
+        doc["nodes"] = [{"children": [1]}, {"mesh": 0, "translation": [0, 0, 1]}]
+        doc["animations"] = [{"samplers": [{"input": 3, "output": 4}, {"input": 5, "output": 1, "interpolation": "CUBICSPLINE"}],
+                              "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}},
+                                           {"sampler": 1, "target": {"node": 0, "path": "scale"}}]}]
+    elif kind == "morph":
+        prim["targets"] = [{"POSITION": 1, "NORMAL": 1}]
+        doc["meshes"][0]["weights"] = [0.5]
+        doc["accessors"].append(acc(2, 5123, 4, "SCALAR"))
+        doc["meshes"][0]["primitives"].append({"attributes": {"POSITION": 0}, "indices": 3, "mode": 6})
+        doc["meshes"][0]["primitives"].append({"attributes": {"POSITION": 0}, "indices": 3, "mode": 2})
+    elif kind == "texture-transform":
+        doc["extensionsUsed"] = ["KHR_texture_transform"]
+        doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {
+            "KHR_texture_transform": {"offset": [0.5, 0], "scale": [2, 2], "rotation": 1}}}}}]
+        doc["textures"] = [{"source": 0, "sampler": 0}]
+        doc["samplers"] = [{"wrapS": 33071}]
+        doc["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png(1, 1, [[(9, 9, 9)]])).decode()}]
+        prim["material"] = 0
+    j = json.dumps(doc).encode()
+    j += b" " * (-len(j) % 4)
+    buf += b"\0" * (-len(buf) % 4)
+    return (b"glTF" + struct.pack("<II", 2, 12 + 8 + len(j) + 8 + len(buf)) + struct.pack("<I", len(j)) + b"JSON" + j
+            + struct.pack("<I", len(buf)) + b"BIN\0" + buf)
+
+
 def mesh_seeds(out_dir):
     nan = math.nan
     v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0.5, 0.5, 1)]
@@ -173,6 +228,8 @@ def mesh_seeds(out_dir):
         "index-past.glb": gltf(v[:4], [0, 1, 2, 0, 2, 9]),
         "nan.glb": gltf([(0, 0, 0), (nan, 0, 0), (1, 1, 0), (0, 1, 0)], [0, 1, 2, 0, 2, 3]),
     }
+    for kind in ("sparse", "skin", "animation", "morph", "texture-transform"):
+        seeds["rich-" + kind + ".glb"] = rich_gltf(kind)
     for name, data in seeds.items():
         with open(os.path.join(out_dir, name), "wb") as out:
             out.write(data)

@@ -288,7 +288,7 @@ SEEDS=$(dirname "$0")/fuzz/seeds/mesh
 for f in "$SEEDS"/*; do
   name=$(basename "$f")
   case $name in
-    ascii.ply|le.ply|be.ply|concave.ply|binary.stl|ascii.stl|quad.glb|quad.gltf|strip.glb)
+    ascii.ply|le.ply|be.ply|concave.ply|binary.stl|ascii.stl|quad.glb|quad.gltf|strip.glb|rich-*.glb)
       "$ARBOR" info "$f" --json >"$WORK/out" 2>"$WORK/err" || fail "info $name should load (exit $?): $(cat "$WORK/err")"
       grep -q '"triangles":' "$WORK/out" || fail "info $name: no triangle count";;
     *) expect_status 1 "$f: " "$ARBOR" info "$f";;
@@ -298,7 +298,7 @@ done
 # of the loop above), through `arbor render`, the message naming the problem. STL has no "faces past
 # the vertex list" row: its facets carry their own corners.
 for row in "truncated.ply:ends inside element" "truncated.stl:truncated?" "truncated.glb:truncated?" \
-  "count-too-big.ply:count 900000000" "count-too-big.stl:header says 1000000 triangles" "count-too-big.glb:out of range" \
+  "count-too-big.ply:count 900000000" "count-too-big.stl:header says 1000000 triangles" "count-too-big.glb:runs past bufferViews[0]" \
   "index-past.ply:past the 5 vertices" "index-past.glb:indices point past" \
   "nan.ply:is not finite" "nan.stl:is not finite" "nan.glb:is not finite"; do
   rm -f "$WORK/bad.png"

@@ -11,7 +11,11 @@
 /// would test boxes for lanes that are not there. Before the per-lane box tests, one N-wide test of
 /// the packet's interval bounds against all children (simd/packet_bounds.h, exactly conservative)
 /// drops the children that no lane can hit. Any hit: a lane that found a hit is done, and the
-/// walk ends as soon as every lane is done. See Wald et al., "Interactive Rendering with Coherent
+/// walk ends as soon as every lane is done; the hit children are visited in the reverse order,
+/// farthest first (shadow rays leave a surface, and what blocks them tends to lie nearer the light
+/// than the origin: 0.64-1.00x the packet triangle tests of nearest first, 0.87x in total, on 48
+/// shadow views of four models, perf/results/2026-12-03-shadow-order; Embree's occluded packets
+/// take the children in node order). See Wald et al., "Interactive Rendering with Coherent
 /// Ray Tracing", EG 2001 (packets), and Benthin et al., "Combining Single and Packet-Ray Tracing
 /// for Arbitrary Ray Distributions on the Intel MIC Architecture", TVCG 2012 (switching to single rays).
 #include "accel/wide/wide_layout.h"
@@ -56,7 +60,8 @@ template <std::size_t N> inline std::uint32_t ordered_bits(std::uint32_t hits, c
 /// a node reached by at most this many lanes they go on alone. `octant`: the direction octant
 /// every active lane shares (ray_octant), whose per-node order (wide_order.h) then ranks a node's
 /// hit children, as on the single path; -1: they are sorted by their smallest entry distance over
-/// the lanes. `stack` holds layout.stack_size() entries.
+/// the lanes. Closest hit visits them nearest first, any hit farthest first. `stack` holds
+/// layout.stack_size() entries.
 template <bool AnyHit, std::size_t N, class P, class LeafFn, class SingleFn>
 inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, const simd::PacketBounds& bounds,
                             PacketStackEntry<P>* stack, int switch_lanes, int octant, LeafFn&& leaf, SingleFn&& single) {
@@ -111,25 +116,46 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
                 hit_children |= 1u << c;
             }
             if (hit_children != 0 && !by_distance) {
-                // The node's order for the packet's octant (wide_order.h): the nearest hit child
-                // next, the others pushed far to near.
+                // The node's order for the packet's octant (wide_order.h), bit j of `ranked` its
+                // j-th child from the far end. Closest hit: the nearest hit child next, the others
+                // pushed far to near. Any hit: the farthest next, the others pushed near to far.
                 const std::uint8_t* order = orders + std::size_t(child) * 8 * N;
                 std::uint32_t ranked = ordered_bits<N>(hit_children, order);
-                const int top = 31 - std::countl_zero(ranked);
-                for (ranked &= ~(1u << top); ranked != 0; ranked &= ranked - 1) {
-                    const std::size_t c = order[std::countr_zero(ranked)];
-                    stack[sp++] = {tc[c], n.child[c], n.count[c]};
+                int next;
+                if constexpr (AnyHit) {
+                    next = std::countr_zero(ranked);
+                    for (ranked &= ranked - 1; ranked != 0;) {
+                        const int j = 31 - std::countl_zero(ranked);
+                        ranked &= ~(1u << j);
+                        const std::size_t c = order[j];
+                        stack[sp++] = {tc[c], n.child[c], n.count[c]};
+                    }
+                } else {
+                    next = 31 - std::countl_zero(ranked);
+                    for (ranked &= ~(1u << next); ranked != 0; ranked &= ranked - 1) {
+                        const std::size_t c = order[std::countr_zero(ranked)];
+                        stack[sp++] = {tc[c], n.child[c], n.count[c]};
+                    }
                 }
-                const std::size_t c = order[top];
+                const std::size_t c = order[next];
                 lanes = lanes_of[c];
                 child = n.child[c], count = n.count[c];
                 continue;
             }
             if (hit_children != 0) {
+                // By the smallest entry distance over the lanes (order[0] the nearest): closest
+                // hit nearest first, any hit farthest first, as above.
                 std::uint8_t order[N];
                 const int k = simd::order_hits(hit_children, static_cast<const float*>(tmin), order);
-                for (int j = k - 1; j > 0; --j) stack[sp++] = {tc[order[j]], n.child[order[j]], n.count[order[j]]};
-                const std::size_t c = order[0];
+                int next;
+                if constexpr (AnyHit) {
+                    next = k - 1;
+                    for (int j = 0; j < k - 1; ++j) stack[sp++] = {tc[order[j]], n.child[order[j]], n.count[order[j]]};
+                } else {
+                    next = 0;
+                    for (int j = k - 1; j > 0; --j) stack[sp++] = {tc[order[j]], n.child[order[j]], n.count[order[j]]};
+                }
+                const std::size_t c = order[next];
                 lanes = lanes_of[c];
                 child = n.child[c], count = n.count[c];
                 continue;

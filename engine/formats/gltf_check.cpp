@@ -1,10 +1,15 @@
 #include "engine/formats/gltf_check.h"
 
 #include "engine/error.h"
+#include "engine/formats/gltf_structure.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <optional>
+#include <set>
+#include <tuple>
+#include <vector>
 
 namespace arbor::engine::formats {
 
@@ -16,8 +21,9 @@ std::uint32_t u32(std::string_view b, std::size_t at) {
     return v;
 }
 
-/// The JSON chunk of a GLB (after checking the header and the chunk lengths).
-std::string_view glb_json(std::string_view b, const std::string& name) {
+/// The JSON chunk of a GLB (after checking the header and the chunk lengths) and the length of
+/// its BIN chunk (0 without one).
+std::pair<std::string_view, std::uint64_t> glb_json(std::string_view b, const std::string& name) {
     if (b.size() < 20) throw InputError(name, 0, "GLB file of " + std::to_string(b.size()) + " bytes is shorter than its headers");
     const std::uint32_t version = u32(b, 4), length = u32(b, 8);
     if (version != 2) throw InputError(name, 0, "GLB version " + std::to_string(version) + " (only glTF 2.0 is read)");
@@ -29,11 +35,13 @@ std::string_view glb_json(std::string_view b, const std::string& name) {
     if (json_length > b.size() - 20) throw InputError(name, 0, "GLB: the JSON chunk runs past the end of the file");
     std::size_t pos = 20 + std::size_t(json_length);
     pos = (pos + 3) & ~std::size_t(3);
+    std::uint64_t bin = 0;
     if (pos < b.size()) {
         if (b.size() - pos < 8) throw InputError(name, 0, "GLB: a chunk header runs past the end of the file");
-        if (u32(b, pos) > b.size() - pos - 8) throw InputError(name, 0, "GLB: the binary chunk runs past the end of the file");
+        bin = u32(b, pos);
+        if (bin > b.size() - pos - 8) throw InputError(name, 0, "GLB: the binary chunk runs past the end of the file");
     }
-    return b.substr(20, json_length);
+    return {b.substr(20, json_length), bin};
 }
 
 std::uint64_t accessor_count(const nlohmann::json& accessors, const nlohmann::json& ref, const std::string& name) {
@@ -58,10 +66,32 @@ bool looks_like_json(std::string_view b) {
 }
 
 GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
-    const std::string_view text = looks_like_glb(bytes) ? glb_json(bytes, name) : bytes;
+    std::string_view text = bytes;
+    std::optional<std::uint64_t> bin;
+    if (looks_like_glb(bytes)) std::tie(text, bin) = glb_json(bytes, name);
+    check_json_depth(text, name);
     nlohmann::json j;
     try {
-        j = nlohmann::json::parse(text.begin(), text.end());
+        // A key twice in one object: this parser keeps the last, Assimp's (rapidjson) finds the
+        // first, so the checks below would pass what Assimp never reads. Refused.
+        std::vector<std::set<std::string>> keys;
+        std::string duplicate;
+        bool nul = false;
+        j = nlohmann::json::parse(text.begin(), text.end(), [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+            using E = nlohmann::json::parse_event_t;
+            if (event == E::object_start) keys.emplace_back();
+            else if (event == E::object_end && !keys.empty()) keys.pop_back();
+            else if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second && duplicate.empty())
+                duplicate = parsed.get<std::string>();
+            // Assimp reads keys and strings as C strings: "POSITION\u0000x" is its POSITION, not ours.
+            if ((event == E::key || event == E::value) && parsed.is_string() &&
+                parsed.get_ref<const std::string&>().find('\0') != std::string::npos)
+                nul = true;
+            return true;
+        });
+        if (!duplicate.empty())
+            throw InputError(name, 0, "glTF JSON has the key \"" + duplicate.substr(0, 64) + "\" twice in one object");
+        if (nul) throw InputError(name, 0, "glTF JSON has a key or string holding \\u0000");
     } catch (const nlohmann::json::exception& e) {
         std::string what = e.what();
         for (char& c : what)
@@ -80,6 +110,7 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
             if (image.is_object() && image.contains("mimeType") &&
                 !(image["mimeType"].is_string() && (image["mimeType"] == "image/png" || image["mimeType"] == "image/jpeg")))
                 throw InputError(name, 0, "glTF: an image's mimeType is " + image["mimeType"].dump() + " (glTF 2.0 allows image/png and image/jpeg)");
+    check_gltf_structure(j, bin, name);
     GltfCounts c;
     if (!j.contains("meshes")) return c;
     const nlohmann::json empty = nlohmann::json::array();
