@@ -95,7 +95,9 @@ private:
                               WideStack& stack) const {
         HitRecord<AnyHit> best{start};
         const WideBlock<N>* blocks = layout_.blocks.data();
-        auto leaf = [&](std::uint32_t first, std::uint32_t n) {
+        // (Forced inline: called from both walks of walk_ray, GCC 12 kept it a call, the ray's
+        // constants then reloaded from memory at every leaf.)
+        auto leaf = [&](std::uint32_t first, std::uint32_t n) __attribute__((always_inline)) {
             bool found = false;
             const std::uint32_t end = first + wide_blocks<N>(n);
             for (std::uint32_t b = first; b < end; ++b) {
