@@ -83,6 +83,34 @@ public:
     }
 
 private:
+    /// The leaf of the single walk: ray `r`'s test of the leaf (first block, n triangles), its hits
+    /// offered to `best`; a kept hit lowers `tfar` and r.tfar (and ends the leaf for AnyHit). True
+    /// when one was kept.
+    template <bool AnyHit>
+    ARBOR_INLINE bool test_leaf(simd::WideRay<T>& r, float& tfar, HitRecord<AnyHit>& best, std::uint32_t first,
+                                std::uint32_t n) const {
+        const WideBlock<N>* blocks = layout_.blocks.data();
+        bool found = false;
+        const std::uint32_t end = first + wide_blocks<N>(n);
+        for (std::uint32_t b = first; b < end; ++b) {
+            // (Early out: a block no lane of which can hit skips the division, +5% on random rays.)
+            const simd::TriHit<T> h = simd::ray_triangles<T, true>(r, blocks[b].soa());
+            const std::uint32_t bits = simd::to_bits(h.hit);
+            if (bits == 0) continue;
+            // Closest: the smallest t, on equal t the lowest lane, which is the lowest prim (a
+            // leaf's triangles are in ascending prim order, wide_layout.h).
+            const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
+            const float t = simd::lane(h.t, std::size_t(lane));
+            if (!best.offer(t, blocks[b].ids[lane], simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane))))
+                continue;
+            tfar = t;
+            r.tfar = T(t);
+            found = true;
+            if constexpr (AnyHit) return true;
+        }
+        return found;
+    }
+
     /// The walk of trace_from (Root false: from (child, count)) and trace_root (Root true: from
     /// (child, count) with the root's children `rest`, entry distances `root_t`, deferred), with
     /// the hit record and the leaf test. Forced inline into trace_single: as a call (the walk's
@@ -94,30 +122,20 @@ private:
                               const T& root_t, std::uint32_t first_bits, const float* first_t, const Hit& start,
                               WideStack& stack) const {
         HitRecord<AnyHit> best{start};
-        const WideBlock<N>* blocks = layout_.blocks.data();
-        auto leaf = [&](std::uint32_t first, std::uint32_t n) {
-            bool found = false;
-            const std::uint32_t end = first + wide_blocks<N>(n);
-            for (std::uint32_t b = first; b < end; ++b) {
-                // (Early out: a block no lane of which can hit skips the division, +5% on random rays.)
-                const simd::TriHit<T> h = simd::ray_triangles<T, true>(r, blocks[b].soa());
-                const std::uint32_t bits = simd::to_bits(h.hit);
-                if (bits == 0) continue;
-                // Closest: the smallest t, on equal t the lowest lane, which is the lowest prim (a
-                // leaf's triangles are in ascending prim order, wide_layout.h).
-                const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
-                const float t = simd::lane(h.t, std::size_t(lane));
-                if (!best.offer(t, blocks[b].ids[lane], simd::lane(h.u, std::size_t(lane)), simd::lane(h.v, std::size_t(lane))))
-                    continue;
-                tfar = t;
-                r.tfar = T(t);
-                found = true;
-                if constexpr (AnyHit) return true;
-            }
-            return found;
-        };
-        if (r.plain) detail::walk_wide<AnyHit, true, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
-        else detail::walk_wide<AnyHit, false, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
+        // The leaf test (test_leaf): forced inline into the walks from a group's root tests
+        // (trace_group, rays of mixed directions), where GCC 12 kept it a call from both walks of
+        // walk_ray (random rays 1.02-1.09x inlined); elsewhere GCC's choice, a call as before
+        // (forced there too, shadow rays' any-hit walks took 1.1x as long).
+        if constexpr (Root) {
+            const auto leaf = [&](std::uint32_t first, std::uint32_t n)
+                                  __attribute__((always_inline)) { return test_leaf(r, tfar, best, first, n); };
+            if (r.plain) detail::walk_wide<AnyHit, true, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
+            else detail::walk_wide<AnyHit, false, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
+        } else {
+            const auto leaf = [&](std::uint32_t first, std::uint32_t n) { return test_leaf(r, tfar, best, first, n); };
+            if (r.plain) detail::walk_wide<AnyHit, true, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
+            else detail::walk_wide<AnyHit, false, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
+        }
         return best.hit;
     }
 
