@@ -81,8 +81,9 @@ inline xsimd::batch<float, A> slab_rcp(const xsimd::batch<float, A>& d, const xs
 /// is exact or +inf, so |d| * 2^64 >= dmax means q >= 2^-64 > FLT_MIN: the q == 0 and q < FLT_MIN
 /// cases cannot occur). Bit-identical to slab_rcp per component (tested lane by lane).
 template <class T> inline Vec3<T> slab_rcps(const Vec3<T>& d, const T& dmax) {
+    const auto each = [&d, &dmax] { return Vec3<T>{slab_rcp(d.x, dmax), slab_rcp(d.y, dmax), slab_rcp(d.z, dmax)}; };
     if constexpr (std::is_same_v<T, float>) {
-        return {slab_rcp(d.x, dmax), slab_rcp(d.y, dmax), slab_rcp(d.z, dmax)};
+        return each();
     } else {
         using I = xsimd::batch<std::int32_t, typename T::arch_type>;
         const T zero(0.0f), big(0x1p64f), inf(std::numeric_limits<float>::infinity());
@@ -90,7 +91,7 @@ template <class T> inline Vec3<T> slab_rcps(const Vec3<T>& d, const T& dmax) {
         auto sure_q = (xsimd::abs(d.x) * big >= dmax) | !(d.x != zero);
         sure_q = sure_q & ((xsimd::abs(d.y) * big >= dmax) | !(d.y != zero));
         sure_q = sure_q & ((xsimd::abs(d.z) * big >= dmax) | !(d.z != zero));
-        if (!xsimd::all(sure_q)) return {slab_rcp(d.x, dmax), slab_rcp(d.y, dmax), slab_rcp(d.z, dmax)};
+        if (!xsimd::all(sure_q)) return each();
         Vec3<T> out;
         for (int k = 0; k < 3; ++k) {
             // slab_rcp with q >= 2^-64 wherever d[k] != 0: no zero rule, NaN only where 1/d overflows.

@@ -84,9 +84,9 @@ template <class T> struct RayPacket {
     bool plain = false;
 };
 
-/// make_packet without the triangle test's set-up (p.woop left as default-made): what the box
-/// tests read. For callers that make p.woop only once some lane reaches a triangle (add_woop with
-/// this packet's initial p.active): the packet is then make_packet's bit for bit. Rays that miss
+/// A packet without the triangle test's set-up (p.woop left as default-made): what the box tests
+/// read. For callers that make p.woop only once some lane reaches a triangle (add_woop with this
+/// packet's initial p.active): the packet is then make_packet's (below). Rays that miss
 /// the model, or cross only empty space near it, never need it (camera rays around a small
 /// model: the three divisions and the permutation masks were ~15% of the packet path there).
 template <class T>
@@ -113,29 +113,13 @@ inline RayPacket<T> make_packet_boxes(const Vec3<T>& org, const Vec3<T>& dir, co
 /// then (an any-hit walk drops lanes from p.active as they finish; the set-up is the same).
 template <class T> inline void add_woop(RayPacket<T>& p, const Mask<T>& active) { p.woop = woop_lanes(p.dir, active); }
 
-/// Packet from SoA rays; lanes outside `active` or not traceable become inactive. (The single
-/// path's set-up, wide_ray_setup, makes its rays with it; its own code, not make_packet_boxes and
-/// add_woop, which give the same packet: slab_rcps' two branches made the single walk's function
-/// big enough that GCC stopped inlining push_ordered16 and refine_edges into it, any-hit single
-/// rays 0.84-0.88x.)
+/// Packet from SoA rays; lanes outside `active` or not traceable become inactive: make_packet_boxes
+/// and add_woop (the single path's set-up, wide_ray_setup, makes its rays with it).
 template <class T>
 inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar,
                                 const Mask<T>& active) {
-    RayPacket<T> p;
-    p.org = org;
-    p.dir = dir;
-    p.active = active & traceable(org, dir, tnear, tfar);
-    p.tnear = select(p.active, tnear, T(INFINITY));
-    p.tfar = select(p.active, tfar, T(-INFINITY));
-    const T dmax = rmax(vabs(dir.x), rmax(vabs(dir.y), vabs(dir.z)));
-    for (int k = 0; k < 3; ++k) {
-        p.rcp_near[k] = slab_rcp(dir[k], dmax);
-        p.rcp_far[k] = slab_far(p.rcp_near[k]);
-        p.near_is_hi[k] = signbit_mask(dir[k]);
-    }
-    p.woop = woop_lanes(dir, p.active);
-    p.plain_lanes = is_plain(p.tnear, p.rcp_near, p.rcp_far);
-    p.plain = to_bits(p.active & !p.plain_lanes) == 0;
+    RayPacket<T> p = make_packet_boxes(org, dir, tnear, tfar, active);
+    add_woop(p, p.active);
     return p;
 }
 
