@@ -74,7 +74,12 @@ inline xsimd::batch<float, A> slab_rcp(const xsimd::batch<float, A>& d, const xs
     return xsimd::select(moving & (q == zero), rule, xsimd::select(unsure, nan, sure));
 }
 
-/// slab_rcp of each component of d, dmax = the largest |d[k]|. The quotient |d[k]| / dmax only
+/// slab_rcp of each component of d, dmax = the largest |d[k]|.
+template <class T> inline Vec3<T> slab_rcp_each(const Vec3<T>& d, const T& dmax) {
+    return {slab_rcp(d.x, dmax), slab_rcp(d.y, dmax), slab_rcp(d.z, dmax)};
+}
+
+/// slab_rcp_each, bit for bit, with fewer divisions in most packets. The quotient |d[k]| / dmax only
 /// decides for a component below 2^-64 dmax (zero, denormal or normal but tiny: near-axis
 /// directions): when every lane's components are zero or at least that (any camera or shadow
 /// ray), it is left out, and with it three of the six divisions of a packet's set-up (|d| * 2^64
@@ -82,7 +87,7 @@ inline xsimd::batch<float, A> slab_rcp(const xsimd::batch<float, A>& d, const xs
 /// cases cannot occur). Bit-identical to slab_rcp per component (tested lane by lane).
 template <class T> inline Vec3<T> slab_rcps(const Vec3<T>& d, const T& dmax) {
     if constexpr (std::is_same_v<T, float>) {
-        return {slab_rcp(d.x, dmax), slab_rcp(d.y, dmax), slab_rcp(d.z, dmax)};
+        return slab_rcp_each(d, dmax);
     } else {
         using I = xsimd::batch<std::int32_t, typename T::arch_type>;
         const T zero(0.0f), big(0x1p64f), inf(std::numeric_limits<float>::infinity());
@@ -90,7 +95,7 @@ template <class T> inline Vec3<T> slab_rcps(const Vec3<T>& d, const T& dmax) {
         auto sure_q = (xsimd::abs(d.x) * big >= dmax) | !(d.x != zero);
         sure_q = sure_q & ((xsimd::abs(d.y) * big >= dmax) | !(d.y != zero));
         sure_q = sure_q & ((xsimd::abs(d.z) * big >= dmax) | !(d.z != zero));
-        if (!xsimd::all(sure_q)) return {slab_rcp(d.x, dmax), slab_rcp(d.y, dmax), slab_rcp(d.z, dmax)};
+        if (!xsimd::all(sure_q)) return slab_rcp_each(d, dmax);
         Vec3<T> out;
         for (int k = 0; k < 3; ++k) {
             // slab_rcp with q >= 2^-64 wherever d[k] != 0: no zero rule, NaN only where 1/d overflows.

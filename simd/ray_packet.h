@@ -84,41 +84,22 @@ template <class T> struct RayPacket {
     bool plain = false;
 };
 
-/// make_packet without the triangle test's set-up (p.woop left as default-made): what the box
-/// tests read. For callers that make p.woop only once some lane reaches a triangle (add_woop with
+/// Packet from SoA rays; lanes outside `active` or not traceable become inactive.
+///
+/// Woop = false: without the triangle test's set-up (p.woop left as default-made), what the box
+/// tests read, for callers that make p.woop only once some lane reaches a triangle (add_woop with
 /// this packet's initial p.active): the packet is then make_packet's bit for bit. Rays that miss
-/// the model, or cross only empty space near it, never need it (camera rays around a small
-/// model: the three divisions and the permutation masks were ~15% of the packet path there).
-template <class T>
-inline RayPacket<T> make_packet_boxes(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar,
-                                      const Mask<T>& active) {
-    RayPacket<T> p;
-    p.org = org;
-    p.dir = dir;
-    p.active = active & traceable(org, dir, tnear, tfar);
-    p.tnear = select(p.active, tnear, T(INFINITY));
-    p.tfar = select(p.active, tfar, T(-INFINITY));
-    const T dmax = rmax(vabs(dir.x), rmax(vabs(dir.y), vabs(dir.z)));
-    p.rcp_near = slab_rcps(dir, dmax);
-    for (int k = 0; k < 3; ++k) {
-        p.rcp_far[k] = slab_far(p.rcp_near[k]);
-        p.near_is_hi[k] = signbit_mask(dir[k]);
-    }
-    p.plain_lanes = is_plain(p.tnear, p.rcp_near, p.rcp_far);
-    p.plain = to_bits(p.active & !p.plain_lanes) == 0;
-    return p;
-}
-
-/// The triangle test's set-up of a packet made by make_packet_boxes, whose p.active was `active`
-/// then (an any-hit walk drops lanes from p.active as they finish; the set-up is the same).
-template <class T> inline void add_woop(RayPacket<T>& p, const Mask<T>& active) { p.woop = woop_lanes(p.dir, active); }
-
-/// Packet from SoA rays; lanes outside `active` or not traceable become inactive. (The single
-/// path's set-up, wide_ray_setup, makes its rays with it; its own code, not make_packet_boxes and
-/// add_woop, which give the same packet: slab_rcps' two branches made the single walk's function
-/// big enough that GCC stopped inlining push_ordered16 and refine_edges into it, any-hit single
-/// rays 0.84-0.88x.)
-template <class T>
+/// the model, or cross only empty space near it, never need it (camera rays around a small model:
+/// the three divisions and the permutation masks were ~15% of the packet path there); its
+/// reciprocals by slab_rcps (three divisions fewer in most packets, the same bits).
+///
+/// Woop = true (the single path's set-up, wide_ray_setup, makes its rays with it): reciprocals by
+/// slab_rcp per axis, woop_lanes called here. Other forms of it moved GCC 12's inlining in
+/// wide_paths16.cpp (slab_rcps: push_ordered16 and refine_edges became calls, any-hit single rays
+/// 0.84-0.88x, helper h63; make_packet as make_packet<T, false> + add_woop: WideRaySetup::get,
+/// load_packet and packet_bounds' bounded_axes became calls, packet paths 0.97x, alligator's
+/// any-hit single rays down to 0.84x, perf/results/packet-body-2026-12-03h.md).
+template <class T, bool Woop = true>
 inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar,
                                 const Mask<T>& active) {
     RayPacket<T> p;
@@ -128,16 +109,21 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
     p.tnear = select(p.active, tnear, T(INFINITY));
     p.tfar = select(p.active, tfar, T(-INFINITY));
     const T dmax = rmax(vabs(dir.x), rmax(vabs(dir.y), vabs(dir.z)));
+    if constexpr (!Woop) p.rcp_near = slab_rcps(dir, dmax);
     for (int k = 0; k < 3; ++k) {
-        p.rcp_near[k] = slab_rcp(dir[k], dmax);
+        if constexpr (Woop) p.rcp_near[k] = slab_rcp(dir[k], dmax);
         p.rcp_far[k] = slab_far(p.rcp_near[k]);
         p.near_is_hi[k] = signbit_mask(dir[k]);
     }
-    p.woop = woop_lanes(dir, p.active);
+    if constexpr (Woop) p.woop = woop_lanes(dir, p.active);
     p.plain_lanes = is_plain(p.tnear, p.rcp_near, p.rcp_far);
     p.plain = to_bits(p.active & !p.plain_lanes) == 0;
     return p;
 }
+
+/// The triangle test's set-up of a packet made by make_packet<T, false>, whose p.active was
+/// `active` then (an any-hit walk drops lanes from p.active as they finish; the set-up is the same).
+template <class T> inline void add_woop(RayPacket<T>& p, const Mask<T>& active) { p.woop = woop_lanes(p.dir, active); }
 
 /// The fields of lanes<T> rays in SoA form as loaded, before make_packet: `active` holds the lanes
 /// that have a ray (traceable or not).
@@ -205,13 +191,13 @@ template <class T, class R> inline RayPacket<T> load_packet(std::span<const R> r
     return make_packet<T>(r.org, r.dir, r.tnear, r.tfar, r.active);
 }
 
-/// The same without the triangle test's set-up (make_packet_boxes; add_woop makes it). A call of
+/// The same without the triangle test's set-up (make_packet<T, false>; add_woop makes it). A call of
 /// its own, as load_packet is where GCC leaves it: inlined into the packet walk, it grew the
 /// translation unit (wide_paths16.cpp) past GCC's inlining budget, which then called the single
 /// walk's push_ordered16 and refine_edges instead of inlining them (any-hit single rays 0.84-0.88x).
 template <class T, class R> __attribute__((noinline)) RayPacket<T> load_packet_boxes(std::span<const R> rays) {
     const PacketRays<T> r = load_rays<T, R>(rays);
-    return make_packet_boxes<T>(r.org, r.dir, r.tnear, r.tfar, r.active);
+    return make_packet<T, false>(r.org, r.dir, r.tnear, r.tfar, r.active);
 }
 
 /// Closest hits of a packet. A lane without a hit holds the miss record {+inf, -1, 0, 0}.

@@ -256,7 +256,7 @@ private:
         simd::WideRaySetup<P> setup;
         for (std::size_t base = 0; base < rays.size(); base += K) {
             const auto in = rays.subspan(base, std::min(K, rays.size() - base));
-            // The triangle test's set-up (p.woop) only once a lane reaches a leaf (make_packet_boxes).
+            // The triangle test's set-up (p.woop) only once a lane reaches a leaf (make_packet<P, false>).
             simd::RayPacket<P> p = simd::load_packet_boxes<P>(in);
             const simd::Mask<P> loaded = p.active;
             bool have_woop = false;

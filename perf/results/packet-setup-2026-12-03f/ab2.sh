@@ -2,6 +2,7 @@
 # Fine-grained A/B: short runs (one scene set each, ~5 s) alternating A B, B A, ... so that the machine's drift
 # (other helpers' builds) moves both alike. ab2.sh OUTDIR ROUNDS RAYS SCENES VIEWS KINDS STRUCTURES PATHS
 # /tmp/h63-ab/bench_A = bench_paths of main 1bb614e, bench_B = of h63 d3b033e (release preset), copied there first.
+# B / A per cell and round: python3 perf/results/2026-12-03e-minima/summarize.py OUTDIR
 set -eu
 out=$1; rounds=$2; rays=$3; scenes=$4; views=$5; kinds=$6; structures=$7; paths=$8
 mkdir -p $out
