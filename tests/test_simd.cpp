@@ -265,6 +265,7 @@ TEST_CASE_TEMPLATE("RayPacket: add_woop after lanes finished gives the loaded la
         q.active = loaded;
         for (std::size_t i = 0; i < lanes<T>; ++i) check_lane(q, i, i < chunk.size() ? &chunk[i] : nullptr, bad);
         const RayPacket<T> p = load_packet<T, Ray>(chunk);
+        if (p.plain != q.plain || to_bits(p.plain_lanes) != to_bits(q.plain_lanes)) bad.add("plain", s);
         if (p.woop.uniform != q.woop.uniform || p.woop.kx != q.woop.kx || p.woop.ky != q.woop.ky || p.woop.kz != q.woop.kz)
             bad.add("uniform permutation", s);
         mixed += !q.woop.uniform;
