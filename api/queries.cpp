@@ -3,8 +3,8 @@
 /// in a per-thread buffer, answered by one call of the structure, and written back with geometry ids.
 #include "api/scene_impl.h"
 
-#include "accel/inside.h"
-#include "accel/select/path_policy.h"
+#include "accel/interface/inside.h"
+#include "accel/interface/path_policy.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -69,7 +69,7 @@ std::span<const accel::Ray> load_rays(const RayArrays& r, std::size_t begin, std
 }
 
 /// The request for a whole batch: one path decision, as `arbor trace` makes it for a ray file
-/// (accel/select/path_policy.h: the path auto calibrated, else what the structure offers and the
+/// (accel/interface/path_policy.h: the path auto calibrated, else what the structure offers and the
 /// rays' coherence say), read from the few rays the policy looks at. Every chunk then runs on
 /// that path: the chunks do not each ask the policy, and the answer does not depend on where the
 /// chunk boundaries fall relative to the policy's sample.

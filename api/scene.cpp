@@ -1,9 +1,10 @@
 /// arbor::Scene: its meshes, loading, building (auto resolved here), and the error boundary.
 #include "api/scene_impl.h"
 
+#include "accel/factory/make_accel.h"
 #include "accel/select/auto_select.h"
-#include "accel/core/kernel_set.h"
-#include "accel/core/memory_estimate.h"
+#include "accel/dispatch/kernel_set.h"
+#include "accel/factory/memory_estimate.h"
 #include "engine/error.h"
 #include "engine/mesh_loader.h"
 #include "engine/rayfile.h"

@@ -3,7 +3,7 @@
 /// engine::Mesh (geometry g owns triangles [first_prim[g], first_prim[g + 1])), the structure built
 /// over it, and the task arena its batches run in. Also the one place internal exceptions become
 /// arbor::Error.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "engine/mesh.h"
 
 #include <arbor/arbor.h>

@@ -1,4 +1,4 @@
-# The SIMD kernel sets (accel/core/kernel_table.h): the sources below are the structures' SIMD
+# The SIMD kernel sets (accel/dispatch/kernel_table.h): the sources below are the structures' SIMD
 # paths, reached only through a set's table.
 #
 # Native build (default): compiled into arbor_accel with the build's -march, one set.
@@ -16,12 +16,12 @@
 # inside it. tests/CMakeLists.txt checks the result: the sse4 object holds no ymm/zmm register,
 # the avx2 object no zmm, and each object defines one global symbol of arbor's.
 set(ARBOR_KERNEL_SOURCES
-  core/kernel_table.cpp
-  kdtree/kdtree_simd.cpp
-  wide/wide_paths.cpp
-  wide/wide_paths4.cpp
-  wide/wide_paths8.cpp
-  wide/wide_paths16.cpp
+  dispatch/kernel_table.cpp
+  structures/kdtree_simd.cpp
+  structures/wide_paths.cpp
+  structures/wide_paths4.cpp
+  structures/wide_paths8.cpp
+  structures/wide_paths16.cpp
 )
 set(ARBOR_KERNEL_SETS sse4 avx2 avx512)
 set(ARBOR_KERNEL_MARCH_sse4 x86-64-v2)
@@ -35,7 +35,7 @@ function(arbor_kernel_sets target)
     target_sources(${target} PRIVATE ${ARBOR_KERNEL_SOURCES})
     return()
   endif()
-  set_property(SOURCE core/kernel_set.cpp APPEND PROPERTY COMPILE_DEFINITIONS ARBOR_PORTABLE_BUILD)
+  set_property(SOURCE dispatch/kernel_set.cpp APPEND PROPERTY COMPILE_DEFINITIONS ARBOR_PORTABLE_BUILD)
   # GNU ld for the relocatable link, whatever the toolchain's linker (lld 14 has no
   # --force-group-allocation); it reads clang's objects as well as gcc's.
   find_program(ARBOR_GNU_LD NAMES ld.bfd REQUIRED)

@@ -1,7 +1,8 @@
 #include "engine/ray_gen.h"
 
 #include "accel/core/offset_ray.h"
-#include "accel/trace.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/trace.h"
 #include "accel/util/splitmix64.h"
 #include "engine/error.h"
 #include "engine/hit_geometry.h"

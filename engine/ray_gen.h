@@ -5,7 +5,7 @@
 ///   shadow   from primary hit points towards the light, tfar just short of the light
 ///   diffuse  cosine-weighted bounce rays from primary hit points
 ///   random   uniform origins inside the scene bounds, uniform directions
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "engine/camera.h"
 #include "engine/scene.h"
 

@@ -4,7 +4,7 @@
 /// then bounce rays), so the structure can trace coherent batches as packets. Random numbers
 /// depend only on (seed, pixel, sample, dimension) and every tile is summed in a fixed order, so
 /// the image is bit-identical for any number of threads.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "engine/image.h"
 #include "engine/lights.h"
 #include "engine/plan.h"

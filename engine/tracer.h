@@ -4,7 +4,7 @@
 /// the structure how coherent the kind is (the path policy then takes packets for coherent kinds
 /// and single-ray SIMD for incoherent ones, when the structure has them and they pay), and counts
 /// rays and time per kind. One Tracer per thread.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "accel/util/timer.h"
 #include "engine/render_settings.h"
 
@@ -13,7 +13,7 @@
 namespace arbor::engine {
 
 /// What the renderer knows of a batch's rays: camera rays and shadow rays of a tile are coherent,
-/// bounces are not. The path policy (accel/select/path_policy.h) turns that into a path.
+/// bounces are not. The path policy (accel/interface/path_policy.h) turns that into a path.
 inline accel::RayHint ray_hint(RenderRayKind k) {
     return k == RenderRayKind::primary || k == RenderRayKind::shadow ? accel::RayHint::coherent : accel::RayHint::incoherent;
 }

@@ -1,6 +1,7 @@
 #include "fuzz/fuzz_targets.h"
 
-#include "accel/brute/brute_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "engine/error.h"
 #include "engine/mesh_loader.h"
 #include "engine/obj_loader.h"

@@ -6,7 +6,7 @@
 /// else is a finding: a crash or sanitizer report, an unexpected exception, or a FuzzFinding thrown
 /// when a result breaks a contract (a loaded mesh with an index out of range, a structure whose
 /// answer differs from brute force, an untraceable ray that hits).
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "engine/mesh.h"
 
 #include <cstddef>

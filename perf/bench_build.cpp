@@ -1,5 +1,6 @@
 #include "perf/bench_build.h"
 
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 #include "engine/error.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 /// Building the structures of one benchmark scene, timed at each thread count, and the traced
 /// configurations (structure x path, Embree mode x call) they offer.
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "perf/bench_options.h"
 
 #include <map>

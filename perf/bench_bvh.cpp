@@ -6,12 +6,13 @@
 // Times are medians of K runs; the builders (and Embree's default build, rtcCommitScene at
 // RTC_BUILD_QUALITY_MEDIUM, when the peer is built) are run interleaved (A B C A B C ...) so that
 // machine noise hits them alike; ratios to Embree are medians of the per-round ratios.
-#include "accel/accel.h"
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/bvh/bvh_build.h"
 #include "accel/util/timer.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "engine/obj_loader.h"
 #include "engine/ray_gen.h"
 #if ARBOR_HAVE_EMBREE

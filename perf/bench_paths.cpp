@@ -15,11 +15,12 @@
 // DIR/<scene>-<kind>.rays are written by `arbor rays --scene MODEL.obj --kind KIND` (see
 // scripts/bench_vs_embree.sh). Shadow rays are any-hit queries, the others closest hit; Embree
 // gets the coherent flag for primary and shadow rays, as in arbor_bench.
-#include "accel/accel.h"
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/util/timer.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "engine/builtin_scenes.h"
 #include "engine/error.h"
 #include "engine/obj_loader.h"

@@ -1,7 +1,7 @@
 #include "perf/bench_run.h"
 
 #include "accel/select/job_shape.h"
-#include "accel/brute/brute_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "accel/util/timer.h"
 #include "engine/error.h"
 #include "engine/ray_gen.h"

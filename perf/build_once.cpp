@@ -6,7 +6,8 @@
 // `arbor trace` in fresh processes.
 //
 //   build_once --scene MODEL.obj|builtin:NAME --with embree|bvh-sah|lbvh|... [--threads 2]
-#include "accel/accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
 #include "accel/util/timer.h"
 #include "engine/builtin_scenes.h"
 #include "engine/error.h"

@@ -9,7 +9,7 @@
 ///
 /// Embree's default triangle test is not watertight, and even RTC_SCENE_FLAG_ROBUST is reported
 /// to miss some edge hits (embree#387): the benchmark counts the disagreements, it does not hide them.
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 
 #include <memory>
 #include <span>

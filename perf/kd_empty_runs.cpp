@@ -11,12 +11,13 @@
 // interleaved passes each; both walks use the scalar triangle test, so the saving is reported in ns
 // per ray, to be set against the single path's time per ray.
 #include "accel/core/hit_record.h"
-#include "accel/kdtree/kdtree_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/kdtree_accel.h"
 #include "accel/kdtree/kdtree_traverse.h"
 #include "engine/builtin_scenes.h"
 #include "engine/obj_loader.h"
 #include "engine/rayfile.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -8,11 +8,12 @@
 // The SIMD paths' layouts of each kd walk (KdBlockConfig::walk: the ropes' leaf blocks, the cells'
 // and the tight cells' wide BVH) are timed on the built tree after the build: ms (median of R)
 // and MB beside the tree's own.
-#include "accel/brute/brute_accel.h"
-#include "accel/kdtree/kdtree_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/kdtree_accel.h"
 #include "accel/kdtree/kdtree_build.h"
 #include "accel/util/timer.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "engine/obj_loader.h"
 
 #ifdef ARBOR_HAVE_EMBREE

@@ -3,12 +3,13 @@
 // the bunny replicated to millions of triangles, at 1 and 2 threads. Builds are timed interleaved
 // (variant order rotates every repetition) and reported as medians; then each variant's SAH cost
 // and scalar trace speed (primary and random rays, all threads) are printed. Not a test.
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/bvh/bvh_build.h"
 #include "accel/lbvh/lbvh_build.h"
 #include "accel/util/timer.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "engine/obj_loader.h"
 #include "engine/ray_gen.h"
 #ifdef ARBOR_HAVE_EMBREE

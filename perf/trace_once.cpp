@@ -9,8 +9,9 @@
 // and the file reading are left out). valgrind cannot decode AVX-512: profile an x86-64-v3 build
 // (perf/README.md, "Profiling"), where Embree picks its AVX2 kernels too, so both sides are compared
 // at the same SIMD width. Shadow ray files (name containing "shadow") are any-hit queries.
-#include "accel/accel.h"
-#include "accel/trace.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/interface/trace.h"
 #include "engine/error.h"
 #include "engine/obj_loader.h"
 #include "engine/rayfile.h"

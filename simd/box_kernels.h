@@ -1,5 +1,5 @@
 #pragma once
-/// Ray/box kernels over the lane type T, all built on the one slab_test template of box_test.h:
+/// Ray/box kernels over the lane type T, all built on the one slab_test template of ray_box.h:
 ///   - packet_box:  a RayPacket (lanes<T> rays) against one box, e.g. a node in packet traversal;
 ///   - ray_boxes:   one WideRay against lanes<T> boxes in SoA form, e.g. the children of a wide node.
 /// Both return the lanes that hit and the entry distance per lane (valid where hit).
@@ -49,7 +49,7 @@ ARBOR_INLINE Mask<T> packet_box(const RayPacket<T>& p, const Vec3f& lo, const Ve
     return slab_test<T>(n, f, p.org, p.rcp_near, p.rcp_far, p.tnear, p.tfar, t_entry) & p.active;
 }
 
-/// The same for a packet with RayPacket::plain set, by slab_test_plain (box_test.h: the same hits,
+/// The same for a packet with RayPacket::plain set, by slab_test_plain (ray_box.h: the same hits,
 /// entry distances equal as numbers). Lanes outside p.active may compute anything; they are masked out.
 /// (Both forced inline: as calls, one per child of each node the packet visits, they took 5.6% of
 /// the packet path on shadow rays and reloaded the packet's constants at every call.)
@@ -84,7 +84,7 @@ template <class T> ARBOR_INLINE Mask<T> ray_boxes(const WideRay<T>& r, const flo
     detail::node_planes(r, soa, near_plane, far_plane);
     return ray_boxes_sorted(r, near_plane, far_plane, t_entry);
 }
-/// The same test for a ray with WideRay::plain set, by slab_test_plain (box_test.h: the same hits,
+/// The same test for a ray with WideRay::plain set, by slab_test_plain (ray_box.h: the same hits,
 /// entry distances equal as numbers, in fewer dependent steps per node).
 template <class T> ARBOR_INLINE Mask<T> ray_boxes_plain(const WideRay<T>& r, const float* soa, T& t_entry) {
     Vec3<T> near_plane, far_plane;

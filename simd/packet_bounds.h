@@ -6,10 +6,10 @@
 /// SIGGRAPH 2005).
 ///
 /// Exactly conservative, not just approximately: the bounds are computed by the same rounded
-/// operations as the per-lane slab test of box_test.h, ((plane - origin) * reciprocal), from the
+/// operations as the per-lane slab test of ray_box.h, ((plane - origin) * reciprocal), from the
 /// extreme inputs, and rounding is monotone, so a bound is never on the wrong side of a lane's
 /// computed distance. Axes on which the lanes' directions differ in sign, or on which a lane's
-/// reciprocal is NaN (box_test.h, slab_rcp), are left out (they constrain nothing), and a lane's NaN slab distance (origin in the plane, zero direction) is
+/// reciprocal is NaN (ray_box.h, slab_rcp), are left out (they constrain nothing), and a lane's NaN slab distance (origin in the plane, zero direction) is
 /// matched by an infinite bound. Hence: if any lane's slab test hits a box, bounds_boxes says the
 /// box may be hit (tested lane by lane in tests/test_packet_bounds.cpp).
 #include "simd/ray_packet.h"
@@ -99,7 +99,7 @@ template <class P> ARBOR_INLINE PacketBounds packet_bounds(const RayPacket<P>& p
         // The same bounds with the 13 reductions done at once (hmin16), and the padded reciprocals'
         // bounds taken from the unpadded ones: on an axis that takes part every lane's reciprocal
         // has the axis' sign, so after the negation all are > 0, and slab_far is monotone on the
-        // values slab_rcp gives (box_test.h: its denormals are at least 3 ulps below FLT_MIN) and
+        // values slab_rcp gives (ray_box.h: its denormals are at least 3 ulps below FLT_MIN) and
         // commutes with the negation: min and max of the padded ones are the padded min and max.
         // The same bounds as packet_bounds_plain (tested).
         const P inf(INFINITY);
@@ -141,7 +141,7 @@ template <class P> ARBOR_INLINE PacketBounds packet_bounds(const RayPacket<P>& p
 
 /// Which of lanes<T> boxes [lo, hi] some lane of the bounded set may hit, for lanes whose tfar is
 /// at most `tfar_hi`. A conservative superset: it never drops a box that a lane's slab test
-/// (box_test.h) hits.
+/// (ray_box.h) hits.
 template <class T>
 inline Mask<T> bounds_boxes(const PacketBounds& b, float tfar_hi, const Vec3<T>& lo, const Vec3<T>& hi) {
     const T zero(0.0f), inf(INFINITY);

@@ -3,9 +3,9 @@
 /// of the watertight triangle test (Woop), an active mask, and loading from / storing to arrays of
 /// rays and hits. T = float is a one-ray packet: the scalar instantiation every kernel is checked
 /// against, lane by lane.
-#include "simd/box_test.h"
+#include "simd/ray_box.h"
 #include "simd/ray.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -96,9 +96,9 @@ template <class T> struct RayPacket {
 /// Woop = true (the single path's set-up, wide_ray_setup, makes its rays with it): reciprocals by
 /// slab_rcp per axis, woop_lanes called here. Other forms of it moved GCC 12's inlining in
 /// wide_paths16.cpp (slab_rcps: push_ordered16 and refine_edges became calls, any-hit single rays
-/// 0.84-0.88x, helper h63; make_packet as make_packet<T, false> + add_woop: WideRaySetup::get,
+/// 0.84-0.88x; make_packet as make_packet<T, false> + add_woop: WideRaySetup::get,
 /// load_packet and packet_bounds' bounded_axes became calls, packet paths 0.97x, alligator's
-/// any-hit single rays down to 0.84x, perf/results/packet-body-2026-12-03h.md).
+/// any-hit single rays down to 0.84x).
 template <class T, bool Woop = true>
 inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T& tnear, const T& tfar,
                                 const Mask<T>& active) {

@@ -1,6 +1,6 @@
 #pragma once
 /// Ray/triangle kernels over the lane type T, all built on the one woop_permuted template of
-/// tri_test.h (the same math, the same double-precision fallback per lane, the same watertight
+/// ray_triangle.h (the same math, the same double-precision fallback per lane, the same watertight
 /// guarantee as the scalar oracle):
 ///   - packet_triangle:       a RayPacket against one triangle; each lane has its own Woop
 ///                            permutation, applied with selects unless all active lanes share one;

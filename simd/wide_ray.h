@@ -3,9 +3,9 @@
 /// node) or lanes<T> triangles (a leaf block) at once. Its constants are bit for bit those of the
 /// scalar slab_ray() and woop_shear() (tested), so a wide test does per lane exactly what the
 /// scalar test does on that box or triangle.
-#include "simd/box_test.h"
+#include "simd/ray_box.h"
 #include "simd/ray.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 namespace arbor::simd {
 
@@ -19,7 +19,7 @@ template <class T> struct WideRay {
     int near_is_hi[3] = {}; ///< 1 when d[k] has its sign bit set: the near plane is the box's max
     int kx = 0, ky = 1, kz = 2;
     bool traceable = false; ///< false: tnear = +inf and tfar = -inf, no test accepts the ray
-    /// Traceable and is_plain (box_test.h: tnear >= 0, every reciprocal finite and normal): the box
+    /// Traceable and is_plain (ray_box.h: tnear >= 0, every reciprocal finite and normal): the box
     /// test may take the shorter form ray_boxes_plain (box_kernels.h).
     bool plain = false;
 };

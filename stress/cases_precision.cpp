@@ -1,6 +1,6 @@
 // Precision: scenes translated far from the origin and scaled down, and secondary rays spawned
 // from hit points (offset_ray.h) over coordinates from 1e-6 to 1e6.
-#include "accel/brute/brute_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "accel/core/offset_ray.h"
 #include "engine/procedural.h"
 #include "stress/stress_case.h"

@@ -1,9 +1,10 @@
 #include "stress/run.h"
 
-#include "accel/kdtree/kdtree_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/kdtree_accel.h"
 
 #include "accel/util/timer.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,7 +1,7 @@
 #pragma once
 /// Running the stiff cases over structures and traversal paths: one row per case x structure x
 /// path, as `arbor stress` prints it and the doctest suite checks it.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "stress/judge.h"
 
 #include <functional>

@@ -1,10 +1,10 @@
 #pragma once
 /// Helpers of the BVH tests: build a structure by name, compare it with brute on a set of rays.
-#include "accel/accel.h"
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/bvh/bvh_build.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "engine/mesh.h"
 #include "testing.h"
 

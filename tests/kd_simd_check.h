@@ -1,10 +1,12 @@
 #pragma once
-/// Checks of the kd-tree's SIMD paths (accel/kdtree/kdtree_simd.h): every path is bit-identical to the
+/// Checks of the kd-tree's SIMD paths (accel/structures/kdtree_simd.h): every path is bit-identical to the
 /// kd-tree's scalar path (t, prim, u, v), closest and any hit, in several settings (block width,
 /// packet lanes, switch threshold) made from one built tree.
-#include "accel/kdtree/kdtree_accel.h"
-#include "accel/wide/wide_paths.h"
-#include "simd/tri_test.h"
+#include "accel/dispatch/kernel_entries.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/kdtree_accel.h"
+#include "accel/structures/wide_paths.h"
+#include "simd/ray_triangle.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>

@@ -1,9 +1,10 @@
 #pragma once
 /// Oracle comparison for the kd-tree tests: closest and any hit against `brute`.
-#include "accel/brute/brute_accel.h"
-#include "accel/kdtree/kdtree_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/kdtree_accel.h"
 #include "kd_simd_check.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>

@@ -1,4 +1,6 @@
 #include "query_check.h"
+#include "accel/dispatch/kernel_entries.h"
+#include "accel/factory/make_accel.h"
 
 #include <bit>
 #include <cmath>

@@ -2,8 +2,8 @@
 /// Helpers of the tests of the queries beyond closest and any hit (all hits, closest point,
 /// inside): every structure and layout that answers them, query points of every stiff kind, the
 /// double-precision winding number, and collecting all hits.
-#include "accel/accel.h"
-#include "accel/wide/wide_paths.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/wide_paths.h"
 #include "engine/mesh.h"
 #include "testing.h"
 

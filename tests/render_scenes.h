@@ -1,8 +1,9 @@
 #pragma once
 /// Small scenes for the renderer tests (a few hundred triangles, so brute force is quick even
 /// under the sanitizers), a one-call render with brute force, and one on every path of bvh-sah.
-#include "accel/accel.h"
-#include "accel/brute/brute_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/brute_accel.h"
 #include "engine/procedural.h"
 #include "engine/renderer.h"
 

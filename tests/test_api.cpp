@@ -1,8 +1,8 @@
 // The public C++ API (<arbor/arbor.h>, libarbor.so) as a program uses it: meshes from strided
 // arrays with geometry ids, files, every structure name, the four queries against the engine's
 // brute force, intersect_all's rows and counts, errors, and batches from several threads at once.
-#include "accel/brute/brute_accel.h"
-#include "accel/inside.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/interface/inside.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "query_check.h"

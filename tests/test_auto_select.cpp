@@ -5,10 +5,11 @@
 // model's text format refuses malformed files by line; the path policy's expected offers match what
 // the structures offer once built; the engine describes render and converge jobs the same way for
 // the same rays.
-#include "accel/brute/brute_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "accel/select/auto_model.h"
 #include "accel/select/auto_select.h"
-#include "accel/select/path_policy.h"
+#include "accel/interface/path_policy.h"
 #include "engine/procedural.h"
 #include "engine/render_job.h"
 #include "engine/scene.h"

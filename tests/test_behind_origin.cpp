@@ -10,7 +10,8 @@
 // the two coplanar triangles' watertight t differ by their rounding (about eps * L / |d|, L their
 // distance from the origin), and a box whose exact entry lies between them may be culled. Measured
 // 1 of 200,000 rays here; the bound below leaves room for that band, not for the bug.
-#include "accel/accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
 #include "engine/mesh.h"
 #include "engine/procedural.h"
 #include "testing.h"

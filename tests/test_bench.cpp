@@ -1,7 +1,8 @@
 // The benchmark's parts that can be checked without timing: the statistics mode of brute, the
 // procedural scenes (exact sizes, finite, deterministic, usable by every ray kind), the scene
 // plan, summarize(), and a tiny run of the driver whose reports are complete and consistent.
-#include "accel/brute/brute_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "engine/error.h"
 #include "engine/ray_gen.h"
 #include "perf/bench_build.h"

@@ -1,7 +1,7 @@
 // The oracle itself: brute force over the scalar watertight test, checked against an independent
 // double-precision test, for closest and any hit, and for watertightness on closed meshes.
-#include "accel/brute/brute_accel.h"
-#include "accel/trace.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/interface/trace.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

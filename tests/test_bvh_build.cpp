@@ -1,6 +1,7 @@
 // Builder invariants (validate_bvh) for bvh-median, bvh-sah and the full-sweep reference on
 // procedural meshes and every shared model; leaf limits; bit-identical trees with 1 and 2 threads.
 #include "accel/bvh/bvh2_layout.h"
+#include "accel/factory/make_accel.h"
 #include "bvh_check.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"

@@ -3,6 +3,7 @@
 // non-finite triangles (dropped and counted).
 #include "bvh_check.h"
 #include "engine/procedural.h"
+#include "accel/factory/make_accel.h"
 
 #include <cfloat>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Bvh2Layout and BvhAccel on hand-made binary trees (no builder involved): the conversion keeps
 // every triangle with its original vertices and id, and the scalar traversal agrees with brute.
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

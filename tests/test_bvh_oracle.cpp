@@ -3,6 +3,7 @@
 #include "bvh_check.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
+#include "accel/factory/make_accel.h"
 
 #include <cmath>
 

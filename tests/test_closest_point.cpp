@@ -2,6 +2,7 @@
 // against an independent formulation, then every structure and layout against brute force, record
 // for record, on the procedural shapes, every shared model and stiff inputs.
 #include "accel/core/closest_point.h"
+#include "accel/factory/make_accel.h"
 #include "engine/procedural.h"
 #include "query_check.h"
 

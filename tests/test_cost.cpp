@@ -2,8 +2,9 @@
 // hand on a two-triangle scene for every structure (the trees are checked first, so a builder
 // change says why a count moved); the image is the same with 1 and 2 threads; the statistics mode
 // refuses a structure built without the layout it counts on.
-#include "accel/accel.h"
-#include "accel/kdtree/kdtree_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/kdtree_accel.h"
 #include "engine/renderer.h"
 #include "engine/tracer.h"
 #include "render_scenes.h"

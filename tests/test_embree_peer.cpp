@@ -2,7 +2,7 @@
 // every call (1, 8, 16, 1M) and mode (default, robust, high quality). Embree's default triangle
 // test is not watertight, so rays through edges and vertices may disagree: the count is printed
 // (doctest MESSAGE), bounded, and never hidden. Also the (u, v) convention of spec/rayfile.md.
-#include "accel/brute/brute_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "engine/procedural.h"
 #include "perf/embree_peer.h"
 #include "testing.h"

@@ -3,6 +3,7 @@
 #include "fuzz/fuzz_targets.h"
 #include "engine/procedural.h"
 #include "testing.h"
+#include "accel/factory/make_accel.h"
 
 #include <doctest/doctest.h>
 

@@ -1,7 +1,8 @@
 // Inside or outside (accel::inside_points): crossing parity with a second direction in the band,
 // against the double-precision winding number on every closed shared model and on procedural
 // closed meshes, on every structure; points near edges, on the surface and non-finite.
-#include "accel/inside.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/inside.h"
 #include "engine/procedural.h"
 #include "query_check.h"
 #include "stress/stress_case.h"

@@ -1,8 +1,8 @@
 // Scalar ray/triangle and ray/box kernels on the stiff cases: edges, vertices, axis-parallel rays
 // with +0/-0 components, inactive and NaN rays, degenerate triangles.
-#include "simd/box_test.h"
+#include "simd/ray_box.h"
 #include "simd/packet_bounds.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 #include <doctest/doctest.h>
 

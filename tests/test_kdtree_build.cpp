@@ -1,6 +1,7 @@
 // kd-tree builder: structure, the reference invariant against brute-force overlap tests, ropes
 // against point queries, determinism across thread counts and FP modes, statistics.
-#include "accel/kdtree/kdtree_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/kdtree_accel.h"
 #include "accel/kdtree/kdtree_build.h"
 #include "accel/kdtree/kdtree_clip.h"
 #include "engine/procedural.h"

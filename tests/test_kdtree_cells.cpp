@@ -1,12 +1,13 @@
-// The kd-tree's cells as a binary BVH (accel/kdtree/kdtree_cells.h) and its N-wide collapse:
+// The kd-tree's cells as a binary BVH (accel/structures/kdtree_cells.h) and its N-wide collapse:
 // every non-empty kd leaf is one binary leaf, with its cell as box (tight: the cell cut to its
 // triangles' bounds) and its triangles in order; no empty leaf; siblings adjacent, children after parents, boxes nested; every kd leaf's triangles
 // reachable through the wide layout under boxes that hold its leaf's box, each wide leaf listing a
 // triangle once; the same tree and answers with 1 and 2 threads. (validate_bvh does not apply:
 // a triangle crossing a plane is in several leaves.) The paths themselves: kd_simd_check.h.
+#include "accel/factory/make_accel.h"
 #include "accel/kdtree/kdtree_build.h"
-#include "accel/kdtree/kdtree_cells.h"
-#include "accel/trace.h"
+#include "accel/structures/kdtree_cells.h"
+#include "accel/interface/trace.h"
 #include "accel/wide/wide_layout.h"
 #include "engine/builtin_scenes.h"
 #include "engine/procedural.h"

@@ -4,8 +4,9 @@
 // inactive lanes, partial packets, packets whose lanes part and meet again; the same answers
 // with 1 and 2 threads; what `best` picks. (The stiff and degenerate kd-tree cases run the SIMD
 // paths too: kdtree_oracle.h's require_agreement.)
+#include "accel/factory/make_accel.h"
 #include "accel/kdtree/kdtree_blocks.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "engine/ray_gen.h"

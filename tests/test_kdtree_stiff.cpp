@@ -1,6 +1,7 @@
 // kd-tree stiff cases against brute: axis-parallel rays with +0/-0 components, rays along the
 // lines of integer-grid meshes (inside split planes, through leaf edges and corners), origins
 // exactly on split planes and on leaf corners, far and tiny scenes.
+#include "accel/factory/make_accel.h"
 #include "accel/kdtree/kdtree_build.h"
 #include "accel/kdtree/kdtree_walk_dir.h"
 #include "engine/procedural.h"

@@ -1,6 +1,7 @@
 // kd-tree traversal against the brute oracle: procedural meshes and every shared model with
 // coherent, incoherent and random rays, closest and any hit; watertightness; untraceable rays.
-#include "accel/trace.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/trace.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "kdtree_checks.h"

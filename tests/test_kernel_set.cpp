@@ -1,14 +1,16 @@
-// The SIMD kernel sets (accel/core/kernel_set.h, kernel_table.h): the set in use is the one
+// The SIMD kernel sets (accel/dispatch/kernel_set.h, kernel_table.h): the set in use is the one
 // ARBOR_ISA forces or the widest the CPU supports, a bad ARBOR_ISA is refused in one line, and every
 // set the build holds and the CPU runs (all three in a portable build) gives the scalar path's
 // answers bit for bit (t, prim, u, v; any hit on a BVH: hit or miss) on its wide BVHs and kd-tree, called through each set's own
 // table in this one process. The portable build also runs the agreement suites with each set
 // forced (tests/CMakeLists.txt, kernel_set_*).
-#include "accel/bvh/bvh_accel.h"
+#include "accel/dispatch/kernel_entries.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/bvh/bvh_build.h"
-#include "accel/core/kernel_set.h"
-#include "accel/core/kernel_table.h"
-#include "accel/kdtree/kdtree_accel.h"
+#include "accel/dispatch/kernel_set.h"
+#include "accel/dispatch/kernel_table.h"
+#include "accel/structures/kdtree_accel.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

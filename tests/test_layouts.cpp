@@ -1,9 +1,11 @@
 // BuildConfig::layouts: a structure built with only the scalar layout or only the SIMD layouts
 // says so through offer(), traces a path whose layout is missing on one it has (same answers as
 // brute), and the statistics mode needs the scalar layout.
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
-#include "accel/wide/wide_paths.h"
+#include "accel/dispatch/kernel_entries.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
+#include "accel/structures/wide_paths.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

@@ -1,8 +1,9 @@
 // lbvh: build invariants, both hierarchy methods giving the same tree, agreement with the brute
 // oracle (closest and any hit; coherent, incoherent and random rays), degenerate inputs,
 // determinism at 1 and 2 threads, and watertightness.
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/lbvh/lbvh_build.h"
 #include "accel/lbvh/morton.h"
 #include "engine/obj_loader.h"
@@ -291,7 +292,7 @@ TEST_CASE("lbvh: coordinates near +-FLT_MAX") {
     check_oracle(mesh, *lbvh, rays);
     // Far origins, axis-parallel: the hit is at t = 1e38, but the watertight kernel's t overflows to
     // +inf (found here; brute reports the same). A t of +inf is the miss record's, so the kernel
-    // reports a miss there (tri_test.h); the structure must still give brute's answer.
+    // reports a miss there (ray_triangle.h); the structure must still give brute's answer.
     accel::BruteAccel brute(mesh.view());
     for (float s : {-1.0f, 1.0f}) {
         const Ray far{{s * 2e38f, 0, 0}, 0, {s, 0.0f, -0.0f}, INFINITY};

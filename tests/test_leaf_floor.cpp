@@ -2,11 +2,13 @@
 // width (one leaf block). Every builder keeps the floor exactly (no range of at most leaf_floor
 // triangles is split, no leaf above the larger of floor and max_leaf_size), stays deterministic,
 // and the SIMD-only structure still agrees with brute; --simd-leaf-floor 1 restores the fine tree.
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/dispatch/kernel_entries.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/bvh/bvh_build.h"
 #include "accel/lbvh/lbvh_build.h"
-#include "accel/wide/wide_paths.h"
+#include "accel/structures/wide_paths.h"
 #include "engine/procedural.h"
 #include "testing.h"
 

@@ -1,7 +1,8 @@
 // Resource limits: byte sizes as people write them, and input that would not fit in memory is
 // refused with a one-line error before anything is allocated (ray files whose header matches a
 // huge file, OBJ files larger than the budget).
-#include "accel/core/memory_estimate.h"
+#include "accel/factory/make_accel.h"
+#include "accel/factory/memory_estimate.h"
 #include "engine/error.h"
 #include "engine/file_io.h"
 #include "engine/memory_budget.h"

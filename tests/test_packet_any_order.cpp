@@ -6,7 +6,8 @@
 // node's octant order) and in two (the entry-distance order); rays along +x and along -x; every
 // width and packet size of the build, bvh-sah and lbvh. Every answer is also checked as any hit:
 // the named triangle lies on the wall at the reported t.
-#include "accel/accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
 #include "engine/mesh.h"
 
 #include <doctest/doctest.h>

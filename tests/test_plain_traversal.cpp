@@ -3,8 +3,8 @@
 // form it gets and again with the general form forced, at every width of the build, over a
 // procedural scene and the bunny. (The kernels themselves are compared lane by lane in
 // test_simd_kernels.cpp; both forms against brute in test_wide_paths.cpp, whose rays are plain.)
-#include "accel/bvh/bvh_accel.h"
-#include "accel/wide/wide_paths_impl.h"
+#include "accel/structures/bvh_accel.h"
+#include "accel/structures/wide_paths_impl.h"
 #include "engine/obj_loader.h"
 #include "testing.h"
 #include "wide_bvh.h"

@@ -2,7 +2,7 @@
 // shadow rays stop short of the light, diffuse rays leave on the normal's side with a cosine
 // distribution, random rays start inside the bounds), exact counts, the same rays for the same seed
 // whatever the thread count, and one-line errors for scenes that cannot give the rays asked for.
-#include "accel/brute/brute_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "engine/error.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"

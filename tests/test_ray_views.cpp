@@ -2,8 +2,8 @@
 // same placement, the camera outside the bounding sphere looking at it (its rays hit the model),
 // the light on the camera's side, a flat model still gets shadow rays from every view, and a
 // builtin scene's own camera only moves a little.
-#include "accel/brute/brute_accel.h"
-#include "accel/trace.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/interface/trace.h"
 #include "engine/builtin_scenes.h"
 #include "engine/procedural.h"
 #include "engine/ray_gen.h"

@@ -1,7 +1,8 @@
 // The renderer on the fast paths: camera and shadow batches go to the packet path and bounce
 // batches to the single-ray SIMD path of the BVHs; the images are bit-identical with brute force's
 // (the oracle) and with 1 and 2 threads on those paths too.
-#include "accel/accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
 #include "engine/tracer.h"
 #include "render_scenes.h"
 

@@ -1,7 +1,7 @@
 // The stiff-case suite (stress/) at its small sizes over every structure make_accel builds and
 // every path it implements: no false miss, false hit or double hit. Then the oracle on cases
 // with known answers, and the judge on answers broken on purpose: it must catch each defect.
-#include "accel/brute/brute_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "stress/run.h"

@@ -3,9 +3,10 @@
 // points at y = 0), whose 2^-16 offset alone re-hit the floor on ~7% of shadow and ~16% of diffuse
 // rays (false hits at t ~ 0 that brute reported and box culling hid: structures then disagreed).
 // Every structure and path agrees with brute on the stadium's shadow and diffuse rays.
-#include "accel/brute/brute_accel.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "accel/core/offset_ray.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "engine/ray_gen.h"
 #include "perf/scenes.h"
 #include "testing.h"

@@ -4,15 +4,16 @@
 // the smallest t, on equal t the lowest prim. The expected record is worked out here from every
 // triangle's own watertight test, independently of any structure; the test first checks that the
 // rays do make ties (else it would prove nothing).
-#include "accel/brute/brute_accel.h"
-#include "accel/kdtree/kdtree_accel.h"
-#include "accel/trace.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/kdtree_accel.h"
+#include "accel/interface/trace.h"
 #include "engine/mesh.h"
 #include "engine/procedural.h"
 #include "kd_simd_check.h"
 #include "testing.h"
 #include "wide_check.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 #include <doctest/doctest.h>
 

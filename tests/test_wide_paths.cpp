@@ -3,7 +3,8 @@
 // rays (engine/ray_gen.h); then the stiff cases: a watertight jittered icosphere seen from inside,
 // axis-parallel rays with +-0 components on an integer grid, NaN/Inf/zero rays, partial packets,
 // mixed-sign packets, and identical answers with 1 and 2 threads.
-#include "accel/select/coherence.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/coherence.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
 #include "engine/ray_gen.h"

@@ -7,8 +7,8 @@
 // (negative distances: the box test's slack for negative exits) or around it, rays no path traces,
 // and groups cut short by the end of the batch; then a stiff case: a root child entered past a
 // negative tfar, within the slack (visited: slab_accept's rule).
-#include "accel/bvh/bvh_accel.h"
-#include "accel/wide/wide_paths_impl.h"
+#include "accel/structures/bvh_accel.h"
+#include "accel/structures/wide_paths_impl.h"
 #include "engine/obj_loader.h"
 #include "testing.h"
 #include "wide_bvh.h"

@@ -7,12 +7,13 @@
 // It also checks that the pass runs (groups where test_shared_leaves tested a leaf), and what it
 // leaves: each ray's hit there is the closest of the leaf's triangles, and the leaf is skipped by
 // exactly the rays it was tested for.
-#include "accel/accel.h"
-#include "accel/wide/wide_paths_impl.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/wide_paths_impl.h"
 #include "accel/wide/wide_shared_leaves.h"
 #include "engine/builtin_scenes.h"
 #include "engine/procedural.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 #include "testing.h"
 
 #include <doctest/doctest.h>

@@ -1,6 +1,6 @@
 #pragma once
 /// Shared test helpers: ray generators, model paths, hit comparison (rayfile.md tolerance).
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "engine/mesh.h"
 
 #include <functional>

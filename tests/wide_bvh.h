@@ -1,9 +1,10 @@
 #pragma once
 /// bvh-sah with only the SIMD layouts at one width N: the accel the wide-walk tests
 /// (test_wide_root, test_plain_traversal) call trace_from / trace_root on directly.
-#include "accel/accel.h"
-#include "accel/bvh/bvh_accel.h"
-#include "accel/wide/wide_paths_impl.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/accel.h"
+#include "accel/structures/bvh_accel.h"
+#include "accel/structures/wide_paths_impl.h"
 
 #include <doctest/doctest.h>
 

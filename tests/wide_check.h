@@ -2,14 +2,16 @@
 /// Helpers of the SIMD-path tests: every BVH structure (bvh-median, bvh-sah, lbvh) at every width
 /// this build has, built from one binary tree per structure, and the check of every traversal path
 /// against the scalar path and brute.
-#include "accel/brute/brute_accel.h"
-#include "accel/bvh/bvh_accel.h"
+#include "accel/dispatch/kernel_entries.h"
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/structures/bvh_accel.h"
 #include "accel/bvh/bvh_build.h"
 #include "accel/lbvh/lbvh_build.h"
-#include "accel/trace.h"
-#include "accel/wide/wide_paths.h"
+#include "accel/interface/trace.h"
+#include "accel/structures/wide_paths.h"
 #include "bvh_check.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 #include <doctest/doctest.h>
 

@@ -13,7 +13,7 @@
 /// Server -> page: a text "hello" (scene, camera, choices, limits) when the socket opens, a text
 /// "building" before a structure is built, and binary frames: a 4-byte little-endian length, that
 /// many bytes of JSON figures (frame, samples, ms, Mrays/s per ray kind, ...) and a JPEG image.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "engine/camera.h"
 #include "engine/render_settings.h"
 

@@ -1,5 +1,6 @@
 #include "view/structures.h"
 
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 
 namespace arbor::view {

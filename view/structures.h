@@ -3,7 +3,7 @@
 /// the same one, freed when none does. The cost integrator needs the structure's counting layout
 /// (the scalar reference walk) beside the SIMD one; the other integrators get what `arbor render`
 /// builds (the SIMD layouts only), so their frames match its frames.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 
 #include <map>
 #include <memory>

@@ -4,8 +4,8 @@
 /// centroid, lo/2 + hi/2, is worked out where it is needed: the same bits as PrimRefs::cx/cy/cz),
 /// with the bounds of all boxes and of all centroids. make_accel makes them in one pass straight
 /// from the triangles (32 bytes a triangle, where PrimRefs and then BuildPrims made from them took
-/// 40 + 32: in a fresh process every byte a build touches first is a page the kernel zeroes,
-/// perf/results/fresh-build-2026-12-03.md); the builders' PrimRefs entry points make the same
+/// 40 + 32: in a fresh process every byte a build touches first is a page the kernel zeroes);
+/// the builders' PrimRefs entry points make the same
 /// records from PrimRefs, so both give bit-identical trees.
 #include "accel/bvh/prim_refs.h"
 #include "accel/core/geometry.h"

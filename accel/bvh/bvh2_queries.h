@@ -6,7 +6,7 @@
 #include "accel/core/all_hits.h"
 #include "accel/bvh/bvh2_traverse.h"
 #include "accel/core/closest_point.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 #include <vector>
 

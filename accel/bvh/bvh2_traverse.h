@@ -4,7 +4,7 @@
 /// and the farther is pushed with its entry distance; a popped entry farther than the current tfar
 /// is skipped. Box tests are simd::slab_test (Ize 2013, with its zero-direction rule) exactly.
 #include "accel/bvh/bvh2_layout.h"
-#include "simd/box_test.h"
+#include "simd/ray_box.h"
 
 #include <span>
 

@@ -1,7 +1,7 @@
 #pragma once
 /// BvhBuildConfig: the settings the binary BVH builders read (bvh-median, bvh-sah and its sweep
 /// reference, lbvh; bvh_build.h, lbvh/lbvh_build.h), and nothing else. Part of BuildConfig
-/// (accel/build_config.h) as `bvh`.
+/// (accel/interface/build_config.h) as `bvh`.
 #include <cstdint>
 
 namespace arbor::accel {
@@ -18,7 +18,7 @@ struct BvhBuildConfig {
     /// the SIMD layout's width N (a leaf of the N-wide layout is a run of N-triangle blocks that the
     /// collapse fills from whole binary subtrees anyway, so splitting below N triangles mostly costs
     /// build time), 1 = none (the binary tree of the scalar build), else that many triangles.
-    /// Measured in perf/results/leaf-floor-2026-12-01.md. `--simd-leaf-floor`.
+    /// Measured by scripts/bench_leaf_floor.sh. `--simd-leaf-floor`.
     std::uint32_t simd_leaf_floor = 0;
     /// Binned SAH: bins per axis (16..32 is the useful range) for big ranges; a range of n < 20 x
     /// (bins - 4) primitives gets 4 + n/20 (Embree's rule: fewer bins where clearing and sweeping

@@ -1,7 +1,7 @@
 #pragma once
 /// What a batch of rays asks of a structure (TraceRequest: the query kind, the path, what the caller
 /// knows of the rays, the counted mode) and what a structure offers (PathOffer). Accel::trace takes
-/// the first, Accel::offer gives the second, and the path policy (select/path_policy.h) reads both:
+/// the first, Accel::offer gives the second, and the path policy (interface/path_policy.h) reads both:
 /// it is the one place where a path is chosen.
 ///
 /// Adding a query kind (e.g. all hits): add it to Query (and to query_names in accel.cpp), set its
@@ -66,7 +66,7 @@ struct PathOffer {
     /// The counted mode (TraceRequest::counters) is available: the scalar layout was built.
     bool counts = false;
     /// Packets measured faster than single rays on coherent batches (the BVHs, and the kd-tree
-    /// since its packet walk, perf/results/kdtree-2026-12-03.md).
+    /// since its packet walk).
     bool packets_pay = false;
     /// Rays per packet of the packet path (the coherence measure's group size).
     std::uint32_t packet_lanes = 0;

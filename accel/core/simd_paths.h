@@ -1,6 +1,6 @@
 #pragma once
 /// SimdPaths<D>: the dispatch shared by the SIMD paths of every structure (the BVHs' wide layouts,
-/// wide/wide_paths_impl.h, and the kd-tree's SIMD blocks, kdtree/kdtree_simd.cpp): the query
+/// structures/wide_paths_impl.h, and the kd-tree's SIMD blocks, structures/kdtree_simd.cpp): the query
 /// becomes a compile-time AnyHit, the path `packet` or `single`, the packet width a lane type. The
 /// structure D supplies
 ///   template <bool AnyHit> void trace_single(rays, hits) const;
@@ -24,8 +24,8 @@ struct PacketConfig {
     /// leaf reached by at most this many lanes is tested lane by lane) (-1 = lanes / 8).
     int switch_lanes = -1;
     /// BVHs: the same for packets whose lanes do not all share a direction octant (diffuse
-    /// bounces: such packets part ways within a level or two; 1.05-1.15x over lanes / 8,
-    /// perf/results/octant-order-2026-12-02.md) (-1 = lanes / 2).
+    /// bounces: such packets part ways within a level or two; 1.05-1.15x over lanes / 8)
+    /// (-1 = lanes / 2).
     int switch_mixed = -1;
 };
 

@@ -1,6 +1,6 @@
 #include "accel/kdtree/kdtree_build.h"
 
-#include "accel/core/memory_estimate.h"
+#include "accel/core/memory_limit.h"
 
 #include "accel/util/fp_guard.h"
 #include "accel/kdtree/kdtree_ropes.h"

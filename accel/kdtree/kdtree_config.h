@@ -1,7 +1,7 @@
 #pragma once
 /// The kd-tree's settings, each read by one part of it: KdBuildConfig by the builder
 /// (kdtree_build.h), KdBlockConfig by the SIMD leaf blocks (kdtree_simd.h). Parts of BuildConfig
-/// (accel/build_config.h) as `kd` and `kd_blocks`.
+/// (accel/interface/build_config.h) as `kd` and `kd_blocks`.
 #include <cstdint>
 
 namespace arbor::accel {
@@ -10,9 +10,9 @@ struct KdBuildConfig {
     /// SAH cost of a traversal step (K_T) against intersection_cost (K_I). Every walk pays per
     /// leaf (rope or pop, exit planes or intervals in double, a cache miss) and tests a leaf's
     /// triangles as one SIMD block, so the kd-tree wants bigger leaves than the BVH ratio gives: on
-    /// the bunny 1 -> 4 cut nodes 6x and build time 2.5x at the same trace speed (perf/kdtree_bench);
-    /// with the packet walk 4 -> 12 ran 1.10-1.14x (median per kind, min 0.97x) on the held-out rays
-    /// (perf/results/kdtree-2026-12-03.md), 2 and 1.5 slower.
+    /// the bunny 1 -> 4 cut nodes 6x and build time 2.5x at the same trace speed (`arbor-bench kdtree`);
+    /// with the packet walk 4 -> 12 ran 1.10-1.14x (median per kind, min 0.97x) on the held-out rays,
+    /// 2 and 1.5 slower.
     float traversal_cost = 12.0f;
     float intersection_cost = 1.0f;
     /// K_T of the SAH cost the build reports (BuildStats::sah_cost): 1, the BVHs' default, so that
@@ -37,7 +37,7 @@ struct KdBuildConfig {
 /// non-empty cells, collapsed to N-wide nodes and traced by the BVHs' walks (kdtree_cells.h).
 /// `tight_cells`: the same with each cell's box cut to its triangles' bounds (a step from the kd
 /// partition towards a spatial-split BVH); the default, measured fastest
-/// (perf/results/kdtree-cells-2026-12-03e.md).
+/// on the held-out rays.
 enum class KdWalk : std::uint8_t { ropes, cells, tight_cells };
 /// "ropes", "cells", "tight-cells" (`--kd-walk`).
 inline const char* kd_walk_name(KdWalk w) {

@@ -14,7 +14,7 @@
 #include "accel/core/all_hits.h"
 #include "accel/core/closest_point.h"
 #include "accel/kdtree/kdtree_traverse.h"
-#include "simd/tri_test.h"
+#include "simd/ray_triangle.h"
 
 #include <algorithm>
 #include <vector>

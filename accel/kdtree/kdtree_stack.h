@@ -5,7 +5,7 @@
 /// walk skips a pushed subtree whose interval starts beyond the best hit. Any-hit queries walk with
 /// it on every path (the packet path in its packet form, kdtree_stack_packet.h, which keeps each
 /// lane's leaf order, hence the first hit); closest hit follows the ropes (kdtree_traverse.h),
-/// 1.2-1.3x faster per ray (perf/results/kdtree-2026-12-02.md).
+/// 1.2-1.3x faster per ray.
 ///
 /// How it stays exact (the same guarantee as the rope walk of kdtree_traverse.h, by other means):
 /// - Plane crossings t = (p - o) / d are computed in double (p - o is exact for floats), about one

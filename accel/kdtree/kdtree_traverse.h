@@ -19,7 +19,7 @@
 ///   face within `point_tolerance` (relative to the distance travelled) of another plane of the
 ///   leaf arrangement (near an edge or corner; also an origin on a split plane), every leaf within
 ///   that tolerance of the crossing point is tested too (visit_point). The walk itself goes on.
-/// - Zero direction components (box_test.h's rule: 1/+-0 = +-inf, the sign bit picks the side): the
+/// - Zero direction components (ray_box.h's rule: 1/+-0 = +-inf, the sign bit picks the side): the
 ///   ray never crosses planes of that axis. A ray lying exactly in a split plane walks the side its
 ///   sign bit picks; if a visited leaf has a face in the ray's plane, the walk is repeated with the
 ///   other side(s), so triangles touching the plane from either side are found. (On such an axis

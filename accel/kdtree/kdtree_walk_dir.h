@@ -1,9 +1,9 @@
 #pragma once
 /// The direction the kd-tree's walks follow (ropes, stack, packet start): the ray's, except that a
 /// component whose shear d[k] / dmax underflows to zero in float is taken as zero (its sign kept).
-/// The watertight triangle test shears by exactly that quotient (simd/tri_test.h, woop_shear), so
+/// The watertight triangle test shears by exactly that quotient (simd/ray_triangle.h, woop_shear), so
 /// it sees a ray that does not move along k, and the BVHs' box test follows it (slab_rcp's
-/// zero-direction rule, simd/box_test.h). Walked in double with the true component, a ray lying
+/// zero-direction rule, simd/ray_box.h). Walked in double with the true component, a ray lying
 /// in a face of the scene box (origin on it, d[k] ~ 1e-42 against d ~ 1e30 along it) left the box
 /// at t = 0 and missed the face's triangles the triangle test hits. Found by a search over extreme
 /// rays against the fuzzer's ray scene (test 'kdtree stiff: a direction component whose shear

@@ -1,6 +1,6 @@
 #include "accel/select/auto_model.h"
 
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,6 @@
 #include "accel/select/auto_probe.h"
 
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 
 #include <algorithm>

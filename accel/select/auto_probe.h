@@ -8,7 +8,7 @@
 /// The smallest of `rounds` rounds run over all configurations in turn, so that a burst of other
 /// work does not hit one configuration alone.
 /// Builds are timed by the wall clock (the job pays them so).
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 
 #include <memory>
 #include <span>

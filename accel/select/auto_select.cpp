@@ -1,8 +1,11 @@
 #include "accel/select/auto_select.h"
 
+#include "accel/select/auto_decision.h"
 #include "accel/select/auto_model.h"
+#include "accel/select/auto_reason.h"
 #include "accel/select/auto_probe.h"
-#include "accel/select/path_policy.h"
+#include "accel/factory/make_accel.h"
+#include "accel/interface/path_policy.h"
 #include "accel/util/splitmix64.h"
 #include "accel/util/timer.h"
 
@@ -20,59 +23,6 @@ namespace arbor::accel {
 namespace {
 
 float u01(std::uint64_t seed, std::uint64_t i) { return unit_float24(splitmix64(seed ^ splitmix64(i))); }
-
-std::string human_ms(double ms) {
-    char buf[32];
-    if (ms >= 1000.0) std::snprintf(buf, sizeof buf, "%.2f s", ms * 1e-3);
-    else if (ms >= 10.0) std::snprintf(buf, sizeof buf, "%.0f ms", ms);
-    else if (ms >= 0.1) std::snprintf(buf, sizeof buf, "%.2f ms", ms);
-    else std::snprintf(buf, sizeof buf, "%.3f ms", ms);
-    return buf;
-}
-
-std::string human_count(double n) {
-    char buf[32];
-    if (n >= 1e9) std::snprintf(buf, sizeof buf, "%.3gG", n * 1e-9);
-    else if (n >= 1e6) std::snprintf(buf, sizeof buf, "%.3gM", n * 1e-6);
-    else if (n >= 1e3) std::snprintf(buf, sizeof buf, "%.3gk", n * 1e-3);
-    else std::snprintf(buf, sizeof buf, "%.0f", n);
-    return buf;
-}
-
-std::string percent(double f) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.0f%%", 100.0 * f);
-    return buf;
-}
-
-/// A configuration being weighed: the candidate plus the path and predicted ns of each group.
-struct Weighed {
-    AutoCandidate c;
-    std::vector<TracePath> paths;  // per group
-    std::vector<double> ns;        // per group, predicted
-};
-
-std::string config_name(const AutoCandidate& c) {
-    std::string s(to_string(c.kind));
-    if (c.path != TracePath::best) s.append("/").append(to_string(c.path));
-    return s;
-}
-
-/// The reason's start: "bvh-sah: packet path," (the path left out when the groups' paths are fixed).
-std::string pick_words(const AutoCandidate& c) {
-    std::string s(to_string(c.kind));
-    s += ":";
-    if (c.path != TracePath::best) s.append(" ").append(to_string(c.path)).append(" path,");
-    return s;
-}
-
-/// "lbvh/single 2.05 s (build 8.0 ms + 170 ns/ray)": a candidate's total and its parts; ns/ray is
-/// the trace time over all the job's rays.
-std::string describe(const AutoCandidate& c, double rays) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.0f ns/ray", rays > 0 ? c.trace_ms * 1e6 / rays : 0.0);
-    return config_name(c) + " " + human_ms(c.total_ms) + " (build " + human_ms(c.build_ms) + " + " + buf + ")";
-}
 
 /// Every structure of the model that this build config can run the job on, with each free path.
 std::vector<Weighed> predict_all(const AutoModel& model, const SceneShape& scene, const std::vector<RayGroup>& groups,
@@ -169,21 +119,14 @@ AutoJob trace_job(const TriangleView& tris, std::span<const Ray> sample, double 
     return job;
 }
 
-AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
-    AccelPick out;
-    out.kind = kind;
-    if (kind != AccelKind::automatic) return out;
-    // (Asked before the timer starts: the first TBB call of a process starts the library, a cost the
-    // job's first parallel build or trace pays anyway.)
-    const double threads = job.threads > 0 ? double(job.threads) : double(active_trace_threads());
-    const Timer timer;
-    const AutoModel& model = job.model ? *job.model : builtin_auto_model();
-    const SceneShape scene = scene_shape(job.tris);
-    const float diagonal = simd::length(scene.bounds.extent());
+namespace {
 
-    // The groups with their shapes measured where the caller gave rays but no coherence.
+/// The job's groups with their shapes measured where the caller gave rays but no coherence; with
+/// no groups, one of AutoJob::default_rays closest-hit rays into the scene (`default_rays` holds
+/// their sample).
+std::vector<RayGroup> shaped_groups(const AutoJob& job, const SceneShape& scene, std::vector<Ray>& default_rays) {
+    const float diagonal = simd::length(scene.bounds.extent());
     std::vector<RayGroup> groups = job.groups;
-    std::vector<Ray> default_rays;
     if (groups.empty()) {
         default_rays = rays_into_bounds(scene.bounds, 4096, 1);
         RayGroup g;
@@ -191,147 +134,120 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
         g.shape.rays = AutoJob::default_rays;
         groups.push_back(g);
     }
-    double rays = 0.0;
     for (RayGroup& g : groups) {
         if (g.shape.coherent < 0.0 || g.shape.together < 0.0) {
             const RayShape s = ray_shape(g.sample, g.shape.rays, g.shape.query, diagonal);
             if (g.shape.coherent < 0.0) g.shape.coherent = s.coherent;
             if (g.shape.together < 0.0) g.shape.together = s.together;
         }
-        rays += g.shape.rays;
     }
+    return groups;
+}
 
-    std::vector<Weighed> all = predict_all(model, scene, groups, job.build, threads);
-    if (all.empty()) throw std::invalid_argument("auto: no structure of the cost model can run this job with these build settings");
-    const Weighed& first = all.front();
-    const double margin = model.margin();
-    std::vector<std::size_t> contenders;  // indices into all
-    for (std::size_t i = 0; i < all.size(); ++i)
-        if (all[i].c.total_ms <= first.c.total_ms * (1.0 + margin)) contenders.push_back(i);
+/// Steps 1 and 2 of the decision (auto_select.h): every configuration predicted, the model's pick,
+/// and the contenders within its margin.
+ModelDecision decide_by_model(const AutoModel& model, const SceneShape& scene, const std::vector<RayGroup>& groups,
+                              const BuildConfig& build, double threads) {
+    ModelDecision d;
+    for (const RayGroup& g : groups) d.rays += g.shape.rays;
+    d.all = predict_all(model, scene, groups, build, threads);
+    if (d.all.empty()) throw std::invalid_argument("auto: no structure of the cost model can run this job with these build settings");
+    const Weighed& first = d.all.front();
+    d.margin = model.margin();
+    for (std::size_t i = 0; i < d.all.size(); ++i)
+        if (d.all[i].c.total_ms <= first.c.total_ms * (1.0 + d.margin)) d.contenders.push_back(i);
+    d.within_margin = d.contenders.size();
 
     // The model's own decision: its best prediction, or the preferred structure's (the default's)
     // best configuration when that is predicted within the model's prefer_share (and margin) of it:
     // the model's errors are ~19% in ratio, and what it misjudges most is a cheap build's trace
     // penalty (auto_model.h, perf/model/fit_auto_model.py).
-    const Weighed* lead = &first;
-    const double prefer = std::min(model.prefer_share(), margin);
-    if (prefer > 0.0)
-        for (const Weighed& w : all)
-            if (w.c.kind == model.preferred()) {
-                if (w.c.total_ms <= first.c.total_ms * (1.0 + prefer)) lead = &w;
+    d.prefer = std::min(model.prefer_share(), d.margin);
+    if (d.prefer > 0.0)
+        for (std::size_t i = 0; i < d.all.size(); ++i)
+            if (d.all[i].c.kind == model.preferred()) {
+                if (d.all[i].c.total_ms <= first.c.total_ms * (1.0 + d.prefer)) d.lead = i;
                 break;
             }
-    const std::string job_line = " for " + human_count(rays) + " rays";
-    const std::string preferred =
-        lead != &first ? ", preferred within " + percent(prefer) + " of the best prediction" : std::string();
-    // "; next CONFIG, +X%": the best configuration other than `ref` (of another structure, or the
-    // other path), against it.
-    auto next_after = [&](const Weighed* ref) {
-        for (const Weighed& w : all)
-            if (&w != ref) {
-                const double d = w.c.total_ms / ref->c.total_ms - 1.0;
-                return "; next " + describe(w.c, rays) + ", " + (d >= 0.0 ? "+" : "-") + percent(std::abs(d));
-            }
-        return std::string();
-    };
-    const std::string next = next_after(lead);
-    const std::string margin_text = percent(margin);
-    auto finish_model = [&](const std::string& why) {
-        out.kind = lead->c.kind;
-        out.path = lead->c.path;
-        for (const Weighed& w : all) out.candidates.push_back(w.c);
-        out.auto_ms = timer.ms();
-        out.own_ms = out.auto_ms;
-        out.reason = pick_words(lead->c) + " model: predicted " + describe(lead->c, rays) + job_line + preferred +
-                     next + why + "; auto " + human_ms(out.auto_ms);
-        return std::move(out);
-    };
-    if (contenders.size() == 1) return finish_model(" (outside the model's " + margin_text + " margin)");
     // A probe times both paths of each structure it builds: the model's packet-over-single ratios are
     // among its largest errors (on its own training rows it rates packets 1.25-1.45x too well against
     // single rays on the tiny scene's random rays, bunny's primary and shadow rays, grass's primary
-    // rays: perf/results/auto-2026-12-03.md), and the other path of a structure the probe builds
-    // anyway costs one more sample timing.
-    const std::size_t within_margin = contenders.size();
-    for (std::size_t c = 0; c < within_margin; ++c)
-        for (std::size_t i = 0; i < all.size(); ++i)
-            if (all[i].c.kind == all[contenders[c]].c.kind &&
-                std::find(contenders.begin(), contenders.end(), i) == contenders.end())
-                contenders.push_back(i);
-    const std::string within = " (within the model's " + margin_text + " margin)";
-    if (!job.allow_probe) return finish_model(within + ", probe not allowed");
+    // rays), and the other path of a structure the probe builds anyway costs one more sample timing.
+    for (std::size_t c = 0; c < d.within_margin; ++c)
+        for (std::size_t i = 0; i < d.all.size(); ++i)
+            if (d.all[i].c.kind == d.all[d.contenders[c]].c.kind &&
+                std::find(d.contenders.begin(), d.contenders.end(), i) == d.contenders.end())
+                d.contenders.push_back(i);
+    return d;
+}
 
-    // The probe: samples of each group (up to 4096 rays), structures in the order of their best
-    // prediction, the costliest builds dropped until the probe fits its cap.
-    std::vector<std::vector<Ray>> stores(groups.size());
-    std::vector<ProbeGroup> probe_groups(groups.size());
-    for (std::size_t g = 0; g < groups.size(); ++g)
-        probe_groups[g] = {cut_sample(groups[g].sample, 4096, stores[g]), groups[g].shape.query};
+/// The probe's samples: up to 4096 rays of each group (`stores` holds the cut ones).
+std::vector<ProbeGroup> probe_samples(const std::vector<RayGroup>& groups, std::vector<std::vector<Ray>>& stores) {
+    stores.assign(groups.size(), {});
+    std::vector<ProbeGroup> out(groups.size());
+    for (std::size_t g = 0; g < groups.size(); ++g) out[g] = {cut_sample(groups[g].sample, 4096, stores[g]), groups[g].shape.query};
+    return out;
+}
+
+constexpr int probe_rounds = 2;
+
+/// Step 3's plan: the contenders' structures in the order of their best prediction, the costliest
+/// builds dropped until the probe fits its caps.
+ProbePlan plan_probe(const AutoModel& model, const SceneShape& scene, const ModelDecision& d, const AutoJob& job,
+                     const std::vector<ProbeGroup>& probe_groups, double threads) {
+    const Weighed& first = d.all.front();
     // Two caps: a share of the job, and a share of what the probe can win. The model cannot order
     // its contenders within its margin, so its pick is off by about the margin times the part of
     // the job they do not share: a build that every probed contender needs (all of one structure:
     // the first's, which is never dropped) is paid whatever the probe finds, and two paths of one
     // structure differ in their traces only.
-    const double job_cap = job.probe_share * first.c.total_ms;
+    ProbePlan plan;
+    plan.job_cap = job.probe_share * first.c.total_ms;
     auto stake_of = [&](const std::vector<AccelKind>& s) {
-        return margin * (first.c.total_ms - (s.size() == 1 ? first.c.build_ms : 0.0));
+        return d.margin * (first.c.total_ms - (s.size() == 1 ? first.c.build_ms : 0.0));
     };
-    auto cap_of = [&](const std::vector<AccelKind>& s) { return std::min(job_cap, job.stake_share * stake_of(s)); };
-    const int rounds = 2;
-    std::vector<AccelKind> structures;
-    for (const std::size_t i : contenders)
-        if (std::find(structures.begin(), structures.end(), all[i].c.kind) == structures.end()) structures.push_back(all[i].c.kind);
+    auto cap_of = [&](const std::vector<AccelKind>& s) { return std::min(plan.job_cap, job.stake_share * stake_of(s)); };
+    std::vector<AccelKind>& structures = plan.structures;
+    for (const std::size_t i : d.contenders)
+        if (std::find(structures.begin(), structures.end(), d.all[i].c.kind) == structures.end())
+            structures.push_back(d.all[i].c.kind);
     auto cost_of = [&](const std::vector<AccelKind>& s) {
         double cost = 0.0;
         for (std::size_t k = 1; k < s.size(); ++k) cost += model.build_ms(s[k], scene, threads);
-        for (const std::size_t i : contenders) {
-            if (std::find(s.begin(), s.end(), all[i].c.kind) == s.end()) continue;
-            for (std::size_t g = 0; g < groups.size(); ++g)
+        for (const std::size_t i : d.contenders) {
+            if (std::find(s.begin(), s.end(), d.all[i].c.kind) == s.end()) continue;
+            for (std::size_t g = 0; g < probe_groups.size(); ++g)
                 if (!probe_groups[g].rays.empty())
-                    cost += rounds * std::max(job.min_timing_ms,
-                                              double(probe_groups[g].rays.size()) * all[i].ns[g] * threads * 1e-6);
+                    cost += probe_rounds * std::max(job.min_timing_ms,
+                                                    double(probe_groups[g].rays.size()) * d.all[i].ns[g] * threads * 1e-6);
         }
         return cost;
     };
-    double cost = cost_of(structures);
-    while (cost > cap_of(structures) && structures.size() > 1) {
+    plan.cost = cost_of(structures);
+    while (plan.cost > cap_of(structures) && structures.size() > 1) {
         auto costliest = std::max_element(structures.begin() + 1, structures.end(), [&](AccelKind a, AccelKind b) {
             return model.build_ms(a, scene, threads) < model.build_ms(b, scene, threads);
         });
         structures.erase(costliest);
-        cost = cost_of(structures);
+        plan.cost = cost_of(structures);
     }
-    std::size_t probed_configs = 0;
-    for (const std::size_t i : contenders)
-        probed_configs += std::find(structures.begin(), structures.end(), all[i].c.kind) != structures.end();
-    bool sampled = false;
-    for (const ProbeGroup& g : probe_groups) sampled |= !g.rays.empty();
-    const double cap = cap_of(structures), stake = stake_of(structures), stake_cap = job.stake_share * stake;
-    if (cost > cap || probed_configs < 2 || !sampled)
-        return finish_model(within + ", no probe: " +
-                            (!sampled ? std::string("no rays to time")
-                             : job_cap <= stake_cap
-                                 ? "it would cost " + human_ms(cost) + ", more than " + percent(job.probe_share) +
-                                       " of the job (" + human_ms(cap) + ")"
-                                 : "it would cost " + human_ms(cost) + ", more than " + percent(job.stake_share) +
-                                       " of what it can win (" + human_ms(cap) + " of " + human_ms(stake) + ": the margin x " +
-                                       (structures.size() == 1 ? "the trace" : "the job") + ")"));
+    for (const std::size_t i : d.contenders)
+        plan.probed_configs += std::find(structures.begin(), structures.end(), d.all[i].c.kind) != structures.end();
+    for (const ProbeGroup& g : probe_groups) plan.sampled |= !g.rays.empty();
+    plan.cap = cap_of(structures);
+    plan.stake = stake_of(structures);
+    return plan;
+}
 
-    std::vector<ProbeConfig> configs;
-    std::vector<std::size_t> config_of;  // index into all
-    for (const std::size_t i : contenders) {
-        const auto s = std::find(structures.begin(), structures.end(), all[i].c.kind);
-        if (s == structures.end()) continue;
-        configs.push_back({std::size_t(s - structures.begin()), all[i].paths});
-        config_of.push_back(i);
-    }
-    ProbeResult probe = run_probe(job.tris, job.build, structures, configs, probe_groups, rounds, job.min_timing_ms, threads);
-
-    // Measured totals: the probe's build, and per group its measured ns (unsampled groups: the
-    // prediction scaled by the configuration's mean measured/predicted ratio).
+/// The probed configurations' measured totals, smallest first: the probe's build, and per group
+/// its measured ns (unsampled groups: the prediction scaled by the configuration's mean
+/// measured/predicted ratio).
+std::vector<AutoCandidate> measured_totals(const ModelDecision& d, const std::vector<RayGroup>& groups,
+                                           const std::vector<ProbeGroup>& probe_groups, const std::vector<ProbeConfig>& configs,
+                                           const std::vector<std::size_t>& config_of, const ProbeResult& probe) {
     std::vector<AutoCandidate> measured;
     for (std::size_t c = 0; c < configs.size(); ++c) {
-        const Weighed& w = all[config_of[c]];
+        const Weighed& w = d.all[config_of[c]];
         double log_ratio = 0.0;
         int n = 0;
         for (std::size_t g = 0; g < groups.size(); ++g)
@@ -348,27 +264,71 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
     }
     std::stable_sort(measured.begin(), measured.end(),
                      [](const AutoCandidate& a, const AutoCandidate& b) { return a.total_ms < b.total_ms; });
+    return measured;
+}
+
+}  // namespace
+
+AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
+    AccelPick out;
+    out.kind = kind;
+    if (kind != AccelKind::automatic) return out;
+    // (Asked before the timer starts: the first TBB call of a process starts the library, a cost the
+    // job's first parallel build or trace pays anyway.)
+    const double threads = job.threads > 0 ? double(job.threads) : double(active_trace_threads());
+    const Timer timer;
+    const AutoModel& model = job.model ? *job.model : builtin_auto_model();
+    const SceneShape scene = scene_shape(job.tris);
+    std::vector<Ray> default_rays;
+    const std::vector<RayGroup> groups = shaped_groups(job, scene, default_rays);
+    const ModelDecision d = decide_by_model(model, scene, groups, job.build, threads);
+
+    auto finish_model = [&](const std::string& why) {
+        const AutoCandidate& lead = d.all[d.lead].c;
+        out.kind = lead.kind;
+        out.path = lead.path;
+        for (const Weighed& w : d.all) out.candidates.push_back(w.c);
+        out.auto_ms = timer.ms();
+        out.own_ms = out.auto_ms;
+        out.reason = model_reason(d, why, out.auto_ms);
+        return std::move(out);
+    };
+    if (d.within_margin == 1) return finish_model(outside_margin_words(d));
+    if (!job.allow_probe) return finish_model(within_margin_words(d) + ", probe not allowed");
+
+    std::vector<std::vector<Ray>> stores;
+    const std::vector<ProbeGroup> probe_groups = probe_samples(groups, stores);
+    const ProbePlan plan = plan_probe(model, scene, d, job, probe_groups, threads);
+    if (!plan.runs()) return finish_model(within_margin_words(d) + ", no probe: " + no_probe_words(plan, job));
+
+    std::vector<ProbeConfig> configs;
+    std::vector<std::size_t> config_of;  // index into d.all
+    for (const std::size_t i : d.contenders) {
+        const auto s = std::find(plan.structures.begin(), plan.structures.end(), d.all[i].c.kind);
+        if (s == plan.structures.end()) continue;
+        configs.push_back({std::size_t(s - plan.structures.begin()), d.all[i].paths});
+        config_of.push_back(i);
+    }
+    ProbeResult probe =
+        run_probe(job.tris, job.build, plan.structures, configs, probe_groups, probe_rounds, job.min_timing_ms, threads);
+    const std::vector<AutoCandidate> measured = measured_totals(d, groups, probe_groups, configs, config_of, probe);
+
     const AutoCandidate& pick = measured.front();
     out.kind = pick.kind;
     out.path = pick.path;
     out.probed = true;
-    const auto s = std::find(structures.begin(), structures.end(), pick.kind);
-    out.built = std::move(probe.built[std::size_t(s - structures.begin())]);
+    const std::size_t s = std::size_t(std::find(plan.structures.begin(), plan.structures.end(), pick.kind) - plan.structures.begin());
+    out.built = std::move(probe.built[s]);
     out.candidates = measured;
-    for (const Weighed& w : all)
+    for (const Weighed& w : d.all)
         if (std::none_of(measured.begin(), measured.end(), [&](const AutoCandidate& m) { return m.kind == w.c.kind && m.path == w.c.path; }))
             out.candidates.push_back(w.c);
     std::size_t sample_rays = 0;
     for (const ProbeGroup& g : probe_groups) sample_rays += g.rays.size();
     out.auto_ms = timer.ms();
-    const double handed_ms = out.built ? probe.build_ms[std::size_t(s - structures.begin())] : 0.0;
+    const double handed_ms = out.built ? probe.build_ms[s] : 0.0;
     out.own_ms = std::max(0.0, out.auto_ms - handed_ms);
-    std::string r = pick_words(pick) + " probe: " + describe(pick, rays);
-    for (std::size_t i = 1; i < measured.size(); ++i) r += (i == 1 ? "; next " : ", ") + describe(measured[i], rays);
-    r += " (" + std::to_string(sample_rays) + " rays timed" + job_line + "); the model had " + describe(first.c, rays) +
-         next_after(&first) + within + "; auto " + human_ms(out.own_ms) + " (" + percent(out.own_ms / (pick.total_ms + out.own_ms)) +
-         " of the job)" + (out.built ? " + the pick's build " + human_ms(handed_ms) + ", handed over" : "");
-    out.reason = std::move(r);
+    out.reason = probe_reason(d, measured, sample_rays, out.own_ms, out.built != nullptr, handed_ms);
     return out;
 }
 

@@ -21,7 +21,7 @@
 ///     calibration at all. The pick's structure, when the probe built it, is handed over (built).
 /// The reason says which of these decided, with the prediction and margin or the probe's figures.
 /// The model's decision is deterministic (same job, same pick and reason); a probe measures.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "accel/select/job_shape.h"
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 #include "accel/select/job_shape.h"
 
-#include "accel/select/coherence.h"
+#include "accel/interface/coherence.h"
 
 #include <algorithm>
 #include <cmath>

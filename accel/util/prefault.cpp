@@ -26,8 +26,8 @@ void prefault(void* data, std::size_t bytes) {
     if (end <= begin) return;
     // Transparent huge pages for the 2 MiB-aligned part (THP "madvise" mode): one fault maps 2 MiB
     // instead of 4 KiB. In the test machine's VM a 4 KiB fault costs ~8-16 us of CPU; 256 MiB took
-    // 250-520 ms CPU as huge pages, 610-670 ms populated as 4 KiB pages, 1.1 s faulted one by one
-    // (perf/results/fresh-build-2026-12-02.md). Embree's allocator asks for huge pages too.
+    // 250-520 ms CPU as huge pages, 610-670 ms populated as 4 KiB pages, 1.1 s faulted one by one.
+    // Embree's allocator asks for huge pages too.
     constexpr std::uintptr_t huge = std::uintptr_t(2) << 20;
     const std::uintptr_t hb = (begin + huge - 1) / huge * huge, he = end / huge * huge;
     if (he > hb) madvise(reinterpret_cast<void*>(hb), he - hb, MADV_HUGEPAGE);  // advice: errors change nothing

@@ -4,7 +4,7 @@
 /// 0.5 ms per MB, a tenth of a 2.5M-triangle build); Linux's MADV_POPULATE_WRITE maps a whole range
 /// in one call for ~0.3 ms per MB, and the range is split over TBB tasks. The range's 2 MiB-aligned
 /// part is first advised to use transparent huge pages (one fault per 2 MiB: in a fresh process
-/// most of a build's page faults, perf/results/fresh-build-2026-12-02.md). Only for arrays that are
+/// most of a build's page faults). Only for arrays that are
 /// written in full right after (it commits the memory); a no-op elsewhere and below 1 MiB.
 #include <cstddef>
 

@@ -4,10 +4,10 @@
 /// elements get no zeroing pass before the layout builder writes every one of them.
 ///
 /// (Their big arrays are advised to use transparent huge pages by prefault() when resized with
-/// resize_prefaulted. An earlier session measured that 2.5x slower for the 16-wide layout of a
+/// resize_prefaulted. Advising every array measured 2.5x slower for the 16-wide layout of a
 /// 2.5M-triangle scene, 950-1050 ms against 375-390 ms: with THP defrag = madvise the first touch
-/// of an advised region can wait for compaction. On 2026-12-02, in a fresh process, it made whole
-/// builds 30-40% cheaper in CPU time: perf/results/fresh-build-2026-12-02.md.)
+/// of an advised region can wait for compaction. Advising the big arrays only made whole builds in
+/// a fresh process 30-40% cheaper in CPU time.)
 #include <cstddef>
 #include <memory>
 #include <new>

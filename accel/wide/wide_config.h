@@ -1,7 +1,7 @@
 #pragma once
 /// WideConfig: the settings of the BVHs' SIMD layout, read by the collapse (wide_layout.h) and
-/// the width's factory (wide_paths.h). Part of BuildConfig (accel/build_config.h) as `wide`; the
-/// defaults are the measured best (perf/results/wide-*.md).
+/// the width's factory (wide_paths.h). Part of BuildConfig (accel/interface/build_config.h) as `wide`; the
+/// defaults are the measured best.
 #include <cstdint>
 
 namespace arbor::accel {
@@ -17,11 +17,11 @@ struct WideConfig {
     /// extra nodes (all with the leaf's box).
     std::uint32_t max_leaf_triangles = 65535;
     /// SAH costs of the collapse: one N-wide node test and one N-triangle block test (block / node
-    /// = 2, 3 or 4 measured alike; perf/results/wide-2026-11-22.md).
+    /// = 2, 3 or 4 measured alike).
     float node_cost = 1.0f, block_cost = 3.0f;
     /// Root leaves of at most this many triangles are tested once for a group of incoherent rays
     /// on the single path when enough of the group hit them (wide_shared_leaves.h); 0 = never.
-    /// `bench_paths --shared-leaves` (perf/results/heldout-minima-2026-12-03e.md).
+    /// `arbor-bench paths --shared-leaves`.
     std::uint32_t shared_leaf_triangles = 32;
 };
 

@@ -14,7 +14,7 @@
 /// walk ends as soon as every lane is done; the hit children are visited in the reverse order,
 /// farthest first (shadow rays leave a surface, and what blocks them tends to lie nearer the light
 /// than the origin: 0.64-1.00x the packet triangle tests of nearest first, 0.87x in total, on 48
-/// shadow views of four models, perf/results/2026-12-03-shadow-order; Embree's occluded packets
+/// shadow views of four models; Embree's occluded packets
 /// take the children in node order). See Wald et al., "Interactive Rendering with Coherent
 /// Ray Tracing", EG 2001 (packets), and Benthin et al., "Combining Single and Packet-Ray Tracing
 /// for Arbitrary Ray Distributions on the Intel MIC Architecture", TVCG 2012 (switching to single rays).

@@ -3,7 +3,7 @@
 ///
 /// Every ray's walk starts with the same node, and on small scenes that node is most of the walk
 /// (held-out random rays: 1.3-2.0 node tests and 0.5-0.8 leaf blocks per ray on builtin:default,
-/// woody and the alligator, perf/results/heldout-2026-12-03.md). Tested inside the walk, the root is
+/// woody and the alligator). Tested inside the walk, the root is
 /// a chain of dependent steps (the ray's constants, the node's loads, the slab test, the hit mask,
 /// the branch on one hit child or more) that the core cannot start before the previous ray's walk
 /// has ended, mispredicted branches included. Tested here, one ray after another with no branch on

@@ -1,6 +1,6 @@
 #pragma once
 /// The single-ray SIMD traversal of WideLayout<N> (TracePath::single): one slab test over all N
-/// children of a node (simd::ray_boxes, Ize 2013, with the zero-direction rule of box_test.h), the
+/// children of a node (simd::ray_boxes, Ize 2013, with the zero-direction rule of ray_box.h), the
 /// hit children pushed in the node's order for the ray's octant (wide_order.h) and visited from
 /// the top of the stack, and the leaf work passed in
 /// (typically simd::ray_triangles on the leaf's N-wide blocks). Closest hit and any hit are the

@@ -2,6 +2,7 @@
 /// (spec/cli.md), plus --integrator NAME[,NAME…]: error against run time. Renders (or reads) a
 /// reference per integrator, then renders at 1, 2, 4, … spp up to --max-spp with every structure
 /// and integrator, timing each, and writes DIR/converge.csv and the plot DIR/converge.png.
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 #include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"

@@ -2,7 +2,8 @@
 /// build statistics of that structure.
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
-#include "accel/core/kernel_set.h"
+#include "accel/dispatch/kernel_set.h"
+#include "accel/factory/make_accel.h"
 #include "engine/log.h"
 #include "engine/mesh_loader.h"
 

@@ -2,6 +2,7 @@
 ///  [--seed S] [--view-seed V] [--order tiles|rows] [--accel NAME] [--threads N] [--json]`: writes the
 /// rays of engine/ray_gen.h to a .rays file (spec/rayfile.md), so any tracer can be fed the same
 /// rays. --view-seed moves the camera and the light (engine/ray_views.h: held-out rays).
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"

@@ -1,6 +1,7 @@
 /// `arbor render [SCENE] [-o OUT.exr] [--accel NAME] [--leaf-size N] [--sah-bins N] [--spp N] [--width W]
 /// [--height H] [--threads N]` plus --integrator, camera, light and layer options. Prints the plan in one line before
 /// rendering (--verbose: also what was skipped and why) and a summary line after.
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 #include "apps/arbor/cluster.h"
 #include "apps/arbor/commands.h"
@@ -8,7 +9,7 @@
 #include "apps/arbor/render_cost.h"
 #include "apps/arbor/render_options.h"
 #include "apps/arbor/scene_options.h"
-#include "accel/core/memory_estimate.h"
+#include "accel/factory/memory_estimate.h"
 #include "engine/image_output.h"
 #include "engine/memory_budget.h"
 #include "engine/render_job.h"

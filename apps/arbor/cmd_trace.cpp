@@ -1,7 +1,8 @@
 /// `arbor trace --scene MODEL.obj|builtin:NAME --rays RAYS.rays [--hits OUT.hits] [--accel NAME] [--occluded]
 ///  [--leaf-size N] [--sah-bins N] [--threads N] [--repeat K] [--path P] [--json]` (spec/cli.md).
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
-#include "accel/trace.h"
+#include "accel/interface/trace.h"
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "engine/builtin_scenes.h"
@@ -48,7 +49,7 @@ int run_trace(const TraceOptions& o) {
     const double build_ms = was_prebuilt ? structure->stats().build_ms : build_timer.ms();
 
     // The one path decision, for the whole file: what was asked, else auto's calibrated path, else
-    // what the structure has and the rays' coherence say (accel/select/path_policy.h).
+    // what the structure has and the rays' coherence say (accel/interface/path_policy.h).
     const accel::PathChoice choice = accel::choose_path(structure->offer(), rays, {query, asked, accel::RayHint::unknown, pick.path});
     const accel::TracePath path = choice.path;
     const std::string path_reason = accel::path_reason(choice);

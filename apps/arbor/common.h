@@ -1,6 +1,6 @@
 #pragma once
 /// Helpers shared by the subcommands: option validation, threads, scene loading, JSON output.
-#include "accel/accel.h"
+#include "accel/interface/accel.h"
 #include "accel/select/auto_select.h"
 #include "engine/error.h"
 #include "engine/scene.h"

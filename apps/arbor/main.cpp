@@ -6,8 +6,8 @@
 #include "apps/arbor/commands.h"
 #include "apps/arbor/common.h"
 #include "apps/arbor/rank_guardian.h"
-#include "accel/core/kernel_set.h"
-#include "accel/core/memory_estimate.h"
+#include "accel/dispatch/kernel_set.h"
+#include "accel/factory/memory_estimate.h"
 #include "engine/error.h"
 #include "mpi/launcher.h"
 #include "simd/simd.h"
@@ -23,7 +23,7 @@
 namespace {
 
 /// `arbor --version` (spec/cli.md): the version and the SIMD kernel set in use: the one compiled
-/// for the build's -march, or in a portable build the one chosen at run time (accel/core/kernel_set.h).
+/// for the build's -march, or in a portable build the one chosen at run time (accel/dispatch/kernel_set.h).
 std::string version_text() {
     const std::vector<std::string_view> sets = arbor::accel::kernel_sets_built();
     std::string text = std::string("arbor ") + ARBOR_VERSION + "\nSIMD kernels: " + std::string(arbor::accel::kernel_set());

@@ -1,5 +1,6 @@
 #include "apps/arbor/render_cost.h"
 
+#include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 #include "apps/arbor/common.h"
 #include "engine/render_job.h"

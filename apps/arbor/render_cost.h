@@ -1,7 +1,7 @@
 #pragma once
 /// `arbor render --integrator cost` (spec/cli.md): the nodes visited and triangles tested by every
 /// camera ray, for one structure or several side by side.
-#include "accel/build_config.h"
+#include "accel/interface/build_config.h"
 #include "apps/arbor/render_options.h"
 #include "apps/arbor/scene_options.h"
 

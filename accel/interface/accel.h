@@ -1,0 +1,87 @@
+#pragma once
+/// The Accel interface: one batch call, one virtual call per batch, static dispatch inside.
+///
+///   structure->trace(rays, hits, {Query::closest, TracePath::best});
+///
+/// trace() asks the path policy (interface/path_policy.h) when the request names no path the
+/// structure offers, then makes the one virtual call, run(), into the structure, which dispatches
+/// on the (query, path) statically down to its leaves' triangle tests. docs/architecture.md walks
+/// one ray through it.
+#include "accel/interface/build_config.h"
+#include "accel/core/all_hits.h"
+#include "accel/core/build_stats.h"
+#include "accel/core/closest_point.h"
+#include "accel/core/geometry.h"
+#include "accel/core/query.h"
+#include "accel/interface/path_policy.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace arbor::accel {
+
+enum class AccelKind { brute, bvh_median, bvh_sah, lbvh, kdtree, automatic };
+
+std::string_view to_string(AccelKind k);
+std::string_view to_string(TracePath p);
+std::string_view to_string(Query q);
+/// Parses "brute|bvh-median|bvh-sah|lbvh|kdtree|auto"; nullopt for anything else.
+std::optional<AccelKind> parse_accel_kind(std::string_view s);
+std::optional<TracePath> parse_trace_path(std::string_view s);
+/// The names accepted by parse_accel_kind, for error messages: "brute, bvh-median, ...".
+std::string accel_kind_names();
+
+class Accel {
+public:
+    virtual ~Accel() = default;
+
+    AccelKind kind() const { return kind_; }
+    const BuildStats& stats() const { return stats_; }
+    /// The paths this build offers, the queries each answers, and what the path policy reads.
+    const PathOffer& offer() const { return offer_; }
+
+    /// The one batch call: answers `req.query` for rays[i] into hits[i] (hits.size() ==
+    /// rays.size()) on req.path when the structure offers it for that query, else on the path the
+    /// policy chooses; with req.counters, the counted mode (needs offer().counts, else throws
+    /// std::logic_error). Untraceable rays (simd/ray.h) miss. Single-threaded: call from many
+    /// threads on disjoint spans (trace.h does).
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, const TraceRequest& req = {}) const {
+        TracePath path = req.path;
+        if (req.counters) check_counts();
+        else if (!offer_.runs(path, req.query)) path = choose_path(offer_, rays, req).path;
+        run(rays, hits, req.query, path, req.counters);
+    }
+
+    /// All hits: every triangle each ray crosses in its whole [tnear, tfar] (never shortened), each
+    /// triangle once, sorted by (t, prim), handed to sink.take(i, ...) ray by ray (all_hits.h).
+    /// With the watertight test, a ray crossing a closed mesh away from its edges and vertices gets
+    /// every crossing exactly once. Untraceable rays get an empty list. A call of its own, not a
+    /// Query of trace(): its answer is a list per ray, not one Hit. Single-threaded; call from many
+    /// threads on disjoint spans.
+    virtual void trace_all(std::span<const Ray> rays, HitSink& sink) const = 0;
+    /// Closest point: for each point, the nearest point of the scene within max_distance
+    /// (closest_point.h; every structure returns the record brute force returns). Non-finite points
+    /// and a negative max_distance get the miss record. Single-threaded, as above.
+    virtual void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const = 0;
+
+protected:
+    explicit Accel(AccelKind kind) : kind_(kind) {}
+
+    /// The structure's dispatch: `path` is offered and answers `query` (or, with `counters`, the
+    /// counted mode is asked and offered).
+    virtual void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
+                     TraceCounters* counters) const = 0;
+
+    AccelKind kind_;
+    BuildStats stats_;
+    PathOffer offer_;
+
+private:
+    void check_counts() const;
+};
+
+}  // namespace arbor::accel

@@ -1,0 +1,76 @@
+#pragma once
+/// BvhAccel: every binary BVH (bvh-median, bvh-sah, lbvh) behind the Accel interface. It converts
+/// the builder's BinaryBvh into Bvh2Layout (bvh2_layout.h) for the scalar reference path (the loop
+/// of bvh2_traverse.h and the watertight test of simd/ray_triangle.h, exactly as `brute` does). A build
+/// with the SIMD layouts is a WideBvhAccel<N> (wide_paths_impl.h): this class plus an N-wide
+/// layout collapsed from the same binary tree, and the paths `single` and `packet` over it.
+#include "accel/interface/accel.h"
+#include "accel/bvh/binary_bvh.h"
+#include "accel/bvh/bvh2_layout.h"
+#include "accel/bvh/build_prims.h"
+#include "accel/bvh/prim_refs.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace arbor::accel {
+
+/// The shape of a BVH's SIMD layout (all 0 when only the scalar layout was built).
+struct WideShape {
+    std::size_t width = 0;         ///< children per node (4, 8 or 16)
+    std::size_t nodes = 0, leaves = 0;
+    std::size_t memory_bytes = 0;  ///< nodes, triangle blocks, ids and child orders
+};
+
+class BvhAccel : public Accel {
+public:
+    /// A build with the scalar layout only: converts `bvh` (built over `tris`) to it. `build_ms`
+    /// is the time spent before (prim refs + builder); the conversion time is added.
+    BvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms);
+
+    /// One ray through the scalar loop (needs the scalar layout): the closest hit, or any hit.
+    Hit trace_one(const Ray& ray, Query query) const;
+    /// On the scalar layout (bvh2_queries.h); WideBvhAccel answers on its SIMD layout
+    /// (wide_queries.h).
+    void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
+    void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
+    const Bvh2Layout& layout() const { return layout_; }
+    const WideShape& wide_shape() const { return wide_; }
+
+protected:
+    explicit BvhAccel(AccelKind kind) : Accel(kind) {}
+    /// The constructor's work, for WideBvhAccel's constructor too: the scalar layout (when
+    /// cfg.layouts asks for it), `make_wide()` (the SIMD layout, when given) and the tree's
+    /// statistics are made side by side, all only reading the binary tree.
+    void init(const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms,
+              const std::function<WideShape()>& make_wide);
+
+    /// The scalar path and the counted mode (the scalar loop's counting instantiation).
+    void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
+             TraceCounters* counters) const override;
+    void run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query query, TraceCounters* counters) const;
+
+private:
+    /// The scalar loop over a batch; with Count, what it did is added to *counters.
+    template <bool AnyHit, bool Count = false>
+    void trace_batch(std::span<const Ray> rays, std::span<Hit> hits, TraceCounters* counters = nullptr) const;
+
+    Bvh2Layout layout_;
+    WideShape wide_;
+};
+
+/// A BVH builder: a pure function of the prim refs and the config.
+using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BvhBuildConfig&);
+/// The same builder on build prims it consumes (build_prims.h): what the factory calls.
+using BvhPrimBuilder = BinaryBvh (*)(BuildPrims&&, const BvhBuildConfig&);
+
+/// What a BVH build with `cfg` offers (the paths and queries; the path policy reads it), before
+/// building: the scalar path with the scalar layout, `single` and `packet` with the SIMD layouts.
+PathOffer bvh_offer(const BuildConfig& cfg);
+/// The work a BVH build with `cfg` leaves out, in words: the layouts no path of it reads, and the
+/// binary splits below `leaf_floor` triangles (factory/make_accel.h, bvh_leaf_floor).
+std::vector<std::string> bvh_skipped(const BuildConfig& cfg, std::uint32_t leaf_floor);
+
+}  // namespace arbor::accel
