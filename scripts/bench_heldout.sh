@@ -13,10 +13,10 @@
 # ray kind and structure the distribution over all cells of arbor / Embree's fastest call with the
 # errors against the scalar path, brute and Embree. Do not tune on these rays: tune on
 # scripts/bench_vs_embree.sh's files, report on these. The table goes to OUT.md (default
-# perf/results/heldout-DATE.md).
+# build/results/heldout-DATE.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=${1:-perf/results/heldout-$(date +%Y-%m-%d).md}
+out=${1:-build/results/heldout-$(date +%Y-%m-%d).md}
 [ $# -gt 0 ] && shift
 rays=${RAYS:-131072}
 dir=${ARBOR_RAYS_DIR:-build/rays-heldout}
