@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The benchmark report in one command (perf/README.md):
+# The benchmark report in one command (docs/benchmarks.md, "The benchmark matrix"):
 #   scripts/bench.sh           full matrix, about 15 minutes on the 2-core reference machine
 #   scripts/bench.sh --quick   small scenes, about 2 minutes
 # Builds the release preset, runs arbor_bench, draws the plots, writes the summary tables

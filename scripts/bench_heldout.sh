@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # arbor against Embree on HELD-OUT rays: rays the benchmark files were never tuned on
-# (perf/README.md, "Held-out rays"):
+# (docs/benchmarks.md, "Held-out rays against Embree"):
 #   [REPEATS=5] [MIN_MS=40] [RAYS=131072] [STRUCTURES=bvh-sah,lbvh] [SCENES="..."] [VIEWS="..."] \
 #       scripts/bench_heldout.sh [OUT.md] [bench_paths options...]
 # For every shared model and the builtin scenes `default` and `cornell`, three views fixed in

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# arbor against Embree on identical .rays files, in one run (perf/README.md, "arbor vs Embree"):
+# arbor against Embree on identical .rays files, in one run (docs/benchmarks.md, "Tuning rays against Embree"):
 #   [REPEATS=5] [MIN_MS=40] scripts/bench_vs_embree.sh [OUT.md] [bench_paths options...]
 # Builds the release preset, writes the ray files of the bunny, the beast and the rocker arm with
 # `arbor rays` (primary, shadow, diffuse, random; RAYS rays each, seed 1, tile order) into
