@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Process-level A/B of two `arbor` binaries on the benchmark ray files (perf/README: `arbor rays
+"""Process-level A/B of two `arbor` binaries on the benchmark ray files (docs/benchmarks.md: `arbor rays
 --kind primary|shadow|diffuse|random --count 131072`, seed 1, tile order, of the bunny, the beast
 and the rocker arm): every (file, structure, path) runs as a fresh `arbor trace` process of each
 binary, interleaved (A B / B A alternating, all configurations once per round), and the hits of

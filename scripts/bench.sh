@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# The benchmark report in one command (perf/README.md):
+# The benchmark report in one command (docs/benchmarks.md, "The benchmark matrix"):
 #   scripts/bench.sh           full matrix, about 15 minutes on the 2-core reference machine
 #   scripts/bench.sh --quick   small scenes, about 2 minutes
 # Builds the release preset, runs arbor_bench, draws the plots, writes the summary tables
-# (scripts/bench_summary.py) and describes the machine, all into perf/results/DATE/ (DATE-quick/
+# (scripts/bench_summary.py) and describes the machine, all into build/results/DATE/ (DATE-quick/
 # for --quick; ARBOR_BENCH_OUT=DIR overrides). Further arguments go to arbor_bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 suffix=""
 for a in "$@"; do [ "$a" = "--quick" ] && suffix="-quick"; done
-out=${ARBOR_BENCH_OUT:-perf/results/$(date +%Y-%m-%d)$suffix}
+out=${ARBOR_BENCH_OUT:-build/results/$(date +%Y-%m-%d)$suffix}
 mkdir -p "$out"
 
 cmake --preset release >/dev/null

@@ -10,7 +10,8 @@
 # on a ground plane (N=3: 0.63M, N=8: 4.4M triangles).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=${1:-perf/results/fresh-build-$(date +%Y-%m-%d).md}
+out=${1:-build/results/fresh-build-$(date +%Y-%m-%d).md}
+mkdir -p "$(dirname "$out")"
 rounds=${ROUNDS:-5}
 scenes=${SCENES:-"builtin:scaling:3 builtin:scaling:8"}
 cmake --preset release >/dev/null

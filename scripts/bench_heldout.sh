@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # arbor against Embree on HELD-OUT rays: rays the benchmark files were never tuned on
-# (perf/README.md, "Held-out rays"):
+# (docs/benchmarks.md, "Held-out rays against Embree"):
 #   [REPEATS=5] [MIN_MS=40] [RAYS=131072] [STRUCTURES=bvh-sah,lbvh] [SCENES="..."] [VIEWS="..."] \
 #       scripts/bench_heldout.sh [OUT.md] [bench_paths options...]
 # For every shared model and the builtin scenes `default` and `cornell`, three views fixed in
@@ -13,10 +13,10 @@
 # ray kind and structure the distribution over all cells of arbor / Embree's fastest call with the
 # errors against the scalar path, brute and Embree. Do not tune on these rays: tune on
 # scripts/bench_vs_embree.sh's files, report on these. The table goes to OUT.md (default
-# perf/results/heldout-DATE.md).
+# build/results/heldout-DATE.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=${1:-perf/results/heldout-$(date +%Y-%m-%d).md}
+out=${1:-build/results/heldout-$(date +%Y-%m-%d).md}
 [ $# -gt 0 ] && shift
 rays=${RAYS:-131072}
 dir=${ARBOR_RAYS_DIR:-build/rays-heldout}

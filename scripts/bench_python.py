@@ -12,8 +12,7 @@ pairs are timed:
     process also reports the CPU time of a call (both threads) and, alternated with those calls,
     K calls with out= (the last result array reused) when the module has it. Both start timing right after their own build,
     the same state: a process timed after a pause (a long-lived one that slept while
-    `arbor trace` ran) is ~1.5x slower on its first calls on a loaded machine
-    (perf/results/python-2026-12-02c.md);
+    `arbor trace` ran) is ~1.5x slower on its first calls on a loaded machine;
   * with --baseline DIR, the same Python run through another build of the module (DIR holds its
     `arbor` package; DIR/lib, when present, its libarbor.so): the A/B of two builds in one run,
     the order of the processes rotated round by round;
@@ -22,7 +21,7 @@ pairs are timed:
     wall clock.
 The hits of all are compared record by record (t, prim, u, v, bit for bit). Writes a Markdown report.
 
-  PYTHONPATH=build/release/python python3 scripts/bench_python.py --out perf/results/python-DATE.md
+  PYTHONPATH=build/release/python python3 scripts/bench_python.py --out build/results/python.md
 """
 import argparse
 import json
@@ -178,6 +177,7 @@ def main():
         table += "\n\n" + queries_table(a)
     print(table)
     if a.out:
+        pathlib.Path(a.out).parent.mkdir(parents=True, exist_ok=True)
         cmd = " ".join([os.path.relpath(sys.argv[0], root)] + sys.argv[1:])
         pathlib.Path(a.out).write_text(
             f"# Scene.intersect (Python) against `arbor trace`\n\nModel `{pathlib.Path(a.model).name}`, "

@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# arbor against Embree on identical .rays files, in one run (perf/README.md, "arbor vs Embree"):
+# arbor against Embree on identical .rays files, in one run (docs/benchmarks.md, "Tuning rays against Embree"):
 #   [REPEATS=5] [MIN_MS=40] scripts/bench_vs_embree.sh [OUT.md] [bench_paths options...]
 # Builds the release preset, writes the ray files of the bunny, the beast and the rocker arm with
 # `arbor rays` (primary, shadow, diffuse, random; RAYS rays each, seed 1, tile order) into
 # $ARBOR_RAYS_DIR (default build/rays), then runs bench_paths: every BVH structure and the kd-tree,
 # every traversal path, Embree's rtcIntersect1/8/16/1M, 2 threads, median of 5, round-robin; each
 # timed sample repeats the file's pass for at least MIN_MS ms (a pass of primary rays lasts ~3 ms).
-# The table goes to OUT.md (default perf/results/vs-embree-DATE.md).
+# The table goes to OUT.md (default build/results/vs-embree-DATE.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=${1:-perf/results/vs-embree-$(date +%Y-%m-%d).md}
+out=${1:-build/results/vs-embree-$(date +%Y-%m-%d).md}
 [ $# -gt 0 ] && shift
 rays=${RAYS:-131072}
 dir=${ARBOR_RAYS_DIR:-build/rays}

@@ -110,7 +110,7 @@ void Server::start() {
                             "enable_keep_alive", "no",
                             // A frame leaves in two writes (header, then payload): with Nagle's algorithm
                             // the payload's last partial segment waited for the page's delayed ACK, about
-                            // 40 ms a frame (perf/results/view-2026-12-02.md).
+                            // 40 ms a frame.
                             "tcp_nodelay", "1",
                             "access_control_allow_origin", "",
                             "access_control_allow_methods", "",

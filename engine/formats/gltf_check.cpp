@@ -104,7 +104,7 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
     const std::string version = j["asset"]["version"];
     if (version.rfind("2.", 0) != 0) throw InputError(name, 0, "glTF version " + version + " (only glTF 2.0 is read)");
     // glTF 2.0 allows two image types; Debian's Assimp 5 crashed (SEGV in its glTF2 importer) on
-    // an embedded image with another mimeType (found by CI's mesh fuzzer, 2026-12-03).
+    // an embedded image with another mimeType (found by CI's mesh fuzzer).
     if (j.contains("images") && j["images"].is_array())
         for (const auto& image : j["images"])
             if (image.is_object() && image.contains("mimeType") &&

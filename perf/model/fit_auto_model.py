@@ -17,7 +17,7 @@ prints how the model alone would pick on those rows: in-sample and leave-one-sce
 scene predicted by a model fitted without it: how auto does on a scene it never saw).
 
 Builds are timed by the wall clock (two threads share the work), so a run on a loaded machine
-overrates them against the traces' CPU time (the 2026-12-02 model put bunny's bvh-sah build at
+overrates them against the traces' CPU time (a model fitted at load 14 put the bunny's bvh-sah build at
 108 ms, 29 ms on the quiet machine, and picked cheap builds at 1M rays). --builds takes the build
 times from other runs instead (a quiet machine's; builds see no rays, so any ray seed will do): per
 (scene, threads, structure) the median over those runs of each run's fastest build. --scaled adds
