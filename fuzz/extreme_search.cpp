@@ -4,7 +4,7 @@
 // with --meshes, tiny meshes with coordinates anywhere in float range. Every structure and path
 // against brute (the fuzz harnesses' contract, spec/rayfile.md rule), counted per structure and
 // path; the first disagreements are printed as rays (hex floats) to replay. Exit 1 when any is
-// found. README, section Robustness checks in CI, lists what it has found.
+// found. docs/robustness.md, "Beyond CI: the directed search", lists what it has found.
 #include "accel/factory/make_accel.h"
 #include "accel/structures/brute_accel.h"
 #include "fuzz/fuzz_targets.h"

@@ -319,7 +319,7 @@ grep -qE '^arbor [0-9]+\.[0-9]+\.[0-9]+$' "$WORK/out" || fail "--version: no 'ar
 grep -qE 'SIMD kernels: (avx512|avx2|avx|sse|fma)' "$WORK/out" || fail "--version names no SIMD kernel set: $(cat "$WORK/out")"
 expect_status 2 "unknown subcommand 'frobnicate'" "$ARBOR" frobnicate
 grep -q "render" "$WORK/err" && grep -q "trace" "$WORK/err" || fail "unknown subcommand: no list of subcommands: $(cat "$WORK/err")"
-# ARBOR_ISA (README, One build for any x86-64): the set named is the one in use; an unknown name
+# ARBOR_ISA (docs/building.md, "One build for any x86-64"): the set named is the one in use; an unknown name
 # stops every command with one line and exit 2.
 set_in_use=$("$ARBOR" --version | sed -n 's/^SIMD kernels: \([a-z0-9]*\).*/\1/p')
 [ -n "$set_in_use" ] || fail "--version: no kernel set name"

@@ -6,7 +6,7 @@
 // lower (or closer-rounded) coplanar triangle: 400 of 200,000 such rays disagreed with brute
 // (343 ties answered with the higher prim, 57 a later t), 185 of the 100,000 below.
 //
-// What is left is the known band of the directed search (README, "Directed search", class 1):
+// What is left is the known band of the directed search (docs/robustness.md, "Beyond CI: the directed search", the first open class):
 // the two coplanar triangles' watertight t differ by their rounding (about eps * L / |d|, L their
 // distance from the origin), and a box whose exact entry lies between them may be culled. Measured
 // 1 of 200,000 rays here; the bound below leaves room for that band, not for the bug.

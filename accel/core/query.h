@@ -29,7 +29,7 @@ inline constexpr unsigned query_count = 2;
 enum class RayHint : std::uint8_t { unknown, coherent, incoherent };
 
 /// What a traversal did, summed over the rays of a batch: the counted mode (perf/README.md,
-/// "Counting hook"; a per-pixel cost image traces one ray per batch). A structure counts with its
+/// "For structure owners"; a per-pixel cost image traces one ray per batch). A structure counts with its
 /// scalar reference loop; the counting loop is its own instantiation (a `bool Count` template
 /// parameter), so the other paths carry no counter code.
 struct TraceCounters {

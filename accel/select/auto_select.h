@@ -4,7 +4,7 @@
 /// which holds only what is known before building (the triangles, the ray groups' counts, queries,
 /// coherence and paths, the build settings, the thread count of the calling arena).
 ///
-/// How it decides (perf/README.md, section --accel auto):
+/// How it decides (docs/auto.md, "How it decides"):
 ///  1. The cost model (auto_model.h) predicts, for every structure and path, build + trace time of
 ///     the whole job from the scene's and the rays' shape (job_shape.h): microseconds of work.
 ///  2. Configurations predicted within the model's margin of the best are its contenders. When there
