@@ -4,7 +4,6 @@
 /// exit status; `bench` registers its options on a CLI11 app and returns the function that runs it,
 /// inside the error boundary `arbor` uses (apps/arbor/program.h).
 #include <CLI/CLI.hpp>
-
 #include <functional>
 
 namespace arbor::perf {

@@ -3,14 +3,14 @@
 /// (apps/arbor/bench_forward.h); it runs under mpirun as `arbor` does, with the same rank guardian,
 /// MPI job and error boundary (the library arbor_program). Run as `arbor bench` (argv[0] "arbor"),
 /// its messages and reports name `arbor bench`, as they did before the tool was split out.
-#include "apps/arbor/program.h"
-#include "apps/arbor/rank_guardian.h"
-#include "perf/commands.h"
-
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include "apps/arbor/program.h"
+#include "apps/arbor/rank_guardian.h"
+#include "perf/commands.h"
 
 namespace {
 
@@ -33,9 +33,12 @@ int kernels_not_built(int, char**) {
 const std::vector<SubCommand>& sub_commands() {
     using namespace arbor::perf;
     static const std::vector<SubCommand> subs = {
-        {"bench", "the benchmark matrix: every structure, scene, ray kind and path, validated then timed, beside "
-                  "Embree (= arbor bench; also under mpirun)", bench_main},
-        {"paths", "arbor's traversal paths and BVH widths against Embree's calls on the same .rays files", paths_command},
+        {"bench",
+         "the benchmark matrix: every structure, scene, ray kind and path, validated then timed, beside "
+         "Embree (= arbor bench; also under mpirun)",
+         bench_main},
+        {"paths", "arbor's traversal paths and BVH widths against Embree's calls on the same .rays files",
+         paths_command},
         {"bvh", "build time, SAH cost and scalar trace speed of the BVH builders, beside Embree's build", bvh_command},
         {"lbvh", "the LBVH build variants and their step times against bvh-sah, bvh-median and Embree", lbvh_command},
         {"kdtree", "build time, SAH cost, memory and scalar trace speed of the kd-tree, beside Embree's build",
@@ -58,11 +61,13 @@ const std::vector<SubCommand>& sub_commands() {
 /// `bench`: the matrix inside the error boundary `arbor` uses, as a rank under mpirun.
 int bench_main(int argc, char** argv) {
     arbor::app::guard_rank();  // under a launcher: the rank goes on in a child, before any thread exists
-    CLI::App app{"the benchmark matrix: every structure on every scene and ray kind, validated then timed, beside "
-                 "Embree"};
+    CLI::App app{
+        "the benchmark matrix: every structure on every scene and ray kind, validated then timed, beside "
+        "Embree"};
     app.name(arbor::app::program_name() + " bench");
     const auto run = arbor::perf::add_bench_command(app);
-    for (int i = 0; i < argc; ++i) arbor::app::command_line() += (i ? " " : "") + std::string(i ? argv[i] : app.get_name());
+    for (int i = 0; i < argc; ++i)
+        arbor::app::command_line() += (i ? " " : "") + std::string(i ? argv[i] : app.get_name());
     return arbor::app::run_guarded(app, [&] {
         app.parse(argc, argv);
         return run();
@@ -70,8 +75,9 @@ int bench_main(int argc, char** argv) {
 }
 
 void usage(std::FILE* out) {
-    std::fprintf(out, "arbor-bench: the benchmarks of arbor (perf/README.md)\nUsage: arbor-bench SUB-COMMAND [ARGS]\n"
-                      "       arbor-bench SUB-COMMAND --help\n\nSub-commands:\n");
+    std::fprintf(out,
+                 "arbor-bench: the benchmarks of arbor (perf/README.md)\nUsage: arbor-bench SUB-COMMAND [ARGS]\n"
+                 "       arbor-bench SUB-COMMAND --help\n\nSub-commands:\n");
     for (const SubCommand& s : sub_commands()) std::fprintf(out, "  %-11s %s\n", s.name, s.help);
 }
 

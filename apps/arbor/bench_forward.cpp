@@ -1,7 +1,5 @@
 #include "apps/arbor/bench_forward.h"
 
-#include "mpi/launcher.h"
-
 #include <unistd.h>
 
 #include <cerrno>
@@ -10,6 +8,8 @@
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "mpi/launcher.h"
 
 namespace arbor::app {
 

@@ -1,11 +1,11 @@
 #include "apps/arbor/program.h"
 
+#include <cstdio>
+#include <new>
+
 #include "accel/core/memory_estimate.h"
 #include "apps/arbor/cluster.h"
 #include "mpi/launcher.h"
-
-#include <cstdio>
-#include <new>
 
 namespace arbor::app {
 

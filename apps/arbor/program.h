@@ -5,12 +5,11 @@
 /// prints one line on stderr and exits 1 or 2 (spec/cli.md, "Errors"); nothing is caught anywhere
 /// else. Under mpirun the line comes from rank 0 only, naming the rank that failed, and the whole
 /// job stops (apps/arbor/cluster.h).
-#include "engine/error.h"
-
 #include <CLI/CLI.hpp>
-
 #include <functional>
 #include <string>
+
+#include "engine/error.h"
 
 namespace arbor::app {
 
