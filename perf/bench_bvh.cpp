@@ -1,11 +1,12 @@
-// bench_bvh: build time, SAH cost and scalar trace speed of the BVH builders on one model and on
+// `arbor-bench bvh`: build time, SAH cost and scalar trace speed of the BVH builders on one model and on
 // that model replicated on a grid (millions of triangles). A benchmark, not a test: it validates
 // every structure against brute on a subset of the rays first, then times. Usage:
-//   bench_bvh [--model OBJ] [--copies N] [--repeat K] [--threads T] [--rays N] [--sweep-max N] [--build-only 1]
+//   arbor-bench bvh [--model OBJ] [--copies N] [--repeat K] [--threads T] [--rays N] [--sweep-max N] [--build-only 1]
 //             [--only bvh-sah,lbvh]
 // Times are medians of K runs; the builders (and Embree's default build, rtcCommitScene at
 // RTC_BUILD_QUALITY_MEDIUM, when the peer is built) are run interleaved (A B C A B C ...) so that
 // machine noise hits them alike; ratios to Embree are medians of the per-round ratios.
+#include "perf/commands.h"
 #include "accel/factory/make_accel.h"
 #include "accel/interface/accel.h"
 #include "accel/structures/brute_accel.h"
@@ -225,7 +226,7 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const Options&
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int bvh_main(int argc, char** argv) {
     Options o;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string k = argv[i], v = argv[i + 1];
@@ -238,7 +239,7 @@ int main(int argc, char** argv) {
         else if (k == "--only") o.only = v;
         else if (k == "--sweep-max") o.sweep_max = std::size_t(std::atoll(v.c_str()));
         else {
-            std::fprintf(stderr, "bench_bvh: unknown option %s\n", k.c_str());
+            std::fprintf(stderr, "arbor-bench bvh: unknown option %s\n", k.c_str());
             return 2;
         }
     }
@@ -248,10 +249,12 @@ int main(int argc, char** argv) {
     try {
         model = engine::load_obj(o.model, w);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "bench_bvh: %s\n", e.what());
+        std::fprintf(stderr, "arbor-bench bvh: %s\n", e.what());
         return 1;
     }
     run_scene(o.model.substr(o.model.find_last_of('/') + 1), model, o);
     if (o.copies > 1) run_scene("replicated x" + std::to_string(o.copies), replicate(model, o.copies), o);
     return 0;
 }
+
+int arbor::perf::bvh_command(int argc, char** argv) { return bvh_main(argc, argv); }

@@ -1,4 +1,4 @@
-// bench_load: loading speed per format, in seconds per million triangles. The largest shared model
+// `arbor-bench load`: loading speed per format, in seconds per million triangles. The largest shared model
 // (the Stanford bunny, 69,451 triangles) is replicated side by side to about --triangles triangles
 // and written as OBJ, binary little-endian PLY and GLB (perf/mesh_files.h); each file is then
 // loaded by engine::load_mesh, and the OBJ also by Assimp's own OBJ reader (Assimp::Importer, no
@@ -10,7 +10,8 @@
 // between its triangles' corner positions and the replicated mesh's, triangle by triangle (outside
 // the timed region; the fresh processes report only their triangle count, parsed from `arbor info`).
 //
-//   bench_load [--model PATH] [--triangles N] [--repeat K] [--dir DIR] [--arbor PATH] [--keep]
+//   arbor-bench load [--model PATH] [--triangles N] [--repeat K] [--dir DIR] [--arbor PATH] [--keep]
+#include "perf/commands.h"
 #include "accel/util/timer.h"
 #include "engine/log.h"
 #include "engine/mesh_loader.h"
@@ -98,8 +99,8 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    CLI::App app{"bench_load: seconds per million triangles for each mesh format"};
+static int load_main(int argc, char** argv) {
+    CLI::App app{"arbor-bench load: seconds per million triangles for each mesh format"};
     std::string model = std::string(ARBOR_SHARED_SCENES) + "/models/stanford-bunny.obj";
     std::size_t target = 5000000;
     int repeat = 5;
@@ -187,3 +188,5 @@ int main(int argc, char** argv) {
     if (!keep) std::filesystem::remove_all(dir);
     return 0;
 }
+
+int arbor::perf::load_command(int argc, char** argv) { return load_main(argc, argv); }

@@ -1,10 +1,10 @@
-// bench_paths: arbor's traversal paths (scalar, single, packet, best) at each BVH width against
+// `arbor-bench paths`: arbor's traversal paths (scalar, single, packet, best) at each BVH width against
 // Embree's calls (rtcIntersect1/8/16/1M) on the very same .rays files, in one run. A benchmark,
 // not a test: every configuration is first checked against the structure's scalar path on all
 // rays (and Embree against it too), then all configurations are timed round-robin (the order
 // rotated each repeat) so that machine noise hits them alike; medians of --repeats.
 //
-//   bench_paths --rays DIR [--models DIR] [--scenes a,b] [--kinds primary,shadow,diffuse,random]
+//   arbor-bench paths --rays DIR [--models DIR] [--scenes a,b] [--kinds primary,shadow,diffuse,random]
 //               [--structures bvh-sah,...] [--widths 4,8,16] [--paths scalar,single,packet,best]
 //               [--threads 2] [--repeats 5] [--merges 0,8,...] [--floors 0,1] [--shared-leaves 0,32] [--kd-walks ropes,cells,tight]
 //               [--kd-kts 12,4] [--cpu-time] [--min-ms 0] [-o OUT.md]
@@ -14,7 +14,8 @@
 //
 // DIR/<scene>-<kind>.rays are written by `arbor rays --scene MODEL.obj --kind KIND` (see
 // scripts/bench_vs_embree.sh). Shadow rays are any-hit queries, the others closest hit; Embree
-// gets the coherent flag for primary and shadow rays, as in arbor_bench.
+// gets the coherent flag for primary and shadow rays, as in `arbor-bench bench`.
+#include "perf/commands.h"
 #include "accel/factory/make_accel.h"
 #include "accel/interface/accel.h"
 #include "accel/structures/brute_accel.h"
@@ -126,6 +127,182 @@ struct LayoutRow {
 };
 
 
+#ifdef ARBOR_HAVE_EMBREE
+using Peer = perf::EmbreePeer;
+#else
+struct Peer {};  ///< no Embree peer in this build
+#endif
+
+/// The structures of one scene: per --structures name, a scalar-only build (the reference of its
+/// structure, read for the scalar path only), then a SIMD-only build per combination of the
+/// build options.
+struct Structures {
+    std::vector<std::unique_ptr<accel::Accel>> built;
+    std::vector<std::string> names;
+    std::vector<bool> reference;  ///< the scalar-only build of its structure
+};
+
+/// One SIMD-only build's settings.
+struct SimdVariant {
+    int width, sw, swx;
+    std::uint32_t merge, floor, shared;
+    std::string walk;
+    float kt;
+};
+
+accel::BuildConfig simd_config(const Options& o, const SimdVariant& v) {
+    accel::BuildConfig cfg;
+    if (v.walk == "ropes") cfg.kd_blocks.walk = accel::KdWalk::ropes;
+    else if (v.walk == "cells") cfg.kd_blocks.walk = accel::KdWalk::cells;
+    else if (v.walk == "tight") cfg.kd_blocks.walk = accel::KdWalk::tight_cells;
+    else if (v.walk != "default") throw engine::InputError("--kd-walks: ropes, cells, tight or default, not '" + v.walk + "'");
+    if (v.kt > 0.0f) cfg.kd.traversal_cost = v.kt;
+    cfg.layouts = accel::Layouts::simd;
+    cfg.bvh.simd_leaf_floor = v.floor;
+    cfg.wide.width = std::uint32_t(v.width);
+    cfg.wide.merge_triangles = v.merge;
+    cfg.wide.shared_leaf_triangles = v.shared;
+    cfg.packets.switch_lanes = v.sw;
+    cfg.packets.switch_mixed = v.swx;
+    cfg.packets.lanes = o.packet_lanes;
+    return cfg;
+}
+
+/// The configuration's name in the report: the structure, then what differs from the defaults.
+std::string variant_name(const Options& o, const std::string& s, bool kd, const SimdVariant& v) {
+    std::string name = s;
+    if (v.width || v.merge || v.sw >= 0 || v.swx >= 0) name += "/w" + std::to_string(v.width);
+    if (v.merge) name += "m" + std::to_string(v.merge);
+    if (v.sw >= 0) name += "s" + std::to_string(v.sw);
+    if (v.swx >= 0) name += "x" + std::to_string(v.swx);
+    if (o.floors.size() > 1 || v.floor != 0) name += (name == s ? "/f" : "f") + std::to_string(v.floor);
+    if (o.shared.size() > 1 || v.shared != 32) name += (name == s ? "/L" : "L") + std::to_string(v.shared);
+    if (kd && v.walk != "default") name += (name == s ? "/" : "-") + v.walk;
+    if (kd && v.kt > 0.0f) name += "kt" + fmt_kt(v.kt);
+    return name;
+}
+
+Structures build_structures(const Options& o, const std::string& scene, const accel::TriangleView& tris,
+                            std::vector<LayoutRow>& layouts) {
+    Structures st;
+    for (const std::string& s : o.structures) {
+        const auto kind = accel::parse_accel_kind(s);
+        if (!kind || *kind == accel::AccelKind::automatic) throw engine::InputError("--structures: unknown structure '" + s + "'");
+        accel::BuildConfig scalar_cfg;  // the reference: first of its structure, read for the scalar path only
+        scalar_cfg.layouts = accel::Layouts::scalar;
+        st.built.push_back(accel::make_accel(*kind, tris, scalar_cfg));
+        st.names.push_back(s);
+        st.reference.push_back(true);
+        const bool kd = *kind == accel::AccelKind::kdtree;
+        for (const int width : o.widths)
+            for (const std::uint32_t merge : o.merges)
+                for (const int sw : o.switches)
+                for (const int swx : o.switches_mixed)
+                for (const std::uint32_t floor : o.floors)
+                for (const std::uint32_t shared : o.shared)
+                for (const std::string& walk : o.kd_walks)
+                for (const float kt : o.kd_kts) {
+                    if (!kd && (walk != o.kd_walks.front() || kt != o.kd_kts.front())) continue;
+                    const SimdVariant v{width, sw, swx, merge, floor, shared, walk, kt};
+                    st.built.push_back(accel::make_accel(*kind, tris, simd_config(o, v)));
+                    if (const auto* bvh = dynamic_cast<const accel::BvhAccel*>(st.built.back().get())) {
+                        const double ntris = double(std::max<std::size_t>(tris.triangle_count(), 1));
+                        layouts.push_back({scene, s, tris.triangle_count(), bvh->wide_shape().width, bvh->wide_shape().nodes,
+                                           bvh->wide_shape().leaves, double(bvh->wide_shape().memory_bytes) / ntris,
+                                           bvh->stats().bytes_per_triangle(), bvh->stats().build_ms});
+                    }
+                    st.names.push_back(variant_name(o, s, kd, v));
+                    st.reference.push_back(false);
+                }
+    }
+    return st;
+}
+
+/// The timed configurations of one ray file: each build with each path it offers, then Embree's calls.
+std::vector<Config> trace_configs(const Options& o, const Structures& st, [[maybe_unused]] const Peer* peer,
+                                  accel::Query q, [[maybe_unused]] bool coherent) {
+    std::vector<Config> configs;
+    for (std::size_t b = 0; b < st.built.size(); ++b)
+        for (const std::string& p : o.paths) {
+            const auto path = *accel::parse_trace_path(p);
+            // The scalar path (once per structure: it does not depend on the width) on the
+            // scalar-only build, every other path on the SIMD-only ones.
+            if ((path == accel::TracePath::scalar) != st.reference[b]) continue;
+            if (path != accel::TracePath::scalar && path != accel::TracePath::best && !st.built[b]->offer().has(path)) continue;
+            const accel::Accel* a = st.built[b].get();
+            configs.push_back({st.names[b], p, [a, q, path](auto r, auto h) { accel::trace_parallel(*a, r, h, q, path); }, false, {}, -1});
+        }
+#ifdef ARBOR_HAVE_EMBREE
+    if (peer)
+        for (const auto call : {perf::EmbreeCall::single, perf::EmbreeCall::packet8, perf::EmbreeCall::packet16,
+                                perf::EmbreeCall::stream}) {
+            configs.push_back({"embree", std::string(perf::to_string(call)),
+                               [peer, q, call, coherent](auto r, auto h) { peer->trace_parallel(r, h, q, call, coherent); }, true, {}, -1});
+        }
+#endif
+    return configs;
+}
+
+/// Validates every configuration: against the scalar path of its structure (Embree against the
+/// first structure's), against Embree's rtcIntersect1 (arbor's), and against brute force on an
+/// evenly spread sample (it costs rays x triangles). Fills err, err_embree and err_brute.
+void validate(const Options& o, const Structures& st, [[maybe_unused]] const Peer* peer, const accel::TriangleView& tris,
+              std::span<const accel::Ray> rays, accel::Query q, std::vector<Config>& configs) {
+    const bool any = q == accel::Query::any;
+    std::map<std::string, std::vector<accel::Hit>> scalar;
+    std::vector<accel::Hit> hits(rays.size());
+    for (std::size_t b = 0; b < st.built.size(); ++b) {
+        auto& ref = scalar[st.names[b].substr(0, st.names[b].find('/'))];
+        if (!ref.empty()) continue;
+        ref.resize(rays.size());
+        accel::trace_parallel(*st.built[b], rays, ref, q, accel::TracePath::scalar);
+    }
+    std::vector<accel::Hit> embree_ref;
+#ifdef ARBOR_HAVE_EMBREE
+    if (peer) {
+        embree_ref.resize(rays.size());
+        peer->trace_parallel(rays, embree_ref, q, perf::EmbreeCall::single, false);
+    }
+#endif
+    const accel::BruteAccel brute(tris);
+    const std::size_t sample = std::min<std::size_t>(rays.size(), o.brute_sample);
+    std::vector<accel::Ray> sample_rays(sample);
+    std::vector<accel::Hit> truth(sample);
+    for (std::size_t k = 0; k < sample; ++k) sample_rays[k] = rays[k * rays.size() / sample];
+    accel::trace_parallel(brute, sample_rays, truth, q, accel::TracePath::scalar, 16);
+    for (Config& c : configs) {
+        c.trace(rays, hits);
+        c.err_brute = 0;
+        for (std::size_t k = 0; k < sample; ++k) c.err_brute += !agree(hits[k * rays.size() / sample], truth[k], any);
+        const auto& ref = c.embree ? scalar.at(st.names[0].substr(0, st.names[0].find('/')))
+                                   : scalar.at(c.structure.substr(0, c.structure.find('/')));
+        c.err = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) c.err += !agree(hits[i], ref[i], any);
+        if (!c.embree && !embree_ref.empty()) {
+            c.err_embree = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) c.err_embree += !agree(hits[i], embree_ref[i], any);
+        }
+    }
+}
+
+/// Times the configurations round-robin, the order rotated each repeat; each sample repeats the
+/// pass until o.min_ms have passed and keeps the time per pass.
+void time_configs(const Options& o, std::span<const accel::Ray> rays, std::vector<Config>& configs) {
+    std::vector<accel::Hit> hits(rays.size());
+    for (int rep = 0; rep < o.repeats; ++rep)
+        for (std::size_t j = 0; j < configs.size(); ++j) {
+            Config& c = configs[(j + std::size_t(rep)) % configs.size()];
+            const accel::Timer t;
+            const double c0 = cpu_ms();
+            int passes = 0;
+            do {
+                c.trace(rays, hits);
+                ++passes;
+            } while (t.ms() < o.min_ms);
+            c.ms.push_back((o.cpu_time ? (cpu_ms() - c0) / double(o.threads) : t.ms()) / passes);
+        }
+}
+
 void run_scene(const Options& o, const std::string& scene, std::vector<perf::PathsRow>& rows, std::vector<LayoutRow>& layouts) {
     engine::Warnings w;
     // builtin:NAME scenes are made here (their files are named with '-' for ':').
@@ -136,63 +313,9 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
     const accel::TriangleView tris = mesh.view();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(o.threads));
 
-    std::vector<std::unique_ptr<accel::Accel>> built;
-    std::vector<std::string> names;
-    std::vector<bool> reference;  ///< the scalar-only build of its structure
-    for (const std::string& s : o.structures) {
-        const auto kind = accel::parse_accel_kind(s);
-        if (!kind || *kind == accel::AccelKind::automatic) throw engine::InputError("--structures: unknown structure '" + s + "'");
-        accel::BuildConfig scalar_cfg;  // the reference: first of its structure, read for the scalar path only
-        scalar_cfg.layouts = accel::Layouts::scalar;
-        built.push_back(accel::make_accel(*kind, tris, scalar_cfg));
-        names.push_back(s);
-        reference.push_back(true);
-        for (const int width : o.widths)
-            for (const std::uint32_t merge : o.merges)
-                for (const int sw : o.switches)
-                for (const int swx : o.switches_mixed)
-                for (const std::uint32_t floor : o.floors)
-                for (const std::uint32_t shared : o.shared)
-                for (const std::string& walk : o.kd_walks)
-                for (const float kt : o.kd_kts) {
-                    const bool kd = *kind == accel::AccelKind::kdtree;
-                    if (!kd && (walk != o.kd_walks.front() || kt != o.kd_kts.front())) continue;
-                    accel::BuildConfig cfg;
-                    if (walk == "ropes") cfg.kd_blocks.walk = accel::KdWalk::ropes;
-                    else if (walk == "cells") cfg.kd_blocks.walk = accel::KdWalk::cells;
-                    else if (walk == "tight") cfg.kd_blocks.walk = accel::KdWalk::tight_cells;
-                    else if (walk != "default") throw engine::InputError("--kd-walks: ropes, cells, tight or default, not '" + walk + "'");
-                    if (kt > 0.0f) cfg.kd.traversal_cost = kt;
-                    cfg.layouts = accel::Layouts::simd;
-                    cfg.bvh.simd_leaf_floor = floor;
-                    cfg.wide.width = std::uint32_t(width);
-                    cfg.wide.merge_triangles = merge;
-                    cfg.wide.shared_leaf_triangles = shared;
-                    cfg.packets.switch_lanes = sw;
-                    cfg.packets.switch_mixed = swx;
-                    cfg.packets.lanes = o.packet_lanes;
-                    built.push_back(accel::make_accel(*kind, tris, cfg));
-                    if (const auto* bvh = dynamic_cast<const accel::BvhAccel*>(built.back().get())) {
-                        const double ntris = double(std::max<std::size_t>(tris.triangle_count(), 1));
-                        layouts.push_back({scene, s, tris.triangle_count(), bvh->wide_shape().width, bvh->wide_shape().nodes,
-                                           bvh->wide_shape().leaves, double(bvh->wide_shape().memory_bytes) / ntris,
-                                           bvh->stats().bytes_per_triangle(), bvh->stats().build_ms});
-                    }
-                    std::string name = s;
-                    if (width || merge || sw >= 0 || swx >= 0) name += "/w" + std::to_string(width);
-                    if (merge) name += "m" + std::to_string(merge);
-                    if (sw >= 0) name += "s" + std::to_string(sw);
-                    if (swx >= 0) name += "x" + std::to_string(swx);
-                    if (o.floors.size() > 1 || floor != 0) name += (name == s ? "/f" : "f") + std::to_string(floor);
-                    if (o.shared.size() > 1 || shared != 32) name += (name == s ? "/L" : "L") + std::to_string(shared);
-                    if (kd && walk != "default") name += (name == s ? "/" : "-") + walk;
-                    if (kd && kt > 0.0f) name += "kt" + fmt_kt(kt);
-                    names.push_back(name);
-                    reference.push_back(false);
-                }
-    }
+    const Structures st = build_structures(o, scene, tris, layouts);
+    std::unique_ptr<Peer> peer;
 #ifdef ARBOR_HAVE_EMBREE
-    std::unique_ptr<perf::EmbreePeer> peer;
     if (o.embree) peer = std::make_unique<perf::EmbreePeer>(tris);
 #endif
 
@@ -204,75 +327,9 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
         const std::vector<accel::Ray> rays = engine::read_rays(file);
         const bool any = kind == "shadow", coherent = kind == "primary" || kind == "shadow";
         const accel::Query q = any ? accel::Query::any : accel::Query::closest;
-        std::vector<Config> configs;
-        for (std::size_t b = 0; b < built.size(); ++b)
-            for (const std::string& p : o.paths) {
-                const auto path = *accel::parse_trace_path(p);
-                // The scalar path (once per structure: it does not depend on the width) on the
-                // scalar-only build, every other path on the SIMD-only ones.
-                if ((path == accel::TracePath::scalar) != reference[b]) continue;
-                if (path != accel::TracePath::scalar && path != accel::TracePath::best && !built[b]->offer().has(path)) continue;
-                const accel::Accel* a = built[b].get();
-                configs.push_back({names[b], p, [a, q, path](auto r, auto h) { accel::trace_parallel(*a, r, h, q, path); }, false, {}, -1});
-            }
-#ifdef ARBOR_HAVE_EMBREE
-        if (peer)
-            for (const auto call : {perf::EmbreeCall::single, perf::EmbreeCall::packet8, perf::EmbreeCall::packet16,
-                                    perf::EmbreeCall::stream}) {
-                const perf::EmbreePeer* e = peer.get();
-                configs.push_back({"embree", std::string(perf::to_string(call)),
-                                   [e, q, call, coherent](auto r, auto h) { e->trace_parallel(r, h, q, call, coherent); }, true, {}, -1});
-            }
-#endif
-        // Validate: every configuration against the scalar path of its structure (Embree against
-        // the first structure's).
-        std::map<std::string, std::vector<accel::Hit>> scalar;
-        std::vector<accel::Hit> hits(rays.size());
-        for (std::size_t b = 0; b < built.size(); ++b) {
-            auto& ref = scalar[names[b].substr(0, names[b].find('/'))];
-            if (!ref.empty()) continue;
-            ref.resize(rays.size());
-            accel::trace_parallel(*built[b], rays, ref, q, accel::TracePath::scalar);
-        }
-        // Embree's rtcIntersect1 answers, the other reference of the arbor configurations.
-        std::vector<accel::Hit> embree_ref;
-#ifdef ARBOR_HAVE_EMBREE
-        if (peer) {
-            embree_ref.resize(rays.size());
-            peer->trace_parallel(rays, embree_ref, q, perf::EmbreeCall::single, false);
-        }
-#endif
-        // Brute force on an evenly spread sample (it costs rays x triangles).
-        const accel::BruteAccel brute(tris);
-        const std::size_t sample = std::min<std::size_t>(rays.size(), o.brute_sample);
-        std::vector<accel::Ray> sample_rays(sample);
-        std::vector<accel::Hit> truth(sample);
-        for (std::size_t k = 0; k < sample; ++k) sample_rays[k] = rays[k * rays.size() / sample];
-        accel::trace_parallel(brute, sample_rays, truth, q, accel::TracePath::scalar, 16);
-        for (Config& c : configs) {
-            c.trace(rays, hits);
-            c.err_brute = 0;
-            for (std::size_t k = 0; k < sample; ++k) c.err_brute += !agree(hits[k * rays.size() / sample], truth[k], any);
-            const auto& ref = c.embree ? scalar.at(names[0].substr(0, names[0].find('/'))) : scalar.at(c.structure.substr(0, c.structure.find('/')));
-            c.err = 0;
-            for (std::size_t i = 0; i < rays.size(); ++i) c.err += !agree(hits[i], ref[i], any);
-            if (!c.embree && !embree_ref.empty()) {
-                c.err_embree = 0;
-                for (std::size_t i = 0; i < rays.size(); ++i) c.err_embree += !agree(hits[i], embree_ref[i], any);
-            }
-        }
-        for (int rep = 0; rep < o.repeats; ++rep)
-            for (std::size_t j = 0; j < configs.size(); ++j) {
-                Config& c = configs[(j + std::size_t(rep)) % configs.size()];
-                const accel::Timer t;
-                const double c0 = cpu_ms();
-                int passes = 0;
-                do {
-                    c.trace(rays, hits);
-                    ++passes;
-                } while (t.ms() < o.min_ms);
-                c.ms.push_back((o.cpu_time ? (cpu_ms() - c0) / double(o.threads) : t.ms()) / passes);
-            }
+        std::vector<Config> configs = trace_configs(o, st, peer.get(), q, coherent);
+        validate(o, st, peer.get(), tris, rays, q, configs);
+        time_configs(o, rays, configs);
         for (const Config& c : configs) {
             const double mr = double(rays.size()) * 1e-3;
             const auto [lo, hi] = std::minmax_element(c.ms.begin(), c.ms.end());
@@ -301,8 +358,8 @@ std::string load_average() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    CLI::App app{"bench_paths: arbor's paths and widths against Embree on the same .rays files"};
+static int paths_main(int argc, char** argv) {
+    CLI::App app{"arbor-bench paths: arbor's paths and widths against Embree on the same .rays files"};
     Options o;
     app.add_option("--rays", o.rays_dir, "folder of <scene>-<kind>.rays files")->required();
     app.add_option("--models", o.models, "folder of .obj models")->capture_default_str();
@@ -333,7 +390,7 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
         for (const std::string& p : o.paths)
             if (!accel::parse_trace_path(p)) throw engine::InputError("--paths: unknown path '" + p + "'");
-        std::string cmd = "bench_paths";
+        std::string cmd = "arbor-bench paths";
         for (int i = 1; i < argc; ++i) cmd += std::string(" ") + argv[i];
         const std::string load_before = load_average();
         const accel::Timer total;
@@ -361,7 +418,9 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "bench_paths: %s\n", e.what());
+        std::fprintf(stderr, "arbor-bench paths: %s\n", e.what());
         return 1;
     }
 }
+
+int arbor::perf::paths_command(int argc, char** argv) { return paths_main(argc, argv); }

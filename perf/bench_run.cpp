@@ -125,44 +125,59 @@ std::vector<std::pair<std::string, double>> shape_values(const accel::SceneShape
             {"together", r.together},           {"any_hit", r.query == Query::any ? 1.0 : 0.0}};
 }
 
-void run_kind(const KindInput& in, const std::vector<Built>& built, const std::vector<TraceConfig>& configs,
-              const accel::BruteAccel& brute, const BenchOptions& o, const std::vector<int>& threads,
-              const Progress& log, AutoEvaluator* autos, BenchResult& out) {
-    const std::vector<Ray>& rays = in.rays;
-    const std::size_t n = rays.size(), tris = in.scene->scene.mesh.triangle_count();
-    const std::string kind_name(engine::to_string(in.kind));
+/// Step 1 of a kind: brute force's answers on a sample of the rays (brute force costs rays x
+/// triangles, so the sample shrinks as the scene grows).
+struct Oracle {
+    std::vector<std::size_t> sample;  ///< indices into the validated rays
+    std::vector<Hit> truth;           ///< brute force's answer per sample ray
+};
 
-    // 1. The oracle on a sample: brute force costs rays x triangles.
+Oracle brute_sample(const KindInput& in, const accel::BruteAccel& brute, const BenchOptions& o, std::size_t tris) {
+    const std::size_t n = in.rays.size();
     const auto sample_size = std::size_t(std::clamp(o.brute_budget / double(std::max<std::size_t>(tris, 1)),
                                                     double(o.min_sample), double(o.max_sample)));
-    const std::vector<std::size_t> sample = spread(n, sample_size);
+    Oracle out;
+    out.sample = spread(n, sample_size);
     std::vector<Ray> sample_rays;
-    for (std::size_t i : sample) sample_rays.push_back(rays[i]);
-    std::vector<Hit> truth(sample_rays.size());
-    accel::trace_parallel(brute, sample_rays, truth, in.query, accel::TracePath::scalar, 16);
+    for (std::size_t i : out.sample) sample_rays.push_back(in.rays[i]);
+    out.truth.resize(sample_rays.size());
+    accel::trace_parallel(brute, sample_rays, out.truth, in.query, accel::TracePath::scalar, 16);
+    return out;
+}
 
-    // 2. Every configuration once on all rays (all threads): the answers for the error columns,
-    // and a first time for planning.
-    std::vector<std::vector<Hit>> answers(configs.size(), std::vector<Hit>(n));
-    std::vector<double> pass_ms(configs.size());
+/// Step 2: every configuration once on all rays (all threads): the answers for the error columns,
+/// and a first time for planning.
+struct FirstPass {
+    std::vector<std::vector<Hit>> answers;  ///< per configuration
+    std::vector<double> pass_ms;            ///< per configuration
+    const std::vector<Hit>* embree_ref = nullptr;                    ///< Embree's default call's answers
+    std::map<const Built*, const std::vector<Hit>*> scalar_ref;    ///< each arbor structure's scalar answers
+};
+
+FirstPass first_pass(const KindInput& in, const std::vector<TraceConfig>& configs) {
+    const std::size_t n = in.rays.size();
+    FirstPass p;
+    p.answers.assign(configs.size(), std::vector<Hit>(n));
+    p.pass_ms.resize(configs.size());
     for (std::size_t c = 0; c < configs.size(); ++c) {
         const accel::Timer timer;
-        configs[c].trace(rays, answers[c], in.query, in.coherent);
-        pass_ms[c] = timer.ms();
+        configs[c].trace(in.rays, p.answers[c], in.query, in.coherent);
+        p.pass_ms[c] = timer.ms();
     }
-    const std::vector<Hit>* embree_ref = nullptr;
-    std::map<const Built*, const std::vector<Hit>*> scalar_ref;
     for (std::size_t c = 0; c < configs.size(); ++c) {
-        if (configs[c].built->is_embree() && !embree_ref && configs[c].built->name == "embree" && configs[c].path == "1")
-            embree_ref = &answers[c];
-        if (!configs[c].built->is_embree() && configs[c].path == "scalar") scalar_ref[configs[c].built] = &answers[c];
+        if (configs[c].built->is_embree() && !p.embree_ref && configs[c].built->name == "embree" && configs[c].path == "1")
+            p.embree_ref = &p.answers[c];
+        if (!configs[c].built->is_embree() && configs[c].path == "scalar") p.scalar_ref[configs[c].built] = &p.answers[c];
     }
+    return p;
+}
 
-    // 3. The statistics mode on a sample, per arbor structure.
+/// Step 3: the statistics mode on a sample, per arbor structure.
+std::map<const Built*, Counted> count_visits(const KindInput& in, const std::vector<Built>& built, const BenchOptions& o) {
     std::map<const Built*, Counted> counted;
-    const std::vector<std::size_t> count_idx = spread(n, o.count_sample);
+    const std::vector<std::size_t> count_idx = spread(in.rays.size(), o.count_sample);
     std::vector<Ray> count_rays;
-    for (std::size_t i : count_idx) count_rays.push_back(rays[i]);
+    for (std::size_t i : count_idx) count_rays.push_back(in.rays[i]);
     std::vector<Hit> count_hits(count_rays.size());
     for (const Built& b : built) {
         if (!b.accel) continue;
@@ -172,13 +187,22 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
         if (tc.rays > 0)
             counted[&b] = {double(tc.nodes_visited) / double(tc.rays), double(tc.triangles_tested) / double(tc.rays)};
     }
+    return counted;
+}
 
-    // 4. Timing: K repeats at each thread count, all configurations round-robin, the order
-    // rotated each repeat. When that would take longer than o.kind_seconds, the timed rays are a
-    // smaller set of the same kind and seed (a coarser image), never fewer than o.min_timed_rays.
+/// The rays that are timed: all validated rays, or, when timing them all would take longer than
+/// o.kind_seconds, a smaller set of the same kind and seed (a coarser image), never fewer than
+/// o.min_timed_rays.
+struct TimedRays {
+    std::vector<Ray> fewer;                                    ///< empty: the validated rays are timed
+    std::vector<std::pair<std::string, double>> shape;        ///< BenchRow::shape of the timed rays
+};
+
+TimedRays choose_timed_rays(const KindInput& in, const std::vector<double>& pass_ms, const BenchOptions& o,
+                            const std::vector<int>& threads, AutoEvaluator* autos) {
+    const std::size_t n = in.rays.size();
     // The first pass ran on all threads; at t threads a pass takes about all/t times as long.
-    // Each timing traces the rays as often as it takes to fill o.min_timed_ms (a 2 ms trace on a
-    // shared machine is one scheduler slice: it runs undisturbed or waits a whole slice).
+    // Each timing traces the rays as often as it takes to fill o.min_timed_ms.
     const int all = *std::max_element(threads.begin(), threads.end());
     double projected_ms = 0.0, floor_ms = 0.0;
     for (const int t : threads)
@@ -186,112 +210,166 @@ void run_kind(const KindInput& in, const std::vector<Built>& built, const std::v
             projected_ms += std::max(p * double(all) / double(t), o.min_timed_ms) * double(o.repeats);
             floor_ms += o.min_timed_ms * double(o.repeats);
         }
-    std::vector<Ray> fewer;
+    TimedRays out;
     if (projected_ms * 1e-3 > o.kind_seconds && n > o.min_timed_rays && in.make_rays) {
         const double room = std::max(o.kind_seconds * 1e3 - floor_ms, 0.1 * o.kind_seconds * 1e3);
         const auto m = std::max(o.min_timed_rays, std::size_t(double(n) * room / std::max(projected_ms - floor_ms, 1.0)));
-        if (m < n) fewer = in.make_rays(m);
+        if (m < n) out.fewer = in.make_rays(m);
     }
-    const std::vector<Ray>& timed = fewer.empty() ? rays : fewer;
-    const std::size_t nt = timed.size();
     // The rows' times are of the timed rays: their shape goes with them (the cost model is fitted
     // on it), and auto is asked about them, not about the finer image's more coherent rays that
     // were validated (it was, and its packets were judged by the coarser image's times).
-    std::vector<std::pair<std::string, double>> timed_shape = in.shape;
-    if (!fewer.empty()) {
+    out.shape = in.shape;
+    if (!out.fewer.empty()) {
         const float diag = simd::length(in.scene_shape.bounds.extent());
-        timed_shape = shape_values(in.scene_shape, accel::ray_shape(fewer, double(nt), in.query, diag));
-        if (autos) autos->set_rays(fewer);
+        out.shape = shape_values(in.scene_shape, accel::ray_shape(out.fewer, double(out.fewer.size()), in.query, diag));
+        if (autos) autos->set_rays(out.fewer);
     }
-    std::vector<Hit> scratch(nt);
-    // The path TracePath::best takes, per arbor structure: the majority over the trace chunks.
+    return out;
+}
+
+/// The path TracePath::best takes, per arbor structure: the majority over the trace chunks.
+std::map<const Built*, accel::TracePath> best_paths(const std::vector<Built>& built, std::span<const Ray> timed,
+                                                    Query query) {
+    const std::size_t nt = timed.size();
     std::map<const Built*, accel::TracePath> best_of;
     for (const Built& b : built) {
         if (!b.accel) continue;
         std::map<accel::TracePath, std::size_t> votes;
         for (std::size_t i = 0; i < nt; i += 1024) {
-            const auto chunk = std::span<const Ray>(timed).subspan(i, std::min<std::size_t>(1024, nt - i));
-            ++votes[accel::choose_path(b.accel->offer(), chunk, {in.query}).path];
+            const auto chunk = timed.subspan(i, std::min<std::size_t>(1024, nt - i));
+            ++votes[accel::choose_path(b.accel->offer(), chunk, {query}).path];
         }
         best_of[&b] = std::max_element(votes.begin(), votes.end(), [](const auto& x, const auto& y) {
                           return x.second < y.second;
                       })->first;
     }
-    for (const int t : threads) {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
-        std::vector<std::vector<double>> ms(configs.size()), cpu(configs.size());
-        for (int rep = 0; rep < o.repeats; ++rep) {
-            // --accel auto's decisions take one turn of the round-robin, at a place that moves too.
-            const std::size_t turns = configs.size() + (autos ? 1 : 0);
-            for (std::size_t j = 0; j < turns; ++j) {
-                const std::size_t c = (j + std::size_t(rep)) % turns;
-                if (c == configs.size()) {
-                    autos->run(t);
-                    continue;
-                }
-                const double cpu0 = process_cpu_ms();
-                const accel::Timer timer;
-                std::size_t passes = 0;
-                double elapsed = 0.0;
-                do {
-                    configs[c].trace(timed, scratch, in.query, in.coherent);
-                    ++passes;
-                    elapsed = timer.ms();
-                } while (elapsed < o.min_timed_ms);
-                ms[c].push_back(elapsed / double(passes));  // per pass over the timed rays
-                cpu[c].push_back((process_cpu_ms() - cpu0) / double(passes) / double(t));
+    return best_of;
+}
+
+/// Wall and CPU ms per pass over the timed rays, per configuration and repeat, at `t` threads.
+struct Timings {
+    std::vector<std::vector<double>> ms, cpu;
+};
+
+/// Step 4 at one thread count: K repeats, all configurations round-robin, the order rotated each
+/// repeat. Each timing traces the rays as often as it takes to fill o.min_timed_ms (a 2 ms trace on
+/// a shared machine is one scheduler slice: it runs undisturbed or waits a whole slice).
+Timings time_round_robin(const KindInput& in, const std::vector<TraceConfig>& configs, const std::vector<Ray>& timed,
+                         const BenchOptions& o, int t, AutoEvaluator* autos) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
+    std::vector<Hit> scratch(timed.size());
+    Timings out{std::vector<std::vector<double>>(configs.size()), std::vector<std::vector<double>>(configs.size())};
+    for (int rep = 0; rep < o.repeats; ++rep) {
+        // --accel auto's decisions take one turn of the round-robin, at a place that moves too.
+        const std::size_t turns = configs.size() + (autos ? 1 : 0);
+        for (std::size_t j = 0; j < turns; ++j) {
+            const std::size_t c = (j + std::size_t(rep)) % turns;
+            if (c == configs.size()) {
+                autos->run(t);
+                continue;
             }
-        }
-        for (std::size_t c = 0; c < configs.size(); ++c) {
-            const TraceConfig& cfg = configs[c];
-            const Built& b = *cfg.built;
-            BenchRow r;
-            r.scene = in.scene->name;
-            r.family = in.scene->family;
-            r.kind = kind_name;
-            r.query = in.query == Query::any ? "any" : "closest";
-            r.structure = b.name;
-            r.path = cfg.path;
-            r.best_path = b.accel && best_of.count(&b) && best_of.at(&b) == cfg.arbor_path;
-            r.embree = b.is_embree();
-            r.threads = t;
-            r.triangles = tris;
-            r.rays = nt;
-            r.validated_rays = n;
-            r.shape = timed_shape;
-            const auto bt = b.build_ms.find(t);
-            if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second), r.build_samples = bt->second;
-            r.trace_ms = summarize(ms[c]);
-            r.trace_samples = ms[c];
-            r.trace_cpu_ms = summarize(cpu[c]);
-            r.trace_cpu_samples = cpu[c];
-            const double mr = double(nt) * 1e-3;  // rays per ms -> Mrays/s
-            r.mrays = {mr / r.trace_ms.median, mr / r.trace_ms.max, mr / r.trace_ms.min};
-            if (b.accel) {
-                const accel::BuildStats& s = b.accel->stats();
-                r.nodes = double(s.nodes), r.leaves = double(s.leaves), r.max_depth = double(s.max_depth);
-                r.sah_cost = s.sah_cost;
-                r.bytes_per_triangle = s.bytes_per_triangle();
-                if (const auto it = counted.find(&b); it != counted.end())
-                    r.nodes_per_ray = it->second.nodes_per_ray, r.tris_per_ray = it->second.tris_per_ray;
-            } else {
-                r.bytes_per_triangle = tris ? double(b.memory_bytes()) / double(tris) : nan_value;
-            }
-            r.brute_sample = sample.size();
-            r.err_brute = 0;
-            for (std::size_t k = 0; k < sample.size(); ++k) r.err_brute += !agree(answers[c][sample[k]], truth[k], in.query);
-            if (const auto it = scalar_ref.find(&b); it != scalar_ref.end() && cfg.path != "scalar")
-                r.err_scalar = count_disagreements(answers[c], *it->second, in.query);
-            if (embree_ref) r.err_embree = count_disagreements(answers[c], *embree_ref, in.query);
-            for (const double budget : o.budgets) {
-                r.total_ms.push_back(r.build_ms.median + budget / (r.mrays.median * 1e6) * 1e3);
-                r.total_cpu_ms.push_back(r.build_ms.min + budget * r.trace_cpu_ms.median / double(nt));
-            }
-            out.rows.push_back(std::move(r));
+            const double cpu0 = process_cpu_ms();
+            const accel::Timer timer;
+            std::size_t passes = 0;
+            double elapsed = 0.0;
+            do {
+                configs[c].trace(timed, scratch, in.query, in.coherent);
+                ++passes;
+                elapsed = timer.ms();
+            } while (elapsed < o.min_timed_ms);
+            out.ms[c].push_back(elapsed / double(passes));  // per pass over the timed rays
+            out.cpu[c].push_back((process_cpu_ms() - cpu0) / double(passes) / double(t));
         }
     }
-    log("  %s: %zu rays validated (brute sample %zu), %zu timed, %zu configurations", kind_name.c_str(), n,
-        sample.size(), nt, configs.size());
+    return out;
+}
+
+/// Everything a row needs beyond its configuration's timings.
+struct RowContext {
+    const KindInput& in;
+    const std::string& kind_name;
+    std::size_t tris;
+    const std::vector<Ray>& timed;
+    const TimedRays& timed_rays;
+    const Oracle& oracle;
+    const FirstPass& first;
+    const std::map<const Built*, Counted>& counted;
+    const std::map<const Built*, accel::TracePath>& best_of;
+    const BenchOptions& o;
+};
+
+BenchRow make_row(const RowContext& x, const TraceConfig& cfg, std::size_t c, int t, const Timings& tm) {
+    const Built& b = *cfg.built;
+    const std::size_t nt = x.timed.size();
+    const std::vector<Hit>& answers = x.first.answers[c];
+    BenchRow r;
+    r.scene = x.in.scene->name;
+    r.family = x.in.scene->family;
+    r.kind = x.kind_name;
+    r.query = x.in.query == Query::any ? "any" : "closest";
+    r.structure = b.name;
+    r.path = cfg.path;
+    r.best_path = b.accel && x.best_of.count(&b) && x.best_of.at(&b) == cfg.arbor_path;
+    r.embree = b.is_embree();
+    r.threads = t;
+    r.triangles = x.tris;
+    r.rays = nt;
+    r.validated_rays = x.in.rays.size();
+    r.shape = x.timed_rays.shape;
+    const auto bt = b.build_ms.find(t);
+    if (bt != b.build_ms.end()) r.build_ms = summarize(bt->second), r.build_samples = bt->second;
+    r.trace_ms = summarize(tm.ms[c]);
+    r.trace_samples = tm.ms[c];
+    r.trace_cpu_ms = summarize(tm.cpu[c]);
+    r.trace_cpu_samples = tm.cpu[c];
+    const double mr = double(nt) * 1e-3;  // rays per ms -> Mrays/s
+    r.mrays = {mr / r.trace_ms.median, mr / r.trace_ms.max, mr / r.trace_ms.min};
+    if (b.accel) {
+        const accel::BuildStats& s = b.accel->stats();
+        r.nodes = double(s.nodes), r.leaves = double(s.leaves), r.max_depth = double(s.max_depth);
+        r.sah_cost = s.sah_cost;
+        r.bytes_per_triangle = s.bytes_per_triangle();
+        if (const auto it = x.counted.find(&b); it != x.counted.end())
+            r.nodes_per_ray = it->second.nodes_per_ray, r.tris_per_ray = it->second.tris_per_ray;
+    } else {
+        r.bytes_per_triangle = x.tris ? double(b.memory_bytes()) / double(x.tris) : nan_value;
+    }
+    const std::vector<std::size_t>& sample = x.oracle.sample;
+    r.brute_sample = sample.size();
+    r.err_brute = 0;
+    for (std::size_t k = 0; k < sample.size(); ++k)
+        r.err_brute += !agree(answers[sample[k]], x.oracle.truth[k], x.in.query);
+    if (const auto it = x.first.scalar_ref.find(&b); it != x.first.scalar_ref.end() && cfg.path != "scalar")
+        r.err_scalar = count_disagreements(answers, *it->second, x.in.query);
+    if (x.first.embree_ref) r.err_embree = count_disagreements(answers, *x.first.embree_ref, x.in.query);
+    for (const double budget : x.o.budgets) {
+        r.total_ms.push_back(r.build_ms.median + budget / (r.mrays.median * 1e6) * 1e3);
+        r.total_cpu_ms.push_back(r.build_ms.min + budget * r.trace_cpu_ms.median / double(nt));
+    }
+    return r;
+}
+
+/// One ray kind of one scene: validate every configuration against brute force and each other,
+/// then time them, one row per configuration and thread count.
+void run_kind(const KindInput& in, const std::vector<Built>& built, const std::vector<TraceConfig>& configs,
+              const accel::BruteAccel& brute, const BenchOptions& o, const std::vector<int>& threads,
+              const Progress& log, AutoEvaluator* autos, BenchResult& out) {
+    const std::size_t tris = in.scene->scene.mesh.triangle_count();
+    const std::string kind_name(engine::to_string(in.kind));
+    const Oracle oracle = brute_sample(in, brute, o, tris);
+    const FirstPass first = first_pass(in, configs);
+    const std::map<const Built*, Counted> counted = count_visits(in, built, o);
+    const TimedRays timed_rays = choose_timed_rays(in, first.pass_ms, o, threads, autos);
+    const std::vector<Ray>& timed = timed_rays.fewer.empty() ? in.rays : timed_rays.fewer;
+    const std::map<const Built*, accel::TracePath> best_of = best_paths(built, timed, in.query);
+    const RowContext context{in, kind_name, tris, timed, timed_rays, oracle, first, counted, best_of, o};
+    for (const int t : threads) {
+        const Timings tm = time_round_robin(in, configs, timed, o, t, autos);
+        for (std::size_t c = 0; c < configs.size(); ++c) out.rows.push_back(make_row(context, configs[c], c, t, tm));
+    }
+    log("  %s: %zu rays validated (brute sample %zu), %zu timed, %zu configurations", kind_name.c_str(), in.rays.size(),
+        oracle.sample.size(), timed.size(), configs.size());
 }
 
 /// Ratio of each row's median Mrays/s to the best call of Embree's default mode on the same

@@ -1,11 +1,12 @@
-// build_once: one build in a fresh process, as a user meets it (cold allocator, page tables and
+// `arbor-bench build-once`: one build in a fresh process, as a user meets it (cold allocator, page tables and
 // thread pool), by Embree (its default MEDIUM build, rtcCommitScene) or by an arbor structure
 // (make_accel with the SIMD layouts only, as `arbor trace` builds for its default path). Prints
 // one JSON object: build_ms (wall time of the build alone), cpu_ms and minor page faults during it
 // (Embree: with its device and buffer setup, setup_ms), and for arbor the SAH cost. scripts/bench_fresh_build.sh runs it interleaved with
 // `arbor trace` in fresh processes.
 //
-//   build_once --scene MODEL.obj|builtin:NAME --with embree|bvh-sah|lbvh|... [--threads 2]
+//   arbor-bench build-once --scene MODEL.obj|builtin:NAME --with embree|bvh-sah|lbvh|... [--threads 2]
+#include "perf/commands.h"
 #include "accel/factory/make_accel.h"
 #include "accel/interface/accel.h"
 #include "accel/util/timer.h"
@@ -47,8 +48,8 @@ double cpu_ms(bool system_only = false) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    CLI::App app{"build_once: one build in a fresh process (Embree or an arbor structure)"};
+static int build_once_main(int argc, char** argv) {
+    CLI::App app{"arbor-bench build-once: one build in a fresh process (Embree or an arbor structure)"};
     std::string scene, with = "embree";
     int threads = 2;
     app.add_option("--scene", scene, ".obj model or builtin:NAME")->required();
@@ -93,7 +94,9 @@ int main(int argc, char** argv) {
         std::cout << j.dump() << '\n';
         return 0;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "build_once: %s\n", e.what());
+        std::fprintf(stderr, "arbor-bench build-once: %s\n", e.what());
         return 1;
     }
 }
+
+int arbor::perf::build_once_command(int argc, char** argv) { return build_once_main(argc, argv); }

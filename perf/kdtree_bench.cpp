@@ -1,13 +1,14 @@
-// kdtree_bench: build time, SAH cost, memory and scalar Mrays/s of the kd-tree on a model and on a
+// `arbor-bench kdtree`: build time, SAH cost, memory and scalar Mrays/s of the kd-tree on a model and on a
 // replicated copy of it, next to Embree's default build of the same triangles (when available).
 // Not a test: it validates against brute on a subset of rays first, then times.
 //
-//   kdtree_bench [--model FILE] [--replicate N] [--repeat R] [--threads T] [--rays N] [--validate N]
+//   arbor-bench kdtree [--model FILE] [--replicate N] [--repeat R] [--threads T] [--rays N] [--validate N]
 //                [--build-only] [--no-embree] [--compare-bvh] [--no-perfect-splits] [--kt K_T] [--exact-below N]
 //
 // The SIMD paths' layouts of each kd walk (KdBlockConfig::walk: the ropes' leaf blocks, the cells'
 // and the tight cells' wide BVH) are timed on the built tree after the build: ms (median of R)
 // and MB beside the tree's own.
+#include "perf/commands.h"
 #include "accel/factory/make_accel.h"
 #include "accel/structures/brute_accel.h"
 #include "accel/structures/kdtree_accel.h"
@@ -203,13 +204,13 @@ void run(const Options& o, const engine::Mesh& mesh, const char* label) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int kdtree_main(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const auto next = [&]() -> std::string {
             if (i + 1 >= argc) {
-                std::fprintf(stderr, "kdtree_bench: %s: missing value\n", a.c_str());
+                std::fprintf(stderr, "arbor-bench kdtree: %s: missing value\n", a.c_str());
                 std::exit(2);
             }
             return argv[++i];
@@ -228,7 +229,7 @@ int main(int argc, char** argv) {
         else if (a == "--compare-bvh") o.compare = true;
         else if (a == "--ki") o.ki = std::stof(next());
         else {
-            std::fprintf(stderr, "kdtree_bench: unknown option '%s'\n", a.c_str());
+            std::fprintf(stderr, "arbor-bench kdtree: unknown option '%s'\n", a.c_str());
             return 2;
         }
     }
@@ -239,8 +240,10 @@ int main(int argc, char** argv) {
         const engine::Mesh scene = replicate(mesh, o.replicate);
         run(o, scene, o.replicate > 1 ? "replicated" : o.model.c_str());
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "kdtree_bench: %s\n", e.what());
+        std::fprintf(stderr, "arbor-bench kdtree: %s\n", e.what());
         return 1;
     }
     return 0;
 }
+
+int arbor::perf::kdtree_command(int argc, char** argv) { return kdtree_main(argc, argv); }

@@ -5,6 +5,7 @@
 // The counters are the CPU time per single ray-box or ray-triangle test ("per_test") and per kernel
 // call ("per_call": one call tests lanes<T> boxes/triangles, or a packet of lanes<T> rays).
 // How to run: perf/README.md.
+#include "perf/commands.h"
 #include "accel/core/ray.h"
 #include "simd/box_kernels.h"
 #include "simd/lane_order.h"
@@ -353,4 +354,10 @@ BENCHMARK_TEMPLATE(BM_wide_ray, Float8, true);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int arbor::perf::kernels_command(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

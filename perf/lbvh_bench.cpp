@@ -1,8 +1,9 @@
-// arbor_lbvh_bench: the LBVH build compared with itself (hierarchy method, code width, digit width),
+// `arbor-bench lbvh`: the LBVH build compared with itself (hierarchy method, code width, digit width),
 // with the top-down builders and (when built with it) Embree's default build, on the bunny and on
 // the bunny replicated to millions of triangles, at 1 and 2 threads. Builds are timed interleaved
 // (variant order rotates every repetition) and reported as medians; then each variant's SAH cost
 // and scalar trace speed (primary and random rays, all threads) are printed. Not a test.
+#include "perf/commands.h"
 #include "accel/factory/make_accel.h"
 #include "accel/structures/brute_accel.h"
 #include "accel/structures/bvh_accel.h"
@@ -193,8 +194,8 @@ void run_scene(const std::string& name, const engine::Mesh& mesh, const std::vec
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    CLI::App app{"arbor_lbvh_bench: LBVH build variants vs bvh-sah, bvh-median and Embree"};
+static int lbvh_main(int argc, char** argv) {
+    CLI::App app{"arbor-bench lbvh: LBVH build variants vs bvh-sah, bvh-median and Embree"};
     std::string model = std::string(ARBOR_SHARED_SCENES) + "/models/stanford-bunny.obj";
     int copies = 36, repeat = 5;
     std::vector<int> threads{1, 2};
@@ -250,7 +251,7 @@ int main(int argc, char** argv) {
         variants.erase(std::remove_if(variants.begin(), variants.end(),
                                       [&](const Variant& v) { return v.name.find(only) == std::string::npos; }),
                        variants.end());
-    std::printf("# arbor_lbvh_bench: %s, copies %d, repeat %d, load average %s\n", model.c_str(), copies, repeat,
+    std::printf("# arbor-bench lbvh: %s, copies %d, repeat %d, load average %s\n", model.c_str(), copies, repeat,
                 load_average().c_str());
     g_layouts = layouts == "scalar" ? accel::Layouts::scalar : layouts == "simd" ? accel::Layouts::simd : accel::Layouts::all;
     run_scene("model", mesh, variants, threads, repeat, rays, !no_trace);
@@ -258,3 +259,5 @@ int main(int argc, char** argv) {
     std::printf("\nload average at the end: %s\n", load_average().c_str());
     return 0;
 }
+
+int arbor::perf::lbvh_command(int argc, char** argv) { return lbvh_main(argc, argv); }

@@ -1,5 +1,5 @@
 #pragma once
-/// Writers of the mesh formats arbor reads, for the loading benchmark (bench_load) and the loader
+/// Writers of the mesh formats arbor reads, for the loading benchmark (`arbor-bench load`) and the loader
 /// tests, which build their files themselves: PLY (ASCII, binary of either byte order), STL (ASCII,
 /// binary), glTF 2.0 (.gltf with a data URI or an external buffer, .glb), OBJ text. Triangles are
 /// written in order, so a file read back numbers them as the mesh does.

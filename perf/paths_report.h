@@ -1,5 +1,5 @@
 #pragma once
-/// The Markdown report of bench_paths: the ratio table (per scene and ray kind, each structure's
+/// The Markdown report of `arbor-bench paths`: the ratio table (per scene and ray kind, each structure's
 /// fastest path over Embree's fastest call), every configuration, and — for many cells, e.g. the
 /// held-out views of scripts/bench_heldout.sh — the distribution of those ratios per ray kind and
 /// structure with the accuracy of the same configurations beside it.

@@ -1,14 +1,15 @@
-// trace_once: one .rays file traced once on one thread, by one of arbor's paths or by one of
+// `arbor-bench trace-once`: one .rays file traced once on one thread, by one of arbor's paths or by one of
 // Embree's calls, for profilers that count (valgrind --tool=callgrind) rather than time. The work
 // to count runs inside trace_once_run(), so that
 //
 //   valgrind --tool=callgrind --branch-sim=yes --cache-sim=yes --toggle-collect='*trace_once_run*'
-//            build/v3/perf/trace_once --scene MODEL.obj --rays FILE.rays --with embree-16
+//            build/v3/perf/arbor-bench trace-once --scene MODEL.obj --rays FILE.rays --with embree-16
 //
 // counts instructions, branches, mispredictions and cache misses of the traversal alone (the build
 // and the file reading are left out). valgrind cannot decode AVX-512: profile an x86-64-v3 build
 // (perf/README.md, "Profiling"), where Embree picks its AVX2 kernels too, so both sides are compared
 // at the same SIMD width. Shadow ray files (name containing "shadow") are any-hit queries.
+#include "perf/commands.h"
 #include "accel/factory/make_accel.h"
 #include "accel/interface/accel.h"
 #include "accel/interface/trace.h"
@@ -36,8 +37,8 @@ __attribute__((noinline)) void trace_once_run(const std::function<void()>& work)
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    CLI::App app{"trace_once: one ray file, traced once on one thread, for callgrind"};
+static int trace_once_main(int argc, char** argv) {
+    CLI::App app{"arbor-bench trace-once: one ray file, traced once on one thread, for callgrind"};
     std::string scene, rays_path, with = "single", structure = "bvh-sah";
     app.add_option("--scene", scene, ".obj model")->required();
     app.add_option("--rays", rays_path, ".rays file (spec/rayfile.md)")->required();
@@ -94,7 +95,9 @@ int main(int argc, char** argv) {
         std::printf("%s: %zu rays, %zu hits (%s)\n", with.c_str(), rays.size(), hit, any ? "any hit" : "closest hit");
         return 0;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "trace_once: %s\n", e.what());
+        std::fprintf(stderr, "arbor-bench trace-once: %s\n", e.what());
         return 1;
     }
 }
+
+int arbor::perf::trace_once_command(int argc, char** argv) { return trace_once_main(argc, argv); }

@@ -2,9 +2,9 @@
 # The benchmark report in one command (docs/benchmarks.md, "The benchmark matrix"):
 #   scripts/bench.sh           full matrix, about 15 minutes on the 2-core reference machine
 #   scripts/bench.sh --quick   small scenes, about 2 minutes
-# Builds the release preset, runs arbor_bench, draws the plots, writes the summary tables
+# Builds the release preset, runs `arbor-bench bench`, draws the plots, writes the summary tables
 # (scripts/bench_summary.py) and describes the machine, all into build/results/DATE/ (DATE-quick/
-# for --quick; ARBOR_BENCH_OUT=DIR overrides). Further arguments go to arbor_bench.
+# for --quick; ARBOR_BENCH_OUT=DIR overrides). Further arguments go to `arbor-bench bench`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 suffix=""
@@ -13,7 +13,7 @@ out=${ARBOR_BENCH_OUT:-build/results/$(date +%Y-%m-%d)$suffix}
 mkdir -p "$out"
 
 cmake --preset release >/dev/null
-cmake --build --preset release -j2 --target arbor_bench arbor >/dev/null
+cmake --build --preset release -j2 --target arbor-bench arbor >/dev/null
 
 {
   echo "# Machine"
@@ -33,7 +33,7 @@ cmake --build --preset release -j2 --target arbor_bench arbor >/dev/null
   echo '```'
 } >"$out/machine.md"
 
-build/release/perf/arbor_bench -o "$out" "$@"
+build/release/perf/arbor-bench bench -o "$out" "$@"
 /usr/bin/python3 scripts/plot_bench.py "$out/bench.json" "$out"
 /usr/bin/python3 scripts/bench_summary.py "$out/bench.json" >"$out/tables.md"
 echo "Whole script (build, matrix, plots): ${SECONDS} s; load average after: $(cut -d' ' -f1-3 /proc/loadavg)" >>"$out/machine.md"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Per-budget summary of arbor_bench's `--accel auto` rows, for comparing runs (A/B of two builds).
+"""Per-budget summary of arbor-bench's `--accel auto` rows, for comparing runs (A/B of two builds).
 
 usage: scripts/bench_auto_ab.py [--misses] RUN/bench.json[.gz] [...]
        scripts/bench_auto_ab.py --picks-on JUDGE/bench.json[.gz] [...] -- RUN/bench.json[.gz] [...]

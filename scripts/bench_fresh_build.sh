@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds as a user meets them: one build in a fresh process (cold allocator, page tables and thread
 # pool), arbor's lbvh and bvh-sah (the SIMD-layout build `arbor trace` makes for its default path:
-# the same make_accel call, in perf/build_once) against Embree's default build (rtcCommitScene) in
+# the same make_accel call, in `arbor-bench build-once`) against Embree's default build (rtcCommitScene) in
 # its own fresh process, interleaved (the order rotated each round), 2 threads:
 #   [ROUNDS=5] [SCENES="builtin:scaling:3 builtin:scaling:8"] scripts/bench_fresh_build.sh [OUT.md]
 # Reports per scene the median build ms (wall), the median of the per-round ratios to Embree, the
@@ -15,9 +15,9 @@ mkdir -p "$(dirname "$out")"
 rounds=${ROUNDS:-5}
 scenes=${SCENES:-"builtin:scaling:3 builtin:scaling:8"}
 cmake --preset release >/dev/null
-cmake --build --preset release -j2 --target arbor build_once >/dev/null
+cmake --build --preset release -j2 --target arbor arbor-bench >/dev/null
 arbor=build/release/apps/arbor/arbor
-once=build/release/perf/build_once
+once="build/release/perf/arbor-bench build-once"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 load0=$(cut -d' ' -f1-3 /proc/loadavg)
@@ -38,7 +38,7 @@ import json, statistics as st, sys, glob, os
 tmp, rounds, load0, load1, git = sys.argv[1:6]
 scenes = sys.argv[6:]
 print(f"# Fresh-process builds against Embree (git {git})\n")
-print(f"- one build per fresh process (perf/build_once: make_accel with the SIMD layouts only, as `arbor trace` on its default path; "
+print(f"- one build per fresh process (`arbor-bench build-once`: make_accel with the SIMD layouts only, as `arbor trace` on its default path; "
       f"Embree 3 default MEDIUM build, rtcCommitScene), 2 threads, {rounds} rounds, order rotated each round")
 print(f"- load average {load0} at the start, {load1} at the end (the machine is shared: other engineers compile)")
 print("- ratio = median over the rounds of (arbor ms / Embree ms in the same round); cpu = user+sys ms of the build "

@@ -2,13 +2,13 @@
 # arbor against Embree on HELD-OUT rays: rays the benchmark files were never tuned on
 # (docs/benchmarks.md, "Held-out rays against Embree"):
 #   [REPEATS=5] [MIN_MS=40] [RAYS=131072] [STRUCTURES=bvh-sah,lbvh] [SCENES="..."] [VIEWS="..."] \
-#       scripts/bench_heldout.sh [OUT.md] [bench_paths options...]
+#       scripts/bench_heldout.sh [OUT.md] [arbor-bench paths options...]
 # For every shared model and the builtin scenes `default` and `cornell`, three views fixed in
 # advance (view seeds 2027, 4093, 7919: camera and light placed by engine/ray_views.h; the
 # benchmark's files use the one framed camera and seed 1) and the four ray kinds (primary, shadow
 # with unnormalized directions and tfar just short of the light, cosine diffuse bounces, random),
 # ray seed 100 + view seed, are written with `arbor rays --view-seed` into $ARBOR_RAYS_DIR (default
-# build/rays-heldout; anew every run unless REUSE_RAYS=1); then bench_paths times each structure's SIMD paths beside Embree's four calls
+# build/rays-heldout; anew every run unless REUSE_RAYS=1); then `arbor-bench paths` times each structure's SIMD paths beside Embree's four calls
 # (coherent flag on primary and shadow), 2 threads, median of REPEATS, round-robin, and reports per
 # ray kind and structure the distribution over all cells of arbor / Embree's fastest call with the
 # errors against the scalar path, brute and Embree. Do not tune on these rays: tune on
@@ -30,7 +30,7 @@ fi
 mkdir -p "$dir" "$(dirname "$out")"
 
 cmake --preset release >/dev/null
-cmake --build --preset release -j2 --target arbor bench_paths >/dev/null
+cmake --build --preset release -j2 --target arbor arbor-bench >/dev/null
 
 arbor=build/release/apps/arbor/arbor
 for scene in $SCENES; do
@@ -40,8 +40,8 @@ for scene in $SCENES; do
     for kind in primary shadow diffuse random; do
       f="$dir/$stem-v$v-$kind.rays"
       # Written anew every run (~1.5 min for all 144 files): files kept from an older arbor are
-      # not the held-out set any more once ray generation changes (the 2026-12-02 files went stale
-      # when the samplers moved to one splitmix64). REUSE_RAYS=1 keeps existing files.
+      # not the held-out set any more once ray generation changes (as when the samplers moved to
+      # one splitmix64). REUSE_RAYS=1 keeps existing files.
       { [ "${REUSE_RAYS:-0}" = 1 ] && [ -f "$f" ]; } || ARBOR_SHARED_SCENES=$(dirname "$models") $arbor rays --scene "$src" --kind $kind --count "$rays" \
         --view-seed "$v" --seed $((100 + v)) -o "$f" >/dev/null
     done
@@ -55,7 +55,7 @@ scene_list=$(echo $SCENES | tr ' ' ',');
   echo
   echo "- machine: $(lscpu | sed -n 's/^Model name:\s*//p'), $(nproc) hardware threads; $(c++ --version | head -1); git $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
   echo "- rays: $rays per file: \`arbor rays --scene SCENE --kind KIND --count $rays --view-seed V --seed 100+V\` for V in $views (8x8 tile order); scenes: $SCENES"
-  ARBOR_SHARED_SCENES=$(dirname "$models") build/release/perf/bench_paths --rays "$dir" --models "$models" --scenes "$scene_list" \
+  ARBOR_SHARED_SCENES=$(dirname "$models") build/release/perf/arbor-bench paths --rays "$dir" --models "$models" --scenes "$scene_list" \
     --views "$view_list" --structures "$structures" --paths single,packet,best --threads 2 \
     --repeats "${REPEATS:-5}" --min-ms "${MIN_MS:-40}" "$@"
 } >"$out.tmp"

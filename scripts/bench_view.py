@@ -13,7 +13,7 @@ and their ratio; each as the median over rounds with the range over rounds.
 Accuracy beside the speed: the viewer's first 1-spp frame (JPEG, decoded with Pillow) against the
 PNG of `arbor render --spp 1` of the same frame (same camera, seed 0), per pixel and channel in
 8-bit levels: the mean and largest |difference| (JPEG's loss; a wrong frame would differ by far more).
-Pillow is python3-pil, which python3-matplotlib (scripts/setup-deps.sh) depends on.
+Pillow is python3-pil, which python3-matplotlib (scripts/setup_deps.sh) depends on.
 The load average is recorded before and after (a shared machine: the rounds are interleaved).
 Usage: bench_view.py ARBOR MODEL [MODEL...] [--rounds 5] [--frames 20] [--threads 2] [--out FILE.md]
 """

@@ -8,12 +8,12 @@
 #     four libFuzzer harnesses (OBJ loader, mesh loader of every format, ray/hit readers, the
 #     viewer's message parser) in ARBOR_FUZZ_SECONDS (default 60) on two cores (scripts/fuzz.sh: how
 #     they share it, seeds, and where a finding is saved).
-#  3. tsan (gcc, ThreadSanitizer, with oneTBB built instrumented by scripts/tsan-tbb.sh): the tests
+#  3. tsan (gcc, ThreadSanitizer, with oneTBB built instrumented by scripts/tsan_tbb.sh): the tests
 #     of the parallel builders, of tracing in parallel and of the renderer (tests/CMakeLists.txt
 #     picks them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup-deps.sh
+scripts/setup_deps.sh
 jobs=$(nproc)
 fuzz_seconds=${ARBOR_FUZZ_SECONDS:-60}
 
@@ -44,10 +44,10 @@ phase "release: build" bash -c "cmake --preset release >/dev/null && cmake --bui
 phase "release: tests" ctest --preset release -j "$jobs"
 
 phase "asan+ubsan+fuzz: build" bash -c "cmake --preset fuzz >/dev/null && cmake --build --preset fuzz -j $jobs \
-  --target arbor_tests arbor arbor_bench arbor_fuzz_obj arbor_fuzz_mesh arbor_fuzz_rays arbor_fuzz_view"
+  --target arbor_tests arbor arbor-bench arbor_fuzz_obj arbor_fuzz_mesh arbor_fuzz_rays arbor_fuzz_view"
 phase "asan+ubsan: tests" ctest --preset fuzz -j "$jobs"
 phase "fuzz: ${fuzz_seconds} s on 2 cores" scripts/fuzz.sh "$fuzz_seconds"
 
-phase "tsan: instrumented oneTBB" scripts/tsan-tbb.sh
+phase "tsan: instrumented oneTBB" scripts/tsan_tbb.sh
 phase "tsan: build" bash -c "cmake --preset tsan >/dev/null && cmake --build --preset tsan -j $jobs --target arbor_tests"
 phase "tsan: tests" ctest --preset tsan -j "$jobs" --no-tests=error

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# arbor_bench end to end on the tiny scene: valid JSON/CSV/Markdown whose rows agree with each other,
-# every row validated against brute, and one-line errors for bad options.
+# The benchmark matrix end to end on the tiny scene: valid JSON/CSV/Markdown whose rows agree with
+# each other, every row validated against brute, and one-line errors for bad options. The arguments
+# are the command that runs the matrix, e.g. `arbor-bench bench` or `arbor bench`.
 set -u
-BENCH=$1
+BENCH=("$@")
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 fails=0
 fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
 
-if "$BENCH" --quick --scenes tiny --rays 1024 --repeats 2 --time-brute -q -o "$WORK/out" >"$WORK/stdout" 2>"$WORK/stderr"; then
+if "${BENCH[@]}" --quick --scenes tiny --rays 1024 --repeats 2 --time-brute -q -o "$WORK/out" >"$WORK/stdout" 2>"$WORK/stderr"; then
   python3 - "$WORK/out" <<'PY' || fail "bench reports inconsistent"
 import csv, json, sys
 d = sys.argv[1]
@@ -33,7 +34,7 @@ md = open(d + "/bench.md").read()
 assert "## Headline" in md and "## Trace matrix" in md
 PY
 else
-  fail "arbor_bench --quick exited $?: $(tail -3 "$WORK/stderr")"
+  fail "${BENCH[*]} --quick exited $?: $(tail -3 "$WORK/stderr")"
 fi
 
 expect_error() {
@@ -44,10 +45,10 @@ expect_error() {
   [ "$(wc -l <"$WORK/e")" -eq 1 ] || fail "$* -> stderr: $(cat "$WORK/e")"
   grep -qF -- "$needle" "$WORK/e" || fail "$* -> stderr lacks '$needle': $(cat "$WORK/e")"
 }
-expect_error "--scenes" "$BENCH" --scenes nowhere -q -o "$WORK/x"
-expect_error "--structures" "$BENCH" --scenes tiny --structures octree -q -o "$WORK/x"
-expect_error "--kinds" "$BENCH" --scenes tiny --kinds ambient -q -o "$WORK/x"
-expect_error "--rays" "$BENCH" --rays 0 -o "$WORK/x"
+expect_error "--scenes" "${BENCH[@]}" --scenes nowhere -q -o "$WORK/x"
+expect_error "--structures" "${BENCH[@]}" --scenes tiny --structures octree -q -o "$WORK/x"
+expect_error "--kinds" "${BENCH[@]}" --scenes tiny --kinds ambient -q -o "$WORK/x"
+expect_error "--rays" "${BENCH[@]}" --rays 0 -o "$WORK/x"
 
 [ $fails -eq 0 ] && echo "bench tests passed"
 # Not `exit $fails`: exit statuses are taken mod 256, so 256 failures would exit 0.

@@ -2,7 +2,7 @@
 # A build without MPI (ARBOR_MPI=OFF: the sanitizer presets): `arbor render` works as ever, and
 # under mpirun it stops with one clear line saying it was built without MPI, an exit status of
 # 1..127 and no output, rather than every rank rendering the whole frame alone. Needs Open MPI's
-# mpirun (scripts/setup-deps.sh installs it): fails, not skips, without it.
+# mpirun (scripts/setup_deps.sh installs it): fails, not skips, without it.
 set -u
 . "$(dirname "$0")/mpi_common.sh"
 small=(--width 40 --height 24 --spp 1 -q)

@@ -7,4 +7,4 @@ trap 'rm -rf "$WORK"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fails=0
 fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
-command -v mpirun >/dev/null || { echo "FAIL: mpirun not found (scripts/setup-deps.sh installs openmpi-bin)"; exit 1; }
+command -v mpirun >/dev/null || { echo "FAIL: mpirun not found (scripts/setup_deps.sh installs openmpi-bin)"; exit 1; }

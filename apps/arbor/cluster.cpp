@@ -22,14 +22,15 @@ std::unique_ptr<Cluster>& the_cluster() {
 }
 
 #ifdef ARBOR_HAVE_MPI
-/// Where arbor_mpi.so may be: $ARBOR_MPI_MODULE, beside the executable (the build tree), or
-/// where `cmake --install` put it.
+/// Where arbor_mpi.so may be: $ARBOR_MPI_MODULE, beside the executable, where the build tree has it
+/// (for arbor-bench, which is built in perf/), or where `cmake --install` put it.
 std::vector<std::string> module_candidates() {
     if (const char* env = std::getenv("ARBOR_MPI_MODULE"); env && *env) return {env};
     std::vector<std::string> out;
     std::error_code ec;
     const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (!ec) out.push_back((exe.parent_path() / "arbor_mpi.so").string());
+    if (out.empty() || out.front() != ARBOR_MPI_MODULE_BUILD) out.push_back(ARBOR_MPI_MODULE_BUILD);
     out.push_back(ARBOR_MPI_MODULE_INSTALLED);
     return out;
 }

@@ -82,35 +82,142 @@ std::vector<engine::RenderRays> converge_rays(const ConvergeCommand& o, const en
     return out;
 }
 
+/// --accel NAME[,NAME...] as structure kinds (OptionError naming the option otherwise).
+std::vector<accel::AccelKind> parse_accels(const std::string& accels) {
+    std::vector<accel::AccelKind> kinds;
+    for (const std::string& name : split_list(accels)) {
+        const auto k = accel::parse_accel_kind(name);
+        if (!k) throw OptionError("--accel: unknown structure '" + name + "' (expected one of " + accel::accel_kind_names() + ")");
+        kinds.push_back(*k);
+    }
+    return kinds;
+}
+
+/// --integrator NAME[,NAME...]; the cost integrator makes no image to converge.
+std::vector<engine::IntegratorKind> parse_integrators(const std::string& names) {
+    std::vector<engine::IntegratorKind> integrators;
+    for (const std::string& name : split_list(names)) integrators.push_back(parse_integrator_option(name));
+    for (engine::IntegratorKind k : integrators)
+        if (k == engine::IntegratorKind::cost)
+            throw OptionError("--integrator: cost makes no image to converge (use arbor render --integrator cost)");
+    return integrators;
+}
+
+/// The image of --reference (empty without it); without --width/--height the renders take its
+/// size, otherwise its size must be theirs.
+engine::Image read_reference(ConvergeCommand& o) {
+    engine::Image given;
+    if (o.reference.empty()) return given;
+    given = engine::read_exr(o.reference);
+    if (given.channel("R") < 0 || given.channel("G") < 0 || given.channel("B") < 0)
+        throw engine::InputError(o.reference + ": no R, G, B channels");
+    if (!o.size_given) o.render.width = given.width, o.render.height = given.height;
+    if (given.width != o.render.width || given.height != o.render.height)
+        throw OptionError("--reference: " + o.reference + " is " + std::to_string(given.width) + "x" +
+                          std::to_string(given.height) + " but the renders are " + std::to_string(o.render.width) + "x" +
+                          std::to_string(o.render.height));
+    return given;
+}
+
+/// What every step of one converge run shares.
+struct ConvergeRun {
+    const ConvergeCommand& o;
+    const engine::Scene& scene;
+    const engine::LightSet& lights;
+    const std::vector<engine::IntegratorKind>& integrators;
+    Cluster* cluster;              ///< the MPI job, if any
+    engine::TileSource* tiles;     ///< the frame's tiles spread over the ranks (nullptr: all here)
+    bool writer;                   ///< this process writes (rank 0, or no MPI)
+    std::filesystem::path dir;
+    accel::BuildConfig build;
+};
+
+/// The structure of kind `kind` (`first`: the first of --accel, which renders the references).
+/// --accel auto decides once for everything this structure renders here (converge_rays). Under MPI
+/// rank 0 alone resolves it (a probe measures: ranks could differ).
+accel::AccelPick pick_structure(const ConvergeRun& run, accel::AccelKind kind, bool first) {
+    accel::AccelPick pick;
+    pick.kind = kind;
+    if (run.writer) {
+        std::vector<engine::RenderRays> job_rays;
+        if (kind == accel::AccelKind::automatic) job_rays = converge_rays(run.o, run.scene, run.lights, run.integrators, first);
+        accel::AutoJob job;
+        job.tris = run.scene.mesh.view();
+        job.build = run.build;
+        for (const engine::RenderRays& r : job_rays) job.groups.insert(job.groups.end(), r.groups.begin(), r.groups.end());
+        pick = accel::pick_accel(kind, job);
+        if (!pick.reason.empty()) std::printf("auto: %s\n", pick.reason.c_str());
+    }
+    if (run.cluster) pick.kind = *accel::parse_accel_kind(run.cluster->root_choice(std::string(accel::to_string(pick.kind))));
+    return pick;
+}
+
+/// Renders the reference of integrator settings `set` at `ref_spp` with `structure`, and writes it
+/// (EXR and PNG) into the output folder. The reference uses other random streams than the renders
+/// it judges.
+engine::Image render_reference(const ConvergeRun& run, const engine::RenderSettings& set, int ref_spp,
+                               const accel::Accel& structure, accel::AccelKind kind, const std::string& iname) {
+    engine::RenderSettings ref = set;
+    ref.spp = ref_spp;
+    ref.seed = set.seed + 0x9E3779B9u;
+    ref.progress = true;
+    const engine::RenderPlan plan = engine::make_plan(run.scene, run.lights, ref);
+    std::printf("reference: %s\n", plan.line(std::string(accel::to_string(kind))).c_str());
+    std::fflush(stdout);
+    engine::Image image = engine::render(run.scene, run.lights, plan, structure, ref, nullptr, run.tiles);
+    if (run.writer) {
+        engine::write_exr((run.dir / ("reference-" + iname + ".exr")).string(), image);
+        engine::write_png_preview((run.dir / ("reference-" + iname + ".png")).string(), image);
+    }
+    return image;
+}
+
+/// Renders at 1, 2, 4, ... spp up to --max-spp, each --repeat times (the median time counts),
+/// judges each image against `reference`, and adds one CSV row and one printed line per render.
+void render_series(const ConvergeRun& run, engine::RenderSettings set, const accel::Accel& structure,
+                   accel::AccelKind kind, double build_ms, const engine::Image& reference, const std::string& iname,
+                   std::string& csv) {
+    const ConvergeCommand& o = run.o;
+    for (int spp = 1; spp <= o.max_spp; spp *= 2) {
+        set.spp = spp;
+        const engine::RenderPlan plan = engine::make_plan(run.scene, run.lights, set);
+        if (spp == 1 && o.verbose) std::printf("%s\n%s", plan.line(std::string(accel::to_string(kind))).c_str(), plan.skipped_lines().c_str());
+        std::vector<double> times;
+        engine::Image img;
+        engine::RenderStats stats;
+        for (int r = 0; r < o.repeat; ++r) {
+            img = engine::render(run.scene, run.lights, plan, structure, set, &stats, run.tiles);
+            times.push_back(stats.seconds);
+        }
+        std::sort(times.begin(), times.end());
+        const double seconds = times[times.size() / 2];
+        // Other ranks hold only their own tiles: rank 0 alone judges the image.
+        const engine::ImageError err =
+            run.writer ? engine::compare_rgb(img, reference, o.reference.empty() ? "reference" : o.reference)
+                       : engine::ImageError{};
+        char row[512];
+        std::snprintf(row, sizeof row, "%s,%s,%d,%.6f,%llu,%.6g,%.6g,%.6g,%.4f,%.3f,%d,%d,%d\n",
+                      std::string(accel::to_string(kind)).c_str(), iname.c_str(), spp, seconds,
+                      (unsigned long long)stats.total(), err.rmse, err.rel_mse, err.mean,
+                      seconds > 0 ? double(stats.total()) / seconds * 1e-6 : 0.0, build_ms, stats.threads,
+                      set.width, set.height);
+        csv += row;
+        std::printf("%-10s %-8s %6d %10.4f %12llu %12.5g %12.5g\n", std::string(accel::to_string(kind)).c_str(),
+                    iname.c_str(), spp, seconds, (unsigned long long)stats.total(), err.rmse, err.rel_mse);
+        std::fflush(stdout);
+        if (spp > o.max_spp / 2) break;  // also stops the doubling before it could overflow
+    }
+}
+
 int run_converge(ConvergeCommand& o) {
     const auto limit = limit_threads(o.threads);
     Cluster* const cluster = Cluster::join(o.mpi);  // mpirun: every rank renders, rank 0 writes
     const bool writer = !cluster || cluster->root();
     const auto tiles = cluster ? cluster->frame_tiles() : nullptr;
-    std::vector<accel::AccelKind> kinds;
-    for (const std::string& name : split_list(o.accels)) {
-        const auto k = accel::parse_accel_kind(name);
-        if (!k) throw OptionError("--accel: unknown structure '" + name + "' (expected one of " + accel::accel_kind_names() + ")");
-        kinds.push_back(*k);
-    }
-    std::vector<engine::IntegratorKind> integrators;
-    for (const std::string& name : split_list(o.integrators)) integrators.push_back(parse_integrator_option(name));
-    for (engine::IntegratorKind k : integrators)
-        if (k == engine::IntegratorKind::cost)
-            throw OptionError("--integrator: cost makes no image to converge (use arbor render --integrator cost)");
+    const std::vector<accel::AccelKind> kinds = parse_accels(o.accels);
+    const std::vector<engine::IntegratorKind> integrators = parse_integrators(o.integrators);
     if (o.max_spp < 1) throw OptionError("--max-spp: must be at least 1");
-
-    engine::Image given_reference;
-    if (!o.reference.empty()) {
-        given_reference = engine::read_exr(o.reference);
-        if (given_reference.channel("R") < 0 || given_reference.channel("G") < 0 || given_reference.channel("B") < 0)
-            throw engine::InputError(o.reference + ": no R, G, B channels");
-        if (!o.size_given) o.render.width = given_reference.width, o.render.height = given_reference.height;
-        if (given_reference.width != o.render.width || given_reference.height != o.render.height)
-            throw OptionError("--reference: " + o.reference + " is " + std::to_string(given_reference.width) + "x" +
-                                     std::to_string(given_reference.height) + " but the renders are " +
-                                     std::to_string(o.render.width) + "x" + std::to_string(o.render.height));
-    }
+    const engine::Image given_reference = read_reference(o);
     const std::filesystem::path dir(o.out_dir);
     std::error_code ec;
     if (writer) std::filesystem::create_directories(dir, ec);
@@ -124,84 +231,26 @@ int run_converge(ConvergeCommand& o) {
                                          ", ref spp " + std::to_string(o.ref_spp) + ", repeat " +
                                          std::to_string(o.repeat) + ", reference " + std::to_string(!o.reference.empty()));
     const engine::LightSet lights(scene);
+    ConvergeRun run{o, scene, lights, integrators, cluster, tiles.get(), writer, dir, o.build};
+    run.build.layouts = accel::layouts_for(accel::TracePath::best);  // the renderer traces the SIMD paths only
     const int ref_spp = o.ref_spp > 0 ? o.ref_spp : 8 * o.max_spp;
     std::vector<engine::Image> references(integrators.size());
     std::string csv = "accel,integrator,spp,seconds,rays,rmse,rel_mse,mean,mrays_per_s,build_ms,threads,width,height\n";
     std::printf("%-10s %-8s %6s %10s %12s %12s %12s\n", "accel", "integr.", "spp", "seconds", "rays", "rmse", "rel_mse");
-    accel::BuildConfig build = o.build;
-    build.layouts = accel::layouts_for(accel::TracePath::best);  // the renderer traces the SIMD paths only
     for (std::size_t a = 0; a < kinds.size(); ++a) {
-        // --accel auto decides once for everything this structure renders here (converge_rays).
-        // Under MPI rank 0 alone resolves it (a probe measures: ranks could differ).
-        accel::AccelPick pick;
-        pick.kind = kinds[a];
-        if (writer) {
-            std::vector<engine::RenderRays> job_rays;
-            if (kinds[a] == accel::AccelKind::automatic) job_rays = converge_rays(o, scene, lights, integrators, a == 0);
-            accel::AutoJob job;
-            job.tris = scene.mesh.view();
-            job.build = build;
-            for (const engine::RenderRays& r : job_rays) job.groups.insert(job.groups.end(), r.groups.begin(), r.groups.end());
-            pick = accel::pick_accel(kinds[a], job);
-            if (!pick.reason.empty()) std::printf("auto: %s\n", pick.reason.c_str());
-        }
-        if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
+        accel::AccelPick pick = pick_structure(run, kinds[a], a == 0);
         const auto kind = pick.kind;
         const accel::Timer build_timer;
         const bool prebuilt = pick.built != nullptr;
-        const auto structure = prebuilt ? std::move(pick.built) : accel::make_accel(kind, scene.mesh.view(), build);
+        const auto structure = prebuilt ? std::move(pick.built) : accel::make_accel(kind, scene.mesh.view(), run.build);
         const double build_ms = prebuilt ? structure->stats().build_ms : build_timer.ms();
         for (std::size_t i = 0; i < integrators.size(); ++i) {
-            engine::RenderSettings set = to_settings(o.render, integrators[i]);
+            const engine::RenderSettings set = to_settings(o.render, integrators[i]);
             const std::string iname(engine::to_string(integrators[i]));
-            if (references[i].width == 0) {
-                if (!o.reference.empty()) {
-                    references[i] = given_reference;
-                } else {
-                    // The reference uses other random streams than the renders it judges.
-                    engine::RenderSettings ref = set;
-                    ref.spp = ref_spp;
-                    ref.seed = set.seed + 0x9E3779B9u;
-                    ref.progress = true;
-                    const engine::RenderPlan plan = engine::make_plan(scene, lights, ref);
-                    std::printf("reference: %s\n", plan.line(std::string(accel::to_string(kind))).c_str());
-                    std::fflush(stdout);
-                    references[i] = engine::render(scene, lights, plan, *structure, ref, nullptr, tiles.get());
-                    if (writer) {
-                        engine::write_exr((dir / ("reference-" + iname + ".exr")).string(), references[i]);
-                        engine::write_png_preview((dir / ("reference-" + iname + ".png")).string(), references[i]);
-                    }
-                }
-            }
-            for (int spp = 1; spp <= o.max_spp; spp *= 2) {
-                set.spp = spp;
-                const engine::RenderPlan plan = engine::make_plan(scene, lights, set);
-                if (spp == 1 && o.verbose) std::printf("%s\n%s", plan.line(std::string(accel::to_string(kind))).c_str(), plan.skipped_lines().c_str());
-                std::vector<double> times;
-                engine::Image img;
-                engine::RenderStats stats;
-                for (int r = 0; r < o.repeat; ++r) {
-                    img = engine::render(scene, lights, plan, *structure, set, &stats, tiles.get());
-                    times.push_back(stats.seconds);
-                }
-                std::sort(times.begin(), times.end());
-                const double seconds = times[times.size() / 2];
-                // Other ranks hold only their own tiles: rank 0 alone judges the image.
-                const engine::ImageError err =
-                    writer ? engine::compare_rgb(img, references[i], o.reference.empty() ? "reference" : o.reference)
-                           : engine::ImageError{};
-                char row[512];
-                std::snprintf(row, sizeof row, "%s,%s,%d,%.6f,%llu,%.6g,%.6g,%.6g,%.4f,%.3f,%d,%d,%d\n",
-                              std::string(accel::to_string(kind)).c_str(), iname.c_str(), spp, seconds,
-                              (unsigned long long)stats.total(), err.rmse, err.rel_mse, err.mean,
-                              seconds > 0 ? double(stats.total()) / seconds * 1e-6 : 0.0, build_ms, stats.threads,
-                              set.width, set.height);
-                csv += row;
-                std::printf("%-10s %-8s %6d %10.4f %12llu %12.5g %12.5g\n", std::string(accel::to_string(kind)).c_str(),
-                            iname.c_str(), spp, seconds, (unsigned long long)stats.total(), err.rmse, err.rel_mse);
-                std::fflush(stdout);
-                if (spp > o.max_spp / 2) break;  // also stops the doubling before it could overflow
-            }
+            if (references[i].width == 0)
+                references[i] = !o.reference.empty() ? given_reference
+                                                     : render_reference(run, set, ref_spp, *structure, kind, iname);
+            render_series(run, set, *structure, kind, build_ms, references[i], iname, csv);
         }
     }
     if (!writer) return 0;

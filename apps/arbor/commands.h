@@ -1,6 +1,8 @@
 #pragma once
 /// The subcommands of `arbor` (spec/cli.md). Each registers its options on the CLI11 app and
 /// returns the function that runs it; main() owns parsing and the single error boundary.
+#include "apps/arbor/program.h"
+
 #include <CLI/CLI.hpp>
 
 #include <functional>
@@ -10,12 +12,6 @@ namespace arbor::app {
 
 using Run = std::function<int()>;
 
-/// The command line as typed, "arbor SUBCOMMAND ..." (for reports); main() sets it.
-inline std::string& command_line() {
-    static std::string line;
-    return line;
-}
-
 Run add_info(CLI::App& app);
 Run add_trace(CLI::App& app);
 Run add_render(CLI::App& app);
@@ -23,6 +19,5 @@ Run add_rays(CLI::App& app);
 Run add_converge(CLI::App& app);
 Run add_stress(CLI::App& app);
 Run add_view(CLI::App& app);
-Run add_bench(CLI::App& app);  ///< when built with the benchmark library (ARBOR_HAVE_BENCH)
 
 }  // namespace arbor::app

@@ -2,6 +2,7 @@
 /// Helpers shared by the subcommands: option validation, threads, scene loading, JSON output.
 #include "accel/interface/accel.h"
 #include "accel/select/auto_select.h"
+#include "apps/arbor/program.h"
 #include "engine/error.h"
 #include "engine/scene.h"
 
@@ -16,12 +17,6 @@
 #include <tbb/global_control.h>
 
 namespace arbor::app {
-
-/// A bad option value found by arbor's own checks (exit 2, as CLI11's parse errors; spec/cli.md).
-/// Its message starts with the option's name.
-struct OptionError : engine::InputError {
-    using engine::InputError::InputError;
-};
 
 /// A CLI11 check that runs `parse(value)` at parse time, so a bad value exits 2 before any file is
 /// loaded; the OptionError's text (without the "OPTION: " that CLI11 adds itself) is the message.

@@ -1,20 +1,12 @@
-/// `arbor`: subcommand dispatch and the single error boundary. Bad input (InputError, option
-/// errors) prints one line on stderr and exits 1 or 2; nothing is caught anywhere else. Under
-/// mpirun the line comes from rank 0 only, naming the rank that failed, and the whole job stops
-/// (apps/arbor/cluster.h).
-#include "apps/arbor/cluster.h"
+/// `arbor`: subcommand dispatch inside the single error boundary (apps/arbor/program.h).
+#include "apps/arbor/bench_forward.h"
 #include "apps/arbor/commands.h"
-#include "apps/arbor/common.h"
+#include "apps/arbor/program.h"
 #include "apps/arbor/rank_guardian.h"
 #include "accel/dispatch/kernel_set.h"
-#include "accel/factory/memory_estimate.h"
-#include "engine/error.h"
-#include "mpi/launcher.h"
 #include "simd/simd.h"
 
-#include <cstdio>
 #include <cstring>
-#include <new>
 
 #ifndef ARBOR_VERSION
 #define ARBOR_VERSION "unknown"
@@ -47,19 +39,12 @@ std::string unknown_subcommand(int argc, char** argv, const CLI::App& app) {
     return std::string("unknown subcommand '") + argv[1] + "' (expected one of " + names + ")";
 }
 
-/// Prints "arbor: <what>" and returns `code`; in an MPI job, stops the whole job instead (rank 0
-/// prints the line with the failing rank). Before a job is joined (option errors), only the
-/// launcher's rank 0 prints, so that N ranks do not print N copies.
-int failure(int code, const std::string& what) {
-    if (arbor::app::Cluster* c = arbor::app::Cluster::current()) c->fail(code, what);
-    const arbor::mpi::Launch launch = arbor::mpi::detect_launch();
-    if (!launch.launched || launch.rank == 0) std::fprintf(stderr, "arbor: %s\n", what.c_str());
-    return code;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
+    // `arbor bench` becomes arbor-bench before anything else happens here, so that under mpirun
+    // each rank is an arbor-bench with its own rank guardian (apps/arbor/bench_forward.h).
+    if (const int status = arbor::app::forward_bench(argc, argv); status >= 0) return status;
     arbor::app::guard_rank();  // under a launcher: the rank goes on in a child, before any thread exists
     CLI::App app{"arbor: CPU ray tracing with comparable acceleration structures"};
     app.require_subcommand(1);
@@ -76,49 +61,26 @@ int main(int argc, char** argv) {
     reg("render", "render a scene (the embedded default scene without SCENE)", arbor::app::add_render);
     reg("converge", "error against run time: renders at 1, 2, 4, ... spp against a reference", arbor::app::add_converge);
     reg("view", "the live viewer: serves a page at http://127.0.0.1:8080/ that renders SCENE as you move", arbor::app::add_view);
-#ifdef ARBOR_HAVE_BENCH
-    reg("bench", "the benchmark matrix: every structure, scene, ray kind and path, validated then timed (perf/README.md)",
-        arbor::app::add_bench);
-#endif
+    // Listed for --help only: main() has forwarded `arbor bench ...` to arbor-bench before parsing.
+    app.add_subcommand("bench",
+                       "the benchmark matrix: every structure, scene, ray kind and path, validated then timed, beside "
+                       "Embree; runs `arbor-bench bench` with the same arguments (perf/README.md)")
+        ->prefix_command();
     for (int i = 0; i < argc; ++i) arbor::app::command_line() += (i ? " " : "") + std::string(i ? argv[i] : "arbor");
     std::string version;
     try {
         version = version_text();  // chooses the kernel set: a bad ARBOR_ISA stops here
     } catch (const std::exception& e) {
-        return failure(2, e.what());
+        return arbor::app::failure(2, e.what());
     }
     app.set_version_flag("--version", version, "print the version and the SIMD kernel set, then exit");
     if (const std::string unknown = unknown_subcommand(argc, argv, app); !unknown.empty()) {
-        return failure(2, unknown);
+        return arbor::app::failure(2, unknown);
     }
-    try {
+    return arbor::app::run_guarded(app, [&] {
         app.parse(argc, argv);
         for (auto& [sub, run] : commands)
-            if (sub->parsed()) {
-                const int status = run();
-                arbor::app::Cluster* cluster = arbor::app::Cluster::current();
-                if (status != 0 && cluster) cluster->fail(status, "stopped with exit status " + std::to_string(status));
-                arbor::app::Cluster::leave();
-                return status;
-            }
+            if (sub->parsed()) return run();
         return 2;
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        return failure(2, e.what());
-    } catch (const arbor::accel::MemoryLimitError& e) {
-        return failure(1, std::string("--max-memory: ") + e.what());
-    } catch (const arbor::app::OptionError& e) {
-        return failure(2, e.what());
-    } catch (const arbor::engine::InputError& e) {
-        return failure(1, e.what());
-    } catch (const std::bad_alloc&) {
-        return failure(3, "out of memory");
-    } catch (const std::exception& e) {
-        return failure(4, e.what());
-    }
+    });
 }

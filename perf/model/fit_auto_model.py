@@ -5,7 +5,7 @@ usage: perf/model/fit_auto_model.py BENCH.json [BENCH.json ...] [--stale OLD.jso
                                     [--scaled OLDER.json ...] [-o perf/model/auto_model.txt]
        perf/model/fit_auto_model.py perf/model/auto_model_data.csv      # refit from the kept table
 
-Reads every arbor row (not Embree) of arbor_bench's bench.json that carries the job's shape
+Reads every arbor row (not Embree) of arbor-bench's bench.json that carries the job's shape
 (rows[].shape: what auto knows before building, accel/select/job_shape.h) and fits, by ridge
 regression on logarithms:
   trace: ln(ns per ray) per (structure, path) over TRACE_FEATURES, from the rows' trace CPU time /
@@ -17,8 +17,8 @@ prints how the model alone would pick on those rows: in-sample and leave-one-sce
 scene predicted by a model fitted without it: how auto does on a scene it never saw).
 
 Builds are timed by the wall clock (two threads share the work), so a run on a loaded machine
-overrates them against the traces' CPU time (a model fitted at load 14 put the bunny's bvh-sah build at
-108 ms, 29 ms on the quiet machine, and picked cheap builds at 1M rays). --builds takes the build
+overrates them against the traces' CPU time (a model fitted on a loaded machine put bunny's bvh-sah
+build at 108 ms, 29 ms on the quiet machine, and picked cheap builds at 1M rays). --builds takes the build
 times from other runs instead (a quiet machine's; builds see no rays, so any ray seed will do): per
 (scene, threads, structure) the median over those runs of each run's fastest build. --scaled adds
 the rows of scenes the inputs lack from an older run (the large scenes of a full matrix), each time
@@ -314,7 +314,7 @@ def main():
     ap.add_argument("-o", "--out", default=os.path.join(here, "auto_model.txt"))
     ap.add_argument("--table", default=None, help="where to write the training table (default: beside --out)")
     ap.add_argument("--stale", nargs="*", default=[], metavar="BENCH.json",
-                    help="bench.json from before the shapes of fewer timed rays (5eaaaa6): its primary and "
+                    help="bench.json from before the rows carried the shape of fewer timed rays: its primary and "
                          "shadow rows timed on fewer rays than validated are left out")
     ap.add_argument("--builds", nargs="*", default=[], metavar="BENCH.json",
                     help="take the build times from these runs (a quiet machine's): see the module's doc")

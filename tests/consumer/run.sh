@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The install-consumer test. Installs the build tree into a scratch prefix and checks that it holds
-# only the public header and library; then builds the README's C++ example (the first ```cpp block
+# only the public header and library (and the commands arbor and arbor-bench, arbor linking no
+# Embree); then builds the README's C++ example (the first ```cpp block
 # of its section "Use arbor from C++", copied out of README.md) as a separate project with the
 # compiler's default flags, checks that no flag of arbor's own reached its compile line, and runs
 # it on a model. The build's own compiler is used when given (a sanitizer build's library needs
@@ -20,6 +21,8 @@ if [ "$headers" != "./arbor/arbor.h" ]; then
   echo "FAIL: the installed tree holds more than <arbor/arbor.h>:"; echo "$headers"; exit 1
 fi
 if find "$work/prefix" -name '*.a' | grep -q .; then echo "FAIL: static libraries installed"; exit 1; fi
+# The installed product links no Embree (only the lab tool arbor-bench, installed beside it, may).
+if ldd "$work/prefix/bin/arbor" | grep -qi embree; then echo "FAIL: the installed arbor links Embree"; exit 1; fi
 cmake -S "$work/src" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
   ${cxx:+-DCMAKE_CXX_COMPILER="$cxx"} >/dev/null
 cmake --build "$work/build" >/dev/null

@@ -23,7 +23,7 @@ ap.add_argument("--chromium", default="/usr/bin/chromium")
 ap.add_argument("--integrator-for-screenshot", default="direct")
 args, view_args = ap.parse_known_args()
 if not os.access(args.chromium, os.X_OK):
-    sys.exit(f"FAIL: no browser at {args.chromium} (scripts/setup-deps.sh installs Debian's chromium)")
+    sys.exit(f"FAIL: no browser at {args.chromium} (scripts/setup_deps.sh installs Debian's chromium)")
 
 CANVAS_HASH = """(() => { const c = document.getElementById('view');
   const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;

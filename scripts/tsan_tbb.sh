@@ -18,7 +18,7 @@ out=build/tsan-tbb
 prefix=$out/prefix
 version=$(dpkg-query -W -f='${Version}' libtbb-dev)
 if [ -f "$prefix/VERSION" ] && [ "$(cat "$prefix/VERSION")" = "$version" ]; then
-  echo "tsan-tbb: oneTBB $version with ThreadSanitizer already in $prefix"
+  echo "tsan_tbb: oneTBB $version with ThreadSanitizer already in $prefix"
   exit 0
 fi
 rm -rf "$out"
@@ -38,7 +38,7 @@ fetch() {
   apt-get "${apt_opts[@]}" update >/dev/null &&
     (cd "$out/src" && apt-get "${apt_opts[@]}" source "onetbb=$version" >/dev/null)
 }
-fetch || { echo "tsan-tbb: fetching the onetbb source failed, trying once more" >&2; sleep 10; fetch; }
+fetch || { echo "tsan_tbb: fetching the onetbb source failed, trying once more" >&2; sleep 10; fetch; }
 src=$(find "$out/src" -mindepth 1 -maxdepth 1 -type d -name 'onetbb-*' | head -1)
 cmake -S "$src" -B "$out/build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_INSTALL_PREFIX="$(pwd)/$prefix" \
   -DCMAKE_INSTALL_LIBDIR=lib -DTBB_SANITIZE=thread -DTBB_TEST=OFF -DTBB_EXAMPLES=OFF -DTBBMALLOC_BUILD=OFF \
@@ -47,4 +47,4 @@ cmake --build "$out/build" -j "$(nproc)" --target tbb >/dev/null
 cmake --install "$out/build" >/dev/null
 echo "$version" >"$prefix/VERSION"
 rm -rf "$out/apt" "$out/src" "$out/build"
-echo "tsan-tbb: built oneTBB $version with ThreadSanitizer into $prefix"
+echo "tsan_tbb: built oneTBB $version with ThreadSanitizer into $prefix"
