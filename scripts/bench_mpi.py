@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """What `mpirun -np N arbor render` costs and gains on one machine, and the inputs of the scaling
-model in the README (section Across machines). Prints Markdown; perf/results/mpi.md holds the current baseline.
+model in docs/mpi.md. Prints Markdown; perf/results/mpi.md holds the current baseline.
 
   scripts/bench_mpi.py [--arbor build/release/apps/arbor/arbor] [--rounds 7] [--skip-model]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The tables of a report's SUMMARY.md from arbor-bench's bench.json (perf/README.md).
+"""The tables of a report's SUMMARY.md from arbor-bench's bench.json (docs/benchmarks.md).
 
 usage: scripts/bench_summary.py OUT/bench.json > tables.md
 

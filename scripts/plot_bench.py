@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of an `arbor-bench bench` run (perf/README.md).
+"""Plots of an `arbor-bench bench` run (docs/benchmarks.md).
 
 usage: scripts/plot_bench.py RESULTS/bench.json [OUT_DIR]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Files for the README's renders of other formats, made from the shared OBJ models:
+"""Files for the renders of other formats in docs/formats.md, made from the shared OBJ models:
 
   OUT/bunny.ply   the Stanford bunny as a binary little-endian PLY with positions and faces only,
                   as the Stanford repository publishes its scans (no normals: render with --smooth)
@@ -8,7 +8,7 @@
                   an 8 x 8 checkerboard running from red at the image's top to blue at its bottom,
                   an "F" in every light square (mirrored or upside-down F's would show a flip)
 
-usage: scripts/showcase.py MODELS_DIR OUT_DIR   (then the commands in README.md, section Scenes and files)
+usage: scripts/showcase.py MODELS_DIR OUT_DIR   (then the commands in docs/formats.md)
 """
 import json
 import math
