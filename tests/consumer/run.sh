@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The install-consumer test. Installs the build tree into a scratch prefix and checks that it holds
-# only the public header and library (and the commands arbor and arbor-bench, arbor linking no
-# Embree); then builds the README's C++ example (the first ```cpp block
-# of its section "Use arbor from C++", copied out of README.md) as a separate project with the
-# compiler's default flags, checks that no flag of arbor's own reached its compile line, and runs
-# it on a model. The build's own compiler is used when given (a sanitizer build's library needs
+# only the public header and the libraries libarbor.so and libarbor.a (and the commands arbor and
+# arbor-bench, arbor linking no Embree); then builds the README's C++ example (the first ```cpp block
+# of its section "Use arbor from C++", copied out of README.md) twice as a separate project with the
+# compiler's default flags, once against libarbor.so (arbor::arbor) and once against libarbor.a
+# (arbor::arbor_static), checks that no flag of arbor's own reached its compile line, that the
+# static program needs no libarbor.so, and runs both on a model. The build's own compiler is used when given (a sanitizer build's library needs
 # that compiler's runtime).
 # Usage: run.sh BUILD_DIR WORK_DIR README.md MODEL.obj [CXX]
 set -eu
@@ -20,14 +21,24 @@ headers=$(cd "$work/prefix/include" && find . -type f | sort)
 if [ "$headers" != "./arbor/arbor.h" ]; then
   echo "FAIL: the installed tree holds more than <arbor/arbor.h>:"; echo "$headers"; exit 1
 fi
-if find "$work/prefix" -name '*.a' | grep -q .; then echo "FAIL: static libraries installed"; exit 1; fi
+archives=$(cd "$work/prefix" && find . -name '*.a' | sed 's|.*/||' | sort)
+if [ "$archives" != "libarbor.a" ]; then
+  echo "FAIL: the installed tree should hold exactly one static library, libarbor.a; it holds: ${archives:-none}"; exit 1
+fi
 # The installed product links no Embree (only the lab tool arbor-bench, installed beside it, may).
 if ldd "$work/prefix/bin/arbor" | grep -qi embree; then echo "FAIL: the installed arbor links Embree"; exit 1; fi
-cmake -S "$work/src" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
-  ${cxx:+-DCMAKE_CXX_COMPILER="$cxx"} >/dev/null
-cmake --build "$work/build" >/dev/null
-line=$(grep '"command"' "$work/build/compile_commands.json")
-for flag in -march -ffp-contract -std= -fno-math-errno -O; do
-  if grep -q -- "$flag" <<<"$line"; then echo "FAIL: the package put $flag on the consumer's compile line: $line"; exit 1; fi
+for link in shared static; do
+  out="$work/build-$link"
+  cmake -S "$work/src" -B "$out" -DARBOR_LINK=$link -DCMAKE_PREFIX_PATH="$work/prefix" \
+    -DCMAKE_EXPORT_COMPILE_COMMANDS=ON ${cxx:+-DCMAKE_CXX_COMPILER="$cxx"} >/dev/null
+  cmake --build "$out" >/dev/null
+  line=$(grep '"command"' "$out/compile_commands.json")
+  for flag in -march -ffp-contract -std= -fno-math-errno -O; do
+    if grep -q -- "$flag" <<<"$line"; then echo "FAIL ($link): the package put $flag on the consumer's compile line: $line"; exit 1; fi
+  done
+  needs=$(ldd "$out/consumer" | grep -c 'libarbor\.so' || true)
+  if [ "$link" = static ] && [ "$needs" != 0 ]; then echo "FAIL: the static consumer still needs libarbor.so"; exit 1; fi
+  if [ "$link" = shared ] && [ "$needs" = 0 ]; then echo "FAIL: the shared consumer does not link libarbor.so"; exit 1; fi
+  echo "== $link"
+  "$out/consumer" "$model"
 done
-"$work/build/consumer" "$model"
