@@ -1,0 +1,80 @@
+#!/usr/bin/python3
+"""arbor beside the libraries people cast rays with from Python, on the same meshes and queries:
+Open3D's RaycastingScene (Debian python3-open3d), Embree 3 called directly (Debian libembree3,
+through ctypes) and arbor's Python module. docs/benchmarks.md ("arbor beside its Python peers")
+shows the current table and how to read it.
+
+  /usr/bin/python3 scripts/bench_peers.py [--arbor build/release/apps/arbor/arbor]
+      [--python-path build/release/python] [--models ../shared/scenes/models]
+      [--scenes stanford-bunny,beast,rocker-arm,cheburashka] [--rays 262144] [--points 65536]
+      [--rounds 5] [--threads 2] [--sample 300] [-o build/results/peers.md]
+
+Per model, every library builds its structure (timed apart, once per round) and answers, with the
+same thread count, the queries of scripts/peers/queries.py: closest hit on camera, random and
+edge-aimed rays; any hit on shadow rays; crossing counts on camera and random rays; closest-point
+distance and inside on points in the box (inside only on closed meshes: elsewhere it is not
+defined, and the row says it was skipped). Rounds interleave the libraries, the order rotated each
+round; a figure is the median over rounds of one whole call (inputs prepared in each library's own
+format beforehand, outputs as the library returns them). Ratio = the peer's median / arbor's: above
+1, arbor is faster. Agreement: wherever two libraries' answers differ (up to --sample of them),
+and on --sample queries more picked at random, the float64 referee (scripts/peers/referee.py)
+says who is right; "wrong" counts a library's answers that differ from the referee's.
+"""
+import argparse
+import os
+import pathlib
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+
+def preload_mask_shim():
+    """Re-runs this script with scripts/peers/mask_shim.c preloaded (see peers/open3d_peer.py)."""
+    if os.environ.get("ARBOR_PEERS_SHIM"):
+        return
+    tmp = tempfile.mkdtemp(prefix="arbor-peers-")
+    so = os.path.join(tmp, "mask_shim.so")
+    subprocess.run(["cc", "-shared", "-fPIC", "-O2", "-o", so, str(ROOT / "scripts/peers/mask_shim.c"), "-ldl"],
+                   check=True)
+    env = dict(os.environ, LD_PRELOAD=so, ARBOR_PEERS_SHIM=so)
+    os.execve(sys.executable, [sys.executable] + sys.argv, env)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--arbor", default=str(ROOT / "build/release/apps/arbor/arbor"))
+    ap.add_argument("--python-path", default=str(ROOT / "build/release/python"))
+    ap.add_argument("--models", default=str(ROOT.parent / "shared/scenes/models"))
+    ap.add_argument("--scenes", default="stanford-bunny,beast,rocker-arm,cheburashka")
+    ap.add_argument("--rays", type=int, default=1 << 18)
+    ap.add_argument("--points", type=int, default=1 << 16)
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--sample", type=int, default=300)
+    ap.add_argument("-o", "--out", default=str(ROOT / "build/results/peers.md"))
+    o = ap.parse_args()
+    for path, what in ((o.arbor, "--arbor"), (o.models, "--models")):
+        if not os.path.exists(path):
+            sys.exit(f"bench_peers: {what} {path}: not found")
+    sys.path.insert(0, o.python_path)
+    sys.path.insert(0, str(ROOT / "scripts"))
+    try:
+        import open3d  # noqa: F401
+    except ImportError:
+        sys.exit("bench_peers: Open3D is missing: apt-get install python3-open3d, and run with /usr/bin/python3")
+    preload_mask_shim()
+    from peers.compare import run_model
+    from peers.report import write_report
+
+    results = []
+    for name in o.scenes.split(","):
+        print(f"== {name}", flush=True)
+        results.append(run_model(os.path.join(o.models, name + ".obj"), name, o))
+    write_report(results, o)
+
+
+if __name__ == "__main__":
+    main()
