@@ -27,7 +27,7 @@ std::string path_arg(py::handle path, const char* what) {
     }
 }
 
-std::uint32_t add_mesh(PyScene& s, py::handle vertices, py::handle faces) {
+std::uint32_t add_mesh(PyScene& s, py::object vertices, py::object faces) {
     const arbor::python::Rows3 v = arbor::python::rows3(vertices, "vertices");
     const std::vector<std::uint32_t> f = arbor::python::faces(faces, v.count);
     std::uint32_t id = 0;

@@ -1,7 +1,7 @@
 """Every public name of arbor, used as a typed program uses it: checked by mypy --strict against the
 stubs (test_typing.py) and run (test_typing.py), so the types it states are the ones returned."""
 import pathlib
-from typing import Any, Final
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -25,7 +25,7 @@ class DLPackRows:
 def use_everything(model: pathlib.Path, rays_file: pathlib.Path) -> dict[str, object]:
     version: str = arbor.__version__
     kernels: str = arbor.kernel_set()
-    miss: Final[int] = arbor.MISS
+    miss: int = arbor.MISS
     dtypes: list[np.dtype[np.void]] = [arbor.hit_dtype, arbor.hit_normal_dtype, arbor.point_dtype]
 
     vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], np.float32)
@@ -47,7 +47,8 @@ def use_everything(model: pathlib.Path, rays_file: pathlib.Path) -> dict[str, ob
     hits: npt.NDArray[np.void] = scene.intersect(origins, direction, 0.0, np.inf, threads=1)
     with_normals: npt.NDArray[np.void] = scene.intersect(DLPackRows(origins), direction, normals=True)
     scene.intersect(origins, direction, out=hits)
-    occ: npt.NDArray[np.bool_] = scene.occluded(memoryview(origins), direction, tnear=np.zeros(2), tfar=10.0)
+    buffer = memoryview(bytearray(origins.tobytes())).cast("f", (2, 3))  # the buffer protocol
+    occ: npt.NDArray[np.bool_] = scene.occluded(buffer, direction, tnear=np.zeros(2), tfar=10.0)
     all_hits, counts = scene.intersect_all(origins, direction, max_hits=4, threads=0, normals=False)
     grid = np.zeros((3, 4, 3), np.float32) + origins[0]
     grid_hits: npt.NDArray[np.void] = scene.intersect(grid, direction)
