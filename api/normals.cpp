@@ -1,10 +1,10 @@
 /// arbor::Scene::hit_normals: the geometric normal of each hit's triangle, from the scene's own
 /// copy of the vertices.
-#include "api/batch.h"
-#include "api/scene_impl.h"
-
 #include <cmath>
 #include <cstring>
+
+#include "api/batch.h"
+#include "api/scene_impl.h"
 
 namespace arbor {
 
@@ -33,7 +33,8 @@ void Scene::hit_normals(const Hit* hits, std::size_t count, std::size_t hit_stri
         CallArena arena(*impl_, options, "hit_normals");
         if (count == 0) return;
         if (!hits || !normals)
-            throw Error(Kind::invalid_argument, std::string("hit_normals: ") + (hits ? "normals" : "hits") + " is null");
+            throw Error(Kind::invalid_argument,
+                        std::string("hit_normals: ") + (hits ? "normals" : "hits") + " is null");
         const auto* in = reinterpret_cast<const unsigned char*>(hits);
         auto* out = reinterpret_cast<unsigned char*>(normals);
         const auto hit_at = [&](std::size_t i) {

@@ -1,15 +1,14 @@
 /// arbor::Scene's batch queries: the caller's arrays are read in chunks (api/batch.h), each chunk
 /// turned into accel::Ray records or points in a per-thread buffer, answered by one call of the
 /// structure, and written back with geometry ids.
-#include "api/batch.h"
-#include "api/scene_impl.h"
-
-#include "accel/interface/inside.h"
-#include "accel/interface/path_policy.h"
-
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+
+#include "accel/interface/inside.h"
+#include "accel/interface/path_policy.h"
+#include "api/batch.h"
+#include "api/scene_impl.h"
 
 namespace arbor {
 
@@ -149,7 +148,8 @@ void Scene::intersect_all(const RayArrays& rays, std::size_t max_hits, Hit* hits
     guarded([&] {
         CallArena arena(*impl_, options, "intersect_all");
         check_rays(rays, counts, "intersect_all");
-        if (max_hits != 0 && rays.count != 0 && !hits) throw Error(Error::Kind::invalid_argument, "intersect_all: hits is null");
+        if (max_hits != 0 && rays.count != 0 && !hits)
+            throw Error(Error::Kind::invalid_argument, "intersect_all: hits is null");
         const accel::Accel& a = impl_->structure();
         for_chunks(arena, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
             RowSink sink(*impl_, hits, counts, max_hits, b);
@@ -176,7 +176,8 @@ void Scene::closest_point(const PointArrays& points, const PointValues& max_dist
         for (std::size_t i = 0; i < (max_distance.values ? points.count : 1); ++i)
             if (!(reach(i) >= 0.0f))
                 throw Error(Error::Kind::invalid_argument,
-                            "closest_point: max_distance" + (max_distance.values ? "[" + std::to_string(i) + "]" : std::string()) +
+                            "closest_point: max_distance" +
+                                (max_distance.values ? "[" + std::to_string(i) + "]" : std::string()) +
                                 " must be >= 0 (+inf: no limit), got " + std::to_string(reach(i)));
         const accel::Accel& a = impl_->structure();
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {

@@ -3,21 +3,19 @@
 /// engine::Mesh (geometry g owns triangles [first_prim[g], first_prim[g + 1])), the structure built
 /// over it, and the task arena its batches run in. Also the one place internal exceptions become
 /// arbor::Error.
-#include "accel/interface/accel.h"
-#include "engine/mesh.h"
-
 #include <arbor/arbor.h>
-
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-
 #include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
+
+#include "accel/interface/accel.h"
+#include "engine/mesh.h"
 
 namespace arbor {
 

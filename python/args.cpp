@@ -19,7 +19,8 @@ long long count_arg(py::handle obj, const char* what, const char* expected, long
     const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
     if (v == -1 && PyErr_Occurred()) throw py::error_already_set();
     if (overflow < 0 || (overflow == 0 && v < 0))
-        throw py::value_error(std::string(what) + ": expected " + expected + ", got " + py::str(index).cast<std::string>());
+        throw py::value_error(std::string(what) + ": expected " + expected + ", got " +
+                              py::str(index).cast<std::string>());
     return overflow > 0 || v > most ? most : v;
 }
 

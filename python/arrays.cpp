@@ -1,13 +1,13 @@
 #include "arrays.h"
 
-#include "args.h"
-#include "array_source.h"
-
 #include <arbor/arbor.h>
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+
+#include "args.h"
+#include "array_source.h"
 
 namespace arbor::python {
 
@@ -30,7 +30,9 @@ bool is_native_float32(const py::array& a) {
 }
 
 /// A float32 copy of a real-valued array.
-py::array float32_copy(const py::array& a) { return numpy().attr("ascontiguousarray")(a, py::arg("dtype") = "float32"); }
+py::array float32_copy(const py::array& a) {
+    return numpy().attr("ascontiguousarray")(a, py::arg("dtype") = "float32");
+}
 
 py::tuple as_tuple(const Shape& s) {
     py::tuple t(s.size());
@@ -67,7 +69,8 @@ py::ssize_t size_of(const Shape& s) {
 Rows3 rows3(py::handle obj, const char* what) {
     constexpr const char* expected = "a float32 array of shape (N, 3)";
     const py::array a = as_array(obj, what, expected);
-    if (!is_real(a)) throw py::type_error(std::string(what) + ": expected " + expected + ", got dtype " + dtype_name(a));
+    if (!is_real(a))
+        throw py::type_error(std::string(what) + ": expected " + expected + ", got dtype " + dtype_name(a));
     if (a.ndim() != 2 || a.shape(1) != 3)
         throw py::value_error(std::string(what) + ": expected shape (N, 3), got " + shape_str(shape_of(a)));
     return rows_of(a, std::size_t(a.shape(0)), false);
@@ -76,7 +79,8 @@ Rows3 rows3(py::handle obj, const char* what) {
 py::array coords(py::handle obj, const char* what) {
     constexpr const char* expected = "a float32 array of shape (N, 3) or (..., 3)";
     const py::array a = as_array(obj, what, expected);
-    if (!is_real(a)) throw py::type_error(std::string(what) + ": expected " + expected + ", got dtype " + dtype_name(a));
+    if (!is_real(a))
+        throw py::type_error(std::string(what) + ": expected " + expected + ", got dtype " + dtype_name(a));
     if (a.ndim() < 1 || a.shape(a.ndim() - 1) != 3)
         throw py::value_error(std::string(what) + ": expected shape (N, 3) or (..., 3), got " + shape_str(shape_of(a)));
     return a;
@@ -92,8 +96,8 @@ Shape broadcast_rays(const Shape& o, const Shape& d) {
         const py::ssize_t b = i < d.size() ? d[d.size() - 1 - i] : 1;
         if (a != b && a != 1 && b != 1) {
             if (o.size() == 1 && d.size() == 1)
-                throw py::value_error("directions: expected " + std::to_string(o[0]) + " rows like origins (or 1), got " +
-                                      std::to_string(d[0]));
+                throw py::value_error("directions: expected " + std::to_string(o[0]) +
+                                      " rows like origins (or 1), got " + std::to_string(d[0]));
             throw py::value_error("directions: expected a shape that broadcasts with origins' " + shape_str(o) +
                                   " (the same, or one row for all), got " + shape_str(d));
         }
@@ -134,10 +138,11 @@ PerValue per_value(py::handle obj, const char* what, const Shape& shape, const c
         r.value = number(scalar, what);
         return r;
     }
-    if (!is_real(a)) throw py::type_error(std::string(what) + ": expected " + expected + ", got dtype " + dtype_name(a));
+    if (!is_real(a))
+        throw py::type_error(std::string(what) + ": expected " + expected + ", got dtype " + dtype_name(a));
     if (shape_of(a) != shape)
-        throw py::value_error(std::string(what) + ": expected a number or shape " + shape_str(shape) + " (one per " + each +
-                              "), got " + shape_str(shape_of(a)));
+        throw py::value_error(std::string(what) + ": expected a number or shape " + shape_str(shape) + " (one per " +
+                              each + "), got " + shape_str(shape_of(a)));
     a = a.attr("reshape")(-1);
     if (!(is_native_float32(a) && a.strides(0) >= 0)) a = float32_copy(a);
     r.data = static_cast<const float*>(a.data());
@@ -152,7 +157,8 @@ std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices) {
     if (a.size() == 0 && (a.ndim() == 1 || (a.ndim() == 2 && a.shape(1) == 3))) return {};  // no faces ([] is float64)
     const char k = a.dtype().kind();
     if (k != 'i' && k != 'u') throw py::type_error(std::string("faces: expected ") + expected + ", got dtype " + dtype_name(a));
-    if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error("faces: expected shape (F, 3), got " + shape_str(shape_of(a)));
+    if (a.ndim() != 2 || a.shape(1) != 3)
+        throw py::value_error("faces: expected shape (F, 3), got " + shape_str(shape_of(a)));
     const bool is_signed = k == 'i';
     const py::array wide = numpy().attr("ascontiguousarray")(a, py::arg("dtype") = is_signed ? "int64" : "uint64");
     const std::size_t n = std::size_t(a.shape(0)) * 3;
@@ -170,14 +176,16 @@ std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices) {
     return out;
 }
 
-void check_out_array(py::handle out, const char* what, const py::dtype& dtype, const char* dtype_name_, std::size_t alignment,
-                     const Shape& shape, std::initializer_list<py::handle> inputs) {
+void check_out_array(py::handle out, const char* what, const py::dtype& dtype, const char* dtype_name_,
+                     std::size_t alignment, const Shape& shape, std::initializer_list<py::handle> inputs) {
     const std::string w = what;
-    const std::string expected = std::string("a numpy array of dtype ") + dtype_name_ + " and shape " + shape_str(shape);
+    const std::string expected =
+        std::string("a numpy array of dtype ") + dtype_name_ + " and shape " + shape_str(shape);
     if (!py::isinstance<py::array>(out)) throw py::type_error(w + ": expected " + expected + ", got " + type_name(out));
     auto a = py::reinterpret_borrow<py::array>(out);
     if (!a.dtype().equal(dtype)) throw py::type_error(w + ": expected " + expected + ", got dtype " + dtype_name(a));
-    if (shape_of(a) != shape) throw py::value_error(w + ": expected " + expected + ", got shape " + shape_str(shape_of(a)));
+    if (shape_of(a) != shape)
+        throw py::value_error(w + ": expected " + expected + ", got shape " + shape_str(shape_of(a)));
     const int flags = py::detail::array_proxy(a.ptr())->flags;
     // (numpy calls a record of 4-byte fields aligned at any address: its own dtype is packed.)
     const auto misalign = reinterpret_cast<std::uintptr_t>(a.data()) % alignment;
@@ -186,15 +194,17 @@ void check_out_array(py::handle out, const char* what, const py::dtype& dtype, c
         std::string strides;
         for (py::ssize_t i = 0; i < a.ndim(); ++i) strides += (i ? ", " : "") + std::to_string(a.strides(i));
         throw py::value_error(w + ": expected a contiguous array at a multiple of " + std::to_string(alignment) +
-                              " bytes (every record next to the last), got strides (" + strides + (a.ndim() == 1 ? ",)" : ")") +
-                              " at byte " + std::to_string(misalign) + " of " + std::to_string(alignment));
+                              " bytes (every record next to the last), got strides (" + strides +
+                              (a.ndim() == 1 ? ",)" : ")") + " at byte " + std::to_string(misalign) + " of " +
+                              std::to_string(alignment));
     }
     if (!a.writeable()) throw py::value_error(w + ": the array is read-only");
     // The query reads its inputs while it writes: they must not be in the results' memory.
     const py::object may_share = numpy().attr("may_share_memory");
     for (const py::handle in : inputs)
         if (in && !in.is_none() && may_share(a, in).cast<bool>())
-            throw py::value_error(w + ": shares memory with an input array (the query reads them while it writes " + w + ")");
+            throw py::value_error(w + ": shares memory with an input array (the query reads them while it writes " + w +
+                                  ")");
 }
 
 py::dtype hit_dtype() {

@@ -65,8 +65,8 @@ std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices);
 /// `shape` and `dtype` (named `dtype_name` in errors) at a multiple of `alignment` bytes, that shares
 /// no memory with `inputs` (the arrays the query reads); TypeError for another type or dtype,
 /// ValueError for another shape or layout.
-void check_out_array(py::handle out, const char* what, const py::dtype& dtype, const char* dtype_name, std::size_t alignment,
-                     const Shape& shape, std::initializer_list<py::handle> inputs);
+void check_out_array(py::handle out, const char* what, const py::dtype& dtype, const char* dtype_name,
+                     std::size_t alignment, const Shape& shape, std::initializer_list<py::handle> inputs);
 
 /// The numpy dtypes of the results (python.md): hits, hits with normals, closest points.
 py::dtype hit_dtype();

@@ -2,15 +2,15 @@
 /// out. Arguments are checked and converted with the GIL held (arrays.h, args.h); arbor's work runs
 /// with the GIL released (queries.h). Every function's docstring is what help() shows; the type
 /// stubs (arbor/_arbor.pyi) say the same in types, and a test keeps the two in agreement.
-#include "args.h"
-#include "arrays.h"
-#include "py_scene.h"
-#include "queries.h"
-
 #include <arbor/arbor.h>
 
 #include <climits>
 #include <limits>
+
+#include "args.h"
+#include "arrays.h"
+#include "py_scene.h"
+#include "queries.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -23,7 +23,8 @@ std::string path_arg(py::handle path, const char* what) {
     try {
         return py::module_::import("os").attr("fspath")(path).cast<std::string>();
     } catch (py::error_already_set&) {
-        throw py::type_error(std::string(what) + ": expected a str or os.PathLike path, got " + arbor::python::type_name(path));
+        throw py::type_error(std::string(what) + ": expected a str or os.PathLike path, got " +
+                             arbor::python::type_name(path));
     }
 }
 
@@ -39,19 +40,19 @@ constexpr float inf = std::numeric_limits<float>::infinity();
 constexpr const char* structures = "brute, bvh-median, bvh-sah, lbvh, kdtree or auto";
 
 // The parts of the queries' docstrings they share.
-#define ARBOR_RAYS_DOC                                                                                        \
+#define ARBOR_RAYS_DOC                                                                                      \
     "    origins: ray origins, shape (N, 3) or any (..., 3); float32 is read in place, other real dtypes\n" \
     "        are converted. Any array: numpy, the buffer protocol, __array_interface__ or DLPack\n"         \
     "        (e.g. a torch CPU tensor).\n"                                                                  \
     "    directions: ray directions, like origins; the two shapes broadcast (one row for every ray).\n"     \
-    "        They need not be unit length: t is measured in units of their length.\n"                        \
+    "        They need not be unit length: t is measured in units of their length.\n"                       \
     "    tnear, tfar: the range of t searched: numbers, or arrays of the rays' leading shape (...,).\n"
-#define ARBOR_THREADS_DOC                                                                                     \
-    "    threads: threads for this call: 0 = the scene's (build's threads); more than the cores\n"          \
+#define ARBOR_THREADS_DOC                                                                          \
+    "    threads: threads for this call: 0 = the scene's (build's threads); more than the cores\n" \
     "        = all cores. The answers do not depend on it.\n"
-#define ARBOR_RAISES_DOC                                                                                      \
-    "\nRaises:\n"                                                                                            \
-    "    TypeError, ValueError: an argument of the wrong type, dtype or shape; the one-line message\n"      \
+#define ARBOR_RAISES_DOC                                                                               \
+    "\nRaises:\n"                                                                                      \
+    "    TypeError, ValueError: an argument of the wrong type, dtype or shape; the one-line message\n" \
     "        names it.\n"
 
 }  // namespace
@@ -156,8 +157,8 @@ PYBIND11_MODULE(_arbor, m) {
             [](PyScene& s, py::object accel, py::object threads, py::object max_memory) {
                 const std::string name = arbor::python::str_arg(accel, "accel", structures);
                 const int t = arbor::python::threads_arg(threads, "all cores");
-                const auto budget = std::uint64_t(arbor::python::count_arg(max_memory, "max_memory", "a number of bytes >= 0 (0 = no limit)",
-                                                                           LLONG_MAX));
+                const auto budget = std::uint64_t(arbor::python::count_arg(
+                    max_memory, "max_memory", "a number of bytes >= 0 (0 = no limit)", LLONG_MAX));
                 const arbor::BuildOptions o{name, t, budget};
                 run<true>(s, [&] { s.scene.build(o); });
             },
@@ -227,12 +228,12 @@ PYBIND11_MODULE(_arbor, m) {
              })
         .def(
             "intersect",
-            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar, py::object out,
-               py::object threads, py::object normals) {
+            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar,
+               py::object out, py::object threads, py::object normals) {
                 return arbor::python::intersect(s, origins, directions, tnear, tfar, out, threads, normals);
             },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(), py::kw_only(), "threads"_a = 0,
-            "normals"_a = false,
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(), py::kw_only(),
+            "threads"_a = 0, "normals"_a = false,
             "The closest hit of each ray.\n\n"
             "Args:\n" ARBOR_RAYS_DOC
             "    out: None, or an array to write the results into and return: C-contiguous, of the\n"
@@ -248,9 +249,12 @@ PYBIND11_MODULE(_arbor, m) {
             "    zeros for a miss.\n" ARBOR_RAISES_DOC)
         .def(
             "occluded",
-            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar, py::object out,
-               py::object threads) { return arbor::python::occluded(s, origins, directions, tnear, tfar, out, threads); },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(), py::kw_only(), "threads"_a = 0,
+            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar,
+               py::object out, py::object threads) {
+                return arbor::python::occluded(s, origins, directions, tnear, tfar, out, threads);
+            },
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(), py::kw_only(),
+            "threads"_a = 0,
             "Whether each ray hits anything in [tnear, tfar] (any hit: shadow rays).\n\n"
             "Args:\n" ARBOR_RAYS_DOC
             "    out: None, or a C-contiguous bool array of the rays' leading shape to write into.\n" ARBOR_THREADS_DOC
@@ -258,12 +262,13 @@ PYBIND11_MODULE(_arbor, m) {
             "    numpy.ndarray: bool, of the rays' leading shape (...,).\n" ARBOR_RAISES_DOC)
         .def(
             "intersect_all",
-            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar, py::object max_hits,
-               py::object out, py::object threads, py::object normals) {
-                return arbor::python::intersect_all(s, origins, directions, tnear, tfar, max_hits, out, threads, normals);
+            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar,
+               py::object max_hits, py::object out, py::object threads, py::object normals) {
+                return arbor::python::intersect_all(s, origins, directions, tnear, tfar, max_hits, out, threads,
+                                                    normals);
             },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "max_hits"_a = 16, py::kw_only(), "out"_a = py::none(),
-            "threads"_a = 0, "normals"_a = false,
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "max_hits"_a = 16, py::kw_only(),
+            "out"_a = py::none(), "threads"_a = 0, "normals"_a = false,
             "Every triangle each ray crosses in [tnear, tfar], each once, sorted by t.\n\n"
             "Args:\n" ARBOR_RAYS_DOC
             "    max_hits: an int >= 0, the room per ray.\n"
@@ -293,7 +298,8 @@ PYBIND11_MODULE(_arbor, m) {
             "    numpy.ndarray: a structured array of the points' leading shape (...,) (0-d for one\n"
             "    point), dtype arbor.point_dtype: distance (float32, scene units), geom and prim\n"
             "    (uint32), point (float32, 3), u and v (float32: point = (1-u-v) v0 + u v1 + v v2).\n"
-            "    Nothing within max_distance (or a NaN point): distance = inf, geom = prim = arbor.MISS.\n" ARBOR_RAISES_DOC)
+            "    Nothing within max_distance (or a NaN point): distance = inf, geom = prim = "
+            "arbor.MISS.\n" ARBOR_RAISES_DOC)
         .def(
             "inside",
             [](const PyScene& s, py::object points, py::object out, py::object threads) {
@@ -304,7 +310,8 @@ PYBIND11_MODULE(_arbor, m) {
             "points on the surface get either answer).\n\n"
             "Args:\n"
             "    points: shape (N, 3), any (..., 3), or one point (3,); any array, as for intersect.\n"
-            "    out: None, or a C-contiguous bool array of the points' leading shape to write into.\n" ARBOR_THREADS_DOC
+            "    out: None, or a C-contiguous bool array of the points' leading shape to write "
+            "into.\n" ARBOR_THREADS_DOC
             "\nReturns:\n"
             "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC);
 }

@@ -1,11 +1,11 @@
 #include "queries.h"
 
-#include "args.h"
-#include "arrays.h"
-
 #include <cstring>
 #include <limits>
 #include <string>
+
+#include "args.h"
+#include "arrays.h"
 
 namespace arbor::python {
 
@@ -40,8 +40,8 @@ Rays rays(py::handle origins, py::handle directions, py::handle tnear, py::handl
 
 /// The array a query's results go to: a new array of `dtype` and `shape`, or the caller's `out`
 /// once checked (arrays.h: check_out_array).
-py::array result(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, const Shape& shape,
-                 std::initializer_list<py::handle> inputs) {
+py::array result(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment,
+                 const Shape& shape, std::initializer_list<py::handle> inputs) {
     if (out.is_none()) return py::array(dtype, shape);
     check_out_array(out, "out", dtype, dtype_name, alignment, shape, inputs);
     return py::reinterpret_borrow<py::array>(out);
@@ -60,7 +60,8 @@ static_assert(sizeof(arbor::Hit) + 3 * sizeof(float) == normal_record);
 /// moves (record i's place starts at or after the end of every hit before it); then the normals
 /// are written into the gaps, in parallel.
 void add_normals(const arbor::Scene& scene, unsigned char* records, std::size_t n, const arbor::QueryOptions& o) {
-    for (std::size_t i = n; i-- > 0;) std::memmove(records + i * normal_record, records + i * sizeof(arbor::Hit), sizeof(arbor::Hit));
+    for (std::size_t i = n; i-- > 0;)
+        std::memmove(records + i * normal_record, records + i * sizeof(arbor::Hit), sizeof(arbor::Hit));
     scene.hit_normals(reinterpret_cast<const arbor::Hit*>(records), n, normal_record,
                       reinterpret_cast<float*>(records + sizeof(arbor::Hit)), normal_record, o);
 }
@@ -109,7 +110,8 @@ py::object occluded(const PyScene& s, py::handle origins, py::handle directions,
                     py::handle out, py::handle threads) {
     const arbor::QueryOptions o = options(threads);
     const Rays r = rays(origins, directions, tnear, tfar);
-    py::array res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), r.shape, {origins, directions, tnear, tfar});
+    py::array res =
+        result(out, py::dtype::of<bool>(), "bool", alignof(bool), r.shape, {origins, directions, tnear, tfar});
     bool* occ = static_cast<bool*>(res.mutable_data());
     run<false>(s, [&] { s.scene.occluded(r.view, occ, o); });
     return std::move(res);
@@ -129,11 +131,11 @@ py::tuple intersect_all(const PyScene& s, py::handle origins, py::handle directi
         counts = py::array(py::dtype::of<std::int32_t>(), r.shape);
     } else {
         if (!py::isinstance<py::tuple>(out) && !py::isinstance<py::list>(out))
-            throw py::type_error("out: expected a tuple (hits, counts) of numpy arrays of shapes " + shape_str(rows) + " and " +
-                                 shape_str(r.shape) + ", got " + type_name(out));
+            throw py::type_error("out: expected a tuple (hits, counts) of numpy arrays of shapes " + shape_str(rows) +
+                                 " and " + shape_str(r.shape) + ", got " + type_name(out));
         if (py::len(out) != 2)
-            throw py::value_error("out: expected a tuple (hits, counts) of two numpy arrays, got " + std::to_string(py::len(out)) +
-                                  " items");
+            throw py::value_error("out: expected a tuple (hits, counts) of two numpy arrays, got " +
+                                  std::to_string(py::len(out)) + " items");
         const py::object h = out[py::int_(0)], c = out[py::int_(1)];
         check_out_array(h, "out[0]", hits_dtype(with_normals), hits_dtype_name(with_normals), alignof(arbor::Hit), rows,
                         {origins, directions, tnear, tfar});
@@ -151,18 +153,21 @@ py::tuple intersect_all(const PyScene& s, py::handle origins, py::handle directi
     return py::make_tuple(hits, counts);
 }
 
-py::object closest_point(const PyScene& s, py::handle points_obj, py::handle max_distance, py::handle out, py::handle threads) {
+py::object closest_point(const PyScene& s, py::handle points_obj, py::handle max_distance, py::handle out,
+                         py::handle threads) {
     const arbor::QueryOptions o = options(threads);
     const Points p = points(points_obj);
     const PerValue reach = per_value(max_distance, "max_distance", p.shape, "point");
-    if (!reach.data && !(reach.value >= 0.0f)) throw py::value_error("max_distance: expected a number >= 0 (inf: no limit)");
+    if (!reach.data && !(reach.value >= 0.0f))
+        throw py::value_error("max_distance: expected a number >= 0 (inf: no limit)");
     if (reach.data)
         for (std::size_t i = 0; i < p.rows.count; ++i)
             if (!(value_at(reach, i) >= 0.0f))
                 throw py::value_error("max_distance: expected numbers >= 0 (inf: no limit), got " +
                                       py::repr(py::float_(value_at(reach, i))).cast<std::string>() + " at flat index " +
                                       std::to_string(i));
-    py::array res = result(out, point_dtype(), "arbor.point_dtype", alignof(arbor::ClosestPoint), p.shape, {points_obj, max_distance});
+    py::array res = result(out, point_dtype(), "arbor.point_dtype", alignof(arbor::ClosestPoint), p.shape,
+                           {points_obj, max_distance});
     auto* near = static_cast<arbor::ClosestPoint*>(res.mutable_data());
     const arbor::PointValues pv{reach.data, reach.stride, reach.value};
     run<false>(s, [&] { s.scene.closest_point(points_of(p.rows), pv, near, o); });

@@ -2,9 +2,9 @@
 /// The Python queries: arguments checked and converted with the GIL held (arrays.h, args.h), the
 /// results allocated (or the caller's `out=` checked), then arbor's work with the GIL released
 /// under the scene's shared lock. Results have the leading shape of the rays or points.
-#include "py_scene.h"
-
 #include <pybind11/pybind11.h>
+
+#include "py_scene.h"
 
 namespace arbor::python {
 
@@ -16,7 +16,8 @@ py::object occluded(const PyScene& s, py::handle origins, py::handle directions,
                     py::handle out, py::handle threads);
 py::tuple intersect_all(const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar,
                         py::handle max_hits, py::handle out, py::handle threads, py::handle normals);
-py::object closest_point(const PyScene& s, py::handle points, py::handle max_distance, py::handle out, py::handle threads);
+py::object closest_point(const PyScene& s, py::handle points, py::handle max_distance, py::handle out,
+                         py::handle threads);
 py::object inside(const PyScene& s, py::handle points, py::handle out, py::handle threads);
 
 }  // namespace arbor::python

@@ -1,19 +1,17 @@
 // The public C++ API's per-call options and the answers added beside the four queries:
 // QueryOptions::threads (any count, above the cores too, gives the same bits), hit_normals, and
 // closest_point with one max_distance per point.
-#include "engine/procedural.h"
-#include "query_check.h"
-
 #include <arbor/arbor.h>
-
 #include <doctest/doctest.h>
-
 #include <tbb/info.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
+
+#include "engine/procedural.h"
+#include "query_check.h"
 
 namespace {
 
@@ -46,7 +44,8 @@ std::vector<arbor::Ray> rays_of(const std::vector<arbor::accel::Ray>& in) {
     return out;
 }
 
-template <class T> bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
@@ -117,7 +116,8 @@ TEST_CASE("api: QueryOptions threads 1, 2, 3, 0 and above the cores give the sam
     std::vector<Hit> h(rays.size());
     CHECK(error_kind([&] { scene.intersect(view, h.data(), {-1}); }, "intersect: threads") == int(K::invalid_argument));
     CHECK(error_kind([&] { scene.inside(xyz, {-3}); }, "inside: threads") == int(K::invalid_argument));
-    CHECK(error_kind([&] { scene.closest_point(xyz, 1.0f, {-1}); }, "closest_point: threads") == int(K::invalid_argument));
+    CHECK(error_kind([&] { scene.closest_point(xyz, 1.0f, {-1}); }, "closest_point: threads") ==
+          int(K::invalid_argument));
 }
 
 TEST_CASE("api: hit_normals are the unit (v1-v0) x (v2-v0) of each hit's triangle, zeros for a miss") {
@@ -149,7 +149,8 @@ TEST_CASE("api: hit_normals are the unit (v1-v0) x (v2-v0) of each hit's triangl
         const std::uint32_t* v = &mesh.indices[3 * h.prim];
         const double e1[3] = {mesh.x[v[1]] - mesh.x[v[0]], mesh.y[v[1]] - mesh.y[v[0]], mesh.z[v[1]] - mesh.z[v[0]]};
         const double e2[3] = {mesh.x[v[2]] - mesh.x[v[0]], mesh.y[v[2]] - mesh.y[v[0]], mesh.z[v[2]] - mesh.z[v[0]]};
-        const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                             e1[0] * e2[1] - e1[1] * e2[0]};
         const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         for (int k = 0; k < 3; ++k) REQUIRE(n[k] == doctest::Approx(c[k] / len).epsilon(1e-5));
         CHECK(std::fabs(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2] - 1.0) < 1e-6);
@@ -171,9 +172,11 @@ TEST_CASE("api: hit_normals are the unit (v1-v0) x (v2-v0) of each hit's triangl
     Hit bad = hits[0];
     bad.geom = 2, bad.prim = 0;
     float n[3];
-    CHECK(error_kind([&] { scene.hit_normals(&bad, 1, sizeof(Hit), n, sizeof n); }, "geom 2") == int(K::invalid_argument));
+    CHECK(error_kind([&] { scene.hit_normals(&bad, 1, sizeof(Hit), n, sizeof n); }, "geom 2") ==
+          int(K::invalid_argument));
     bad.geom = 1, bad.prim = std::uint32_t(m.torus.triangle_count());
-    CHECK(error_kind([&] { scene.hit_normals(&bad, 1, sizeof(Hit), n, sizeof n); }, "hit 0") == int(K::invalid_argument));
+    CHECK(error_kind([&] { scene.hit_normals(&bad, 1, sizeof(Hit), n, sizeof n); }, "hit 0") ==
+          int(K::invalid_argument));
 }
 
 TEST_CASE("api: closest_point with one max_distance per point answers as one call per distance") {
@@ -196,7 +199,8 @@ TEST_CASE("api: closest_point with one max_distance per point answers as one cal
     scene.closest_point({n, xyz.data(), 3 * sizeof(float)}, pv, got.data());
     std::size_t found = 0, cut = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t k = std::size_t(std::find(std::begin(reaches), std::end(reaches), per[i]) - std::begin(reaches));
+        const std::size_t k =
+            std::size_t(std::find(std::begin(reaches), std::end(reaches), per[i]) - std::begin(reaches));
         REQUIRE(std::memcmp(&got[i], &each[k][i], sizeof(ClosestPoint)) == 0);
         found += got[i].found();
         cut += !got[i].found() && each[3][i].found();
@@ -204,6 +208,9 @@ TEST_CASE("api: closest_point with one max_distance per point answers as one cal
     CHECK(found > 0);
     CHECK(cut > 0);  // the distances do cut some points off
     per[7] = -1.0f;
-    CHECK(error_kind([&] { scene.closest_point({n, xyz.data(), 3 * sizeof(float)}, pv, got.data()); }, "max_distance[7]") ==
-          int(Error::Kind::invalid_argument));
+    CHECK(error_kind(
+              [&] {
+                  scene.closest_point({n, xyz.data(), 3 * sizeof(float)}, pv, got.data());
+              },
+              "max_distance[7]") == int(Error::Kind::invalid_argument));
 }
