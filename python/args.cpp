@@ -37,7 +37,7 @@ std::string str_arg(py::handle obj, const char* what, const char* expected) {
 
 bool bool_arg(py::handle obj, const char* what) {
     if (PyBool_Check(obj.ptr())) return obj.ptr() == Py_True;
-    if (py::isinstance(obj, py::module_::import("numpy").attr("bool_"))) return py::bool_(obj);
+    if (py::isinstance(obj, py::module_::import("numpy").attr("bool_"))) return obj.cast<bool>();
     throw py::type_error(std::string(what) + ": expected a bool, got " + type_name(obj));
 }
 

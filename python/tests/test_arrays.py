@@ -74,7 +74,7 @@ def test_point_argument_errors(box_scene):
         box_scene.closest_point(np.zeros((2, 3)), max_distance=-1)
     with pytest.raises(ValueError, match="max_distance"):
         box_scene.closest_point(np.zeros((2, 3)), max_distance=np.nan)
-    with pytest.raises(ValueError, match="max_hits: expected a number >= 0"):
+    with pytest.raises(ValueError, match="max_hits: expected an int >= 0, got -1"):
         box_scene.intersect_all(np.zeros((2, 3)), np.ones((2, 3)), max_hits=-1)
     assert box_scene.closest_point(np.zeros((0, 3), np.float32)).shape == (0,)
     assert box_scene.inside(np.zeros((0, 3))).shape == (0,)
