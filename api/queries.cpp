@@ -1,17 +1,14 @@
-/// arbor::Scene's batch queries: the caller's arrays are read in chunks (fixed boundaries, so the
-/// answers do not depend on the thread count), each chunk turned into accel::Ray records or points
-/// in a per-thread buffer, answered by one call of the structure, and written back with geometry ids.
-#include "api/scene_impl.h"
-
-#include "accel/interface/inside.h"
-#include "accel/interface/path_policy.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
+/// arbor::Scene's batch queries: the caller's arrays are read in chunks (api/batch.h), each chunk
+/// turned into accel::Ray records or points in a per-thread buffer, answered by one call of the
+/// structure, and written back with geometry ids.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+
+#include "accel/interface/inside.h"
+#include "accel/interface/path_policy.h"
+#include "api/batch.h"
+#include "api/scene_impl.h"
 
 namespace arbor {
 
@@ -20,17 +17,6 @@ namespace {
 /// Rays per chunk: as accel::trace_parallel (whole 8x8 tiles of a camera stay in one chunk).
 constexpr std::size_t ray_chunk = 1024;
 constexpr std::size_t point_chunk = 256;
-
-/// Calls f(begin, end) for the chunks [k * chunk, (k + 1) * chunk) of [0, n), in parallel on the
-/// scene's threads.
-template <class F> void for_chunks(const Scene::Impl& s, std::size_t n, std::size_t chunk, F&& f) {
-    if (n == 0) return;
-    s.arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + chunk - 1) / chunk, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t k = r.begin(); k != r.end(); ++k) f(k * chunk, std::min(n, (k + 1) * chunk));
-        });
-    });
-}
 
 float read_float(const float* base, std::size_t stride, std::size_t i) {
     float v;
@@ -122,13 +108,13 @@ private:
     std::size_t max_, base_;
 };
 
-/// Traces `rays` for `q` with one path decision for the whole batch, in chunks over the scene's
+/// Traces `rays` for `q` with one path decision for the whole batch, in chunks over the call's
 /// threads; `store(i, hit)` writes ray i's answer (intersect and occluded differ only there).
 template <class Store>
-void trace_batch(Scene::Impl& s, const RayArrays& rays, accel::Query q, Store&& store) {
+void trace_batch(Scene::Impl& s, CallArena& arena, const RayArrays& rays, accel::Query q, Store&& store) {
     const accel::Accel& a = s.structure();
     const accel::TraceRequest req = batch_request(s, a, rays, q);
-    for_chunks(s, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
+    for_chunks(arena, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
         const auto in = load_rays(rays, b, e);
         thread_local std::vector<accel::Hit> out;
         out.resize(in.size());
@@ -139,45 +125,74 @@ void trace_batch(Scene::Impl& s, const RayArrays& rays, accel::Query q, Store&& 
 
 }  // namespace
 
-void Scene::intersect(const RayArrays& rays, Hit* hits) const {
+void Scene::intersect(const RayArrays& rays, Hit* hits, const QueryOptions& options) const {
     guarded([&] {
+        CallArena arena(*impl_, options, "intersect");
         check_rays(rays, hits, "intersect");
-        trace_batch(*impl_, rays, accel::Query::closest,
+        trace_batch(*impl_, arena, rays, accel::Query::closest,
                     [&](std::size_t i, const accel::Hit& h) { hits[i] = impl_->to_public(h); });
     });
 }
 
-void Scene::occluded(const RayArrays& rays, bool* occluded) const {
+void Scene::occluded(const RayArrays& rays, bool* occluded, const QueryOptions& options) const {
     guarded([&] {
+        CallArena arena(*impl_, options, "occluded");
         check_rays(rays, occluded, "occluded");
-        trace_batch(*impl_, rays, accel::Query::any, [&](std::size_t i, const accel::Hit& h) { occluded[i] = h.is_hit(); });
+        trace_batch(*impl_, arena, rays, accel::Query::any,
+                    [&](std::size_t i, const accel::Hit& h) { occluded[i] = h.is_hit(); });
     });
 }
 
-void Scene::intersect_all(const RayArrays& rays, std::size_t max_hits, Hit* hits, std::int32_t* counts) const {
+void Scene::intersect_all(const RayArrays& rays, std::size_t max_hits, Hit* hits, std::int32_t* counts,
+                          const QueryOptions& options) const {
     guarded([&] {
+        CallArena arena(*impl_, options, "intersect_all");
         check_rays(rays, counts, "intersect_all");
-        if (max_hits != 0 && rays.count != 0 && !hits) throw Error(Error::Kind::invalid_argument, "intersect_all: hits is null");
+        if (max_hits != 0 && rays.count != 0 && !hits)
+            throw Error(Error::Kind::invalid_argument, "intersect_all: hits is null");
         const accel::Accel& a = impl_->structure();
-        for_chunks(*impl_, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
+        for_chunks(arena, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
             RowSink sink(*impl_, hits, counts, max_hits, b);
             a.trace_all(load_rays(rays, b, e), sink);
         });
     });
 }
 
-void Scene::closest_point(const PointArrays& points, float max_distance, ClosestPoint* out) const {
+void Scene::closest_point(const PointArrays& points, float max_distance, ClosestPoint* out,
+                          const QueryOptions& options) const {
+    PointValues reach;
+    reach.value = max_distance;
+    closest_point(points, reach, out, options);
+}
+
+void Scene::closest_point(const PointArrays& points, const PointValues& max_distance, ClosestPoint* out,
+                          const QueryOptions& options) const {
     guarded([&] {
+        CallArena arena(*impl_, options, "closest_point");
         check_points(points, out, "closest_point");
-        if (!(max_distance >= 0.0f))
-            throw Error(Error::Kind::invalid_argument, "closest_point: max_distance must be >= 0 (+inf: no limit), got " +
-                                                           std::to_string(max_distance));
+        const auto reach = [&](std::size_t i) {
+            return max_distance.values ? read_float(max_distance.values, max_distance.stride, i) : max_distance.value;
+        };
+        for (std::size_t i = 0; i < (max_distance.values ? points.count : 1); ++i)
+            if (!(reach(i) >= 0.0f))
+                throw Error(Error::Kind::invalid_argument,
+                            "closest_point: max_distance" +
+                                (max_distance.values ? "[" + std::to_string(i) + "]" : std::string()) +
+                                " must be >= 0 (+inf: no limit), got " + std::to_string(reach(i)));
         const accel::Accel& a = impl_->structure();
-        for_chunks(*impl_, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
+        for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_points(points, b, e);
             thread_local std::vector<accel::PointHit> res;
             res.resize(in.size());
-            a.closest_points(in, max_distance, res);
+            // One call of the structure per run of points with the same reach (the whole chunk
+            // when one distance is given for all).
+            for (std::size_t i = b; i < e;) {
+                const float r = reach(i);
+                std::size_t j = i + 1;
+                while (j < e && reach(j) == r) ++j;
+                a.closest_points(in.subspan(i - b, j - i), r, std::span(res).subspan(i - b, j - i));
+                i = j;
+            }
             for (std::size_t i = b; i < e; ++i) {
                 const accel::PointHit& h = res[i - b];
                 ClosestPoint& c = out[i];
@@ -192,11 +207,12 @@ void Scene::closest_point(const PointArrays& points, float max_distance, Closest
     });
 }
 
-void Scene::inside(const PointArrays& points, bool* inside) const {
+void Scene::inside(const PointArrays& points, bool* inside, const QueryOptions& options) const {
     guarded([&] {
+        CallArena arena(*impl_, options, "inside");
         check_points(points, inside, "inside");
         const accel::Accel& a = impl_->structure();
-        for_chunks(*impl_, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
+        for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_points(points, b, e);
             thread_local std::vector<std::uint8_t> res;
             res.resize(in.size());
@@ -206,15 +222,15 @@ void Scene::inside(const PointArrays& points, bool* inside) const {
     });
 }
 
-std::vector<Hit> Scene::intersect(const std::vector<Ray>& rays) const {
+std::vector<Hit> Scene::intersect(const std::vector<Ray>& rays, const QueryOptions& options) const {
     std::vector<Hit> hits(rays.size());
-    intersect(RayArrays::of(rays.data(), rays.size()), hits.data());
+    intersect(RayArrays::of(rays.data(), rays.size()), hits.data(), options);
     return hits;
 }
 
-std::vector<bool> Scene::occluded(const std::vector<Ray>& rays) const {
+std::vector<bool> Scene::occluded(const std::vector<Ray>& rays, const QueryOptions& options) const {
     const std::unique_ptr<bool[]> out(new bool[rays.size()]);
-    occluded(RayArrays::of(rays.data(), rays.size()), out.get());
+    occluded(RayArrays::of(rays.data(), rays.size()), out.get(), options);
     return std::vector<bool>(out.get(), out.get() + rays.size());
 }
 
@@ -227,17 +243,18 @@ PointArrays packed_points(const std::vector<float>& xyz, const char* fn) {
 }
 }  // namespace
 
-std::vector<ClosestPoint> Scene::closest_point(const std::vector<float>& xyz, float max_distance) const {
+std::vector<ClosestPoint> Scene::closest_point(const std::vector<float>& xyz, float max_distance,
+                                               const QueryOptions& options) const {
     const PointArrays p = packed_points(xyz, "closest_point");
     std::vector<ClosestPoint> out(p.count);
-    closest_point(p, max_distance, out.data());
+    closest_point(p, max_distance, out.data(), options);
     return out;
 }
 
-std::vector<bool> Scene::inside(const std::vector<float>& xyz) const {
+std::vector<bool> Scene::inside(const std::vector<float>& xyz, const QueryOptions& options) const {
     const PointArrays p = packed_points(xyz, "inside");
     const std::unique_ptr<bool[]> out(new bool[p.count]);
-    inside(p, out.get());
+    inside(p, out.get(), options);
     return std::vector<bool>(out.get(), out.get() + p.count);
 }
 

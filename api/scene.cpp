@@ -142,7 +142,8 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
     if (o.threads < 0) throw Error(Kind::invalid_argument, "build: threads must be >= 0 (0 = all cores), got " + std::to_string(o.threads));
     ready = false;
     accel.reset();
-    arena = std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : int(tbb::task_arena::automatic));
+    threads = usable_threads(o.threads);
+    arena = std::make_unique<tbb::task_arena>(threads > 0 ? threads : int(tbb::task_arena::automatic));
     accel::BuildConfig cfg;
     cfg.max_memory = o.max_memory;
     cfg.layouts = accel::Layouts::simd;  // the layouts of the SIMD paths, as `arbor trace` builds them

@@ -3,18 +3,19 @@
 /// engine::Mesh (geometry g owns triangles [first_prim[g], first_prim[g + 1])), the structure built
 /// over it, and the task arena its batches run in. Also the one place internal exceptions become
 /// arbor::Error.
-#include "accel/interface/accel.h"
-#include "engine/mesh.h"
-
 #include <arbor/arbor.h>
-
+#include <tbb/info.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
+
+#include "accel/interface/accel.h"
+#include "engine/mesh.h"
 
 namespace arbor {
 
@@ -28,6 +29,7 @@ struct Scene::Impl {
     /// auto's calibrated path (TraceRequest::calibrated), else `best`: the path policy decides per batch.
     accel::TracePath path = accel::TracePath::best;
     std::unique_ptr<tbb::task_arena> arena;
+    int threads = 0;  ///< the arena's threads: build's `threads` as usable_threads() takes it (0 = all)
     std::atomic<bool> ready{false};
     std::mutex build_mutex;
 
@@ -62,6 +64,11 @@ struct Scene::Impl {
         return out;
     }
 };
+
+/// A thread count as arbor uses it: 0 stays 0 (all cores), and a count above the machine's cores
+/// (as oneTBB counts them, affinity mask included) is taken as all cores, so that oneTBB never
+/// prints its warning that a request for more workers was ignored.
+inline int usable_threads(int requested) { return std::min(requested, tbb::info::default_concurrency()); }
 
 /// Runs f, turning every internal exception into arbor::Error.
 template <class F> decltype(auto) guarded(F&& f);

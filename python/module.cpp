@@ -1,107 +1,67 @@
 /// The Python module `arbor` (../shared/spec/python.md) over the public C++ API: arrays in, arrays
-/// out. Arguments are checked and converted with the GIL held (arrays.h); arbor's work runs with the
-/// GIL released, on every thread of the scene's arena. A scene is guarded by a reader-writer lock:
-/// queries from several Python threads share it, add_mesh() and build() wait for them.
-#include "arrays.h"
-
+/// out. Arguments are checked and converted with the GIL held (arrays.h, args.h); arbor's work runs
+/// with the GIL released (queries.h). Every function's docstring is what help() shows; the type
+/// stubs (arbor/_arbor.pyi) say the same in types, and a test keeps the two in agreement.
 #include <arbor/arbor.h>
 
-#include <pybind11/stl.h>
-
-#include <cstring>
+#include <climits>
 #include <limits>
-#include <mutex>
-#include <shared_mutex>
+
+#include "args.h"
+#include "arrays.h"
+#include "py_scene.h"
+#include "queries.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
+using arbor::python::PyScene;
+using arbor::python::run;
 
 namespace {
-
-using arbor::python::Rows3;
-
-struct PyScene {
-    arbor::Scene scene;
-    mutable std::shared_mutex mutex;
-};
 
 std::string path_arg(py::handle path, const char* what) {
     try {
         return py::module_::import("os").attr("fspath")(path).cast<std::string>();
     } catch (py::error_already_set&) {
         throw py::type_error(std::string(what) + ": expected a str or os.PathLike path, got " +
-                             py::str(py::type::handle_of(path).attr("__name__")).cast<std::string>());
+                             arbor::python::type_name(path));
     }
 }
 
-/// Runs `f` on the scene with the GIL released: shared (queries) or exclusive (changes).
-template <bool Exclusive, class F> void run(const PyScene& s, F&& f) {
-    py::gil_scoped_release nogil;
-    if constexpr (Exclusive) {
-        const std::unique_lock lock(s.mutex);
-        f();
-    } else {
-        const std::shared_lock lock(s.mutex);
-        f();
-    }
-}
-
-std::uint32_t add_mesh(PyScene& s, py::handle vertices, py::handle faces) {
-    const Rows3 v = arbor::python::rows3(vertices, "vertices");
+std::uint32_t add_mesh(PyScene& s, py::object vertices, py::object faces) {
+    const arbor::python::Rows3 v = arbor::python::rows3(vertices, "vertices");
     const std::vector<std::uint32_t> f = arbor::python::faces(faces, v.count);
     std::uint32_t id = 0;
     run<true>(s, [&] { id = s.scene.add_mesh(v.data, v.count, v.stride, f.data(), f.size() / 3); });
     return id;
 }
 
-/// The rays of a query: origins and directions of N rows (one row of either is broadcast to the
-/// other's N), tnear and tfar numbers or (N,) arrays.
-struct Rays {
-    Rows3 org, dir;
-    arbor::python::PerRay tnear, tfar;
-    arbor::RayArrays view;
-};
-
-Rays rays(py::handle origins, py::handle directions, py::handle tnear, py::handle tfar) {
-    Rays r;
-    r.org = arbor::python::rows3(origins, "origins");
-    r.dir = arbor::python::rows3(directions, "directions");
-    if (r.org.count == 1 && r.dir.count != 1) r.org.stride = 0, r.org.count = r.dir.count;
-    if (r.dir.count == 1 && r.org.count != 1) r.dir.stride = 0, r.dir.count = r.org.count;
-    if (r.org.count != r.dir.count)
-        throw py::value_error("directions: expected " + std::to_string(r.org.count) + " rows like origins (or 1), got " +
-                              std::to_string(r.dir.count));
-    const std::size_t n = r.org.count;
-    r.tnear = arbor::python::per_ray(tnear, "tnear", n);
-    r.tfar = arbor::python::per_ray(tfar, "tfar", n);
-    arbor::RayArrays& v = r.view;
-    v.count = n;
-    v.origins = r.org.data, v.origin_stride = r.org.stride;
-    v.directions = r.dir.data, v.direction_stride = r.dir.stride;
-    v.tnear = r.tnear.data, v.tnear_stride = r.tnear.stride, v.tnear_value = r.tnear.value;
-    v.tfar = r.tfar.data, v.tfar_stride = r.tfar.stride, v.tfar_value = r.tfar.value;
-    return r;
-}
-
-/// The array a query's results go to: a new (N,) array of `dtype`, or the caller's `out` once
-/// checked (arrays.h: check_out_array). The query's own inputs are what `out` must not overlap.
-py::array result(py::handle out, const py::dtype& dtype, const char* dtype_name, std::size_t alignment, const Rays& r,
-                 std::initializer_list<py::handle> inputs) {
-    if (out.is_none()) return py::array(dtype, std::vector<py::ssize_t>{py::ssize_t(r.view.count)});
-    arbor::python::check_out_array(out, dtype, dtype_name, alignment, r.view.count, inputs);
-    return py::reinterpret_borrow<py::array>(out);
-}
-
-arbor::PointArrays points_of(const Rows3& p) { return {p.count, p.data, p.stride}; }
-
 constexpr float inf = std::numeric_limits<float>::infinity();
+constexpr const char* structures = "brute, bvh-median, bvh-sah, lbvh, kdtree or auto";
+
+// The parts of the queries' docstrings they share.
+#define ARBOR_RAYS_DOC                                                                                      \
+    "    origins: ray origins, shape (N, 3) or any (..., 3); float32 is read in place, other real dtypes\n" \
+    "        are converted. Any array: numpy, the buffer protocol, __array_interface__ or DLPack\n"         \
+    "        (e.g. a torch CPU tensor).\n"                                                                  \
+    "    directions: ray directions, like origins; the two shapes broadcast (one row for every ray).\n"     \
+    "        They need not be unit length: t is measured in units of their length.\n"                       \
+    "    tnear, tfar: the range of t searched: numbers, or arrays of the rays' leading shape (...,).\n"
+#define ARBOR_THREADS_DOC                                                                          \
+    "    threads: threads for this call: 0 = the scene's (build's threads); more than the cores\n" \
+    "        = all cores. The answers do not depend on it.\n"
+#define ARBOR_RAISES_DOC                                                                               \
+    "\nRaises:\n"                                                                                      \
+    "    TypeError, ValueError: an argument of the wrong type, dtype or shape; the one-line message\n" \
+    "        names it.\n"
 
 }  // namespace
 
 PYBIND11_MODULE(_arbor, m) {
     m.doc() = "arbor: ray queries on triangle meshes (closest hit, any hit, all hits, closest point, inside)";
     m.attr("__version__") = arbor::version();
-    m.def("kernel_set", &arbor::kernel_set, "The SIMD kernel set arbor's queries run on: avx512, avx2 or sse4.");
+    m.def("kernel_set", &arbor::kernel_set,
+          "The SIMD kernel set arbor's queries run on on this machine: \"avx512\", \"avx2\" or \"sse4\".");
 
     // arbor::Error by kind: unreadable files are OSError, exhausted memory MemoryError, the rest
     // (bad files, bad arguments) ValueError, each with the C++ API's one-line message.
@@ -118,7 +78,7 @@ PYBIND11_MODULE(_arbor, m) {
 
     m.def(
         "read_rays",
-        [](py::handle path) {
+        [](py::object path) {
             const std::string p = path_arg(path, "path");
             // The records stay where the file was read into: the (N, 8) float32 array below owns
             // them (no copy), and the four arrays are views of its columns, which the queries read
@@ -139,11 +99,23 @@ PYBIND11_MODULE(_arbor, m) {
             return py::make_tuple(cols(py::make_tuple(every, py::slice(0, 3, 1))), cols(py::make_tuple(every, py::slice(4, 7, 1))),
                                   cols(py::make_tuple(every, 3)), cols(py::make_tuple(every, 7)));
         },
-        "path"_a, "origins, directions, tnear, tfar of a .rays file: (N, 3), (N, 3), (N,), (N,) float32 arrays (views of "
-        "one (N, 8) array of the file's records, which the queries read in place).");
+        "path"_a,
+        "The rays of a .rays file (the record format of `arbor trace`).\n\n"
+        "Args:\n"
+        "    path: a str or os.PathLike.\n\n"
+        "Returns:\n"
+        "    (origins, directions, tnear, tfar): float32 arrays of shapes (N, 3), (N, 3), (N,), (N,),\n"
+        "    views of one (N, 8) array of the file's records, which the queries read in place.\n\n"
+        "Raises:\n"
+        "    OSError: the file cannot be read. ValueError: it is not a valid ray file.\n"
+        "    TypeError: path is not a path.\n");
 
-    py::class_<PyScene>(m, "Scene", "Triangle meshes and the acceleration structure built over them.")
-        .def(py::init([](py::handle vertices, py::handle faces) {
+    py::class_<PyScene>(m, "Scene",
+                        "Triangle meshes and the acceleration structure built over them.\n\n"
+                        "Queries from several Python threads may run at once (each releases the GIL);\n"
+                        "add_mesh() and build() wait for the queries running, and queries started\n"
+                        "after them wait for them.")
+        .def(py::init([](py::object vertices, py::object faces) {
                  auto s = std::make_unique<PyScene>();
                  if (vertices.is_none() != faces.is_none())
                      throw py::type_error(std::string(vertices.is_none() ? "vertices" : "faces") +
@@ -152,104 +124,194 @@ PYBIND11_MODULE(_arbor, m) {
                  return s;
              }),
              "vertices"_a = py::none(), "faces"_a = py::none(),
-             "A scene of one mesh: vertices (V, 3) float, faces (F, 3) int (or an empty scene).")
+             "A scene of one mesh (geometry 0), or an empty scene when both are None.\n\n"
+             "Args:\n"
+             "    vertices: (V, 3) float32 or float64 positions (float64 is converted).\n"
+             "    faces: (F, 3) vertex numbers of any integer dtype, each in 0..V-1.\n" ARBOR_RAISES_DOC)
         .def_static(
             "load",
-            [](py::handle path) {
+            [](py::object path) {
                 const std::string p = path_arg(path, "path");
                 auto s = std::make_unique<PyScene>();
                 py::gil_scoped_release nogil;
                 s->scene = arbor::Scene::load(p);
                 return s;
             },
-            "path"_a, "A scene of one mesh (geometry 0) from a model file.")
-        .def("add_mesh", &add_mesh, "vertices"_a, "faces"_a, "Adds a mesh; returns its geometry id.")
+            "path"_a,
+            "A scene of one mesh (geometry 0) from a model file: any file `arbor info` loads (OBJ, PLY,\n"
+            "STL, glTF), its triangles numbered as in the file.\n\n"
+            "Args:\n"
+            "    path: a str or os.PathLike.\n\n"
+            "Raises:\n"
+            "    OSError: the file cannot be read. ValueError: it cannot be used (the command line's\n"
+            "        one-line message). TypeError: path is not a path.\n")
+        .def("add_mesh", &add_mesh, "vertices"_a, "faces"_a,
+             "Adds a mesh (its arrays are copied); the next query builds the structure again.\n\n"
+             "Args:\n"
+             "    vertices: (V, 3) float32 or float64 positions (float64 is converted).\n"
+             "    faces: (F, 3) vertex numbers of any integer dtype, each in 0..V-1.\n\n"
+             "Returns:\n"
+             "    int: the mesh's geometry id (0, 1, 2, ... in the order added).\n" ARBOR_RAISES_DOC)
         .def(
             "build",
-            [](PyScene& s, const std::string& accel, int threads, py::handle max_memory) {
-                if (!py::isinstance<py::int_>(max_memory) || max_memory.cast<py::int_>() < py::int_(0))
-                    throw py::value_error("max_memory: expected a number of bytes >= 0 (0 = no limit)");
-                arbor::BuildOptions o{accel, threads, max_memory.cast<std::uint64_t>()};
+            [](PyScene& s, py::object accel, py::object threads, py::object max_memory) {
+                const std::string name = arbor::python::str_arg(accel, "accel", structures);
+                const int t = arbor::python::threads_arg(threads, "all cores");
+                const auto budget = std::uint64_t(arbor::python::count_arg(
+                    max_memory, "max_memory", "a number of bytes >= 0 (0 = no limit)", LLONG_MAX));
+                const arbor::BuildOptions o{name, t, budget};
                 run<true>(s, [&] { s.scene.build(o); });
             },
             "accel"_a = "auto", "threads"_a = 0, "max_memory"_a = 0,
-            "Builds the structure: brute, bvh-median, bvh-sah, lbvh, kdtree or auto; threads 0 = all cores.")
-        .def_property_readonly("triangles", [](const PyScene& s) { return s.scene.triangles(); })
-        .def_property_readonly("meshes", [](const PyScene& s) { return s.scene.meshes(); })
-        .def_property_readonly("accel", [](const PyScene& s) { return s.scene.accel(); })
-        .def_property_readonly("accel_reason", [](const PyScene& s) { return s.scene.accel_reason(); })
-        .def_property_readonly("bounds",
-                               [](const PyScene& s) {
-                                   py::array_t<float> b({py::ssize_t(2), py::ssize_t(3)});
-                                   s.scene.bounds(b.mutable_data(), b.mutable_data() + 3);
-                                   return b;
-                               })
+            "Builds the acceleration structure (again, after add_mesh); a query on a scene never built\n"
+            "builds it first with the defaults.\n\n"
+            "Args:\n"
+            "    accel: the structure: \"brute\", \"bvh-median\", \"bvh-sah\", \"lbvh\", \"kdtree\" or \"auto\"\n"
+            "        (arbor picks by predicted build + trace time; accel_reason says why).\n"
+            "    threads: threads for the build and, by default, for every query: 0 = all cores; more\n"
+            "        than the cores = all cores.\n"
+            "    max_memory: a budget in bytes for the build (0 = no limit).\n\n"
+            "Raises:\n"
+            "    MemoryError: the build would exceed max_memory.\n"
+            "    TypeError, ValueError: an argument of the wrong type or value; the message names it.\n")
+        .def_property_readonly(
+            "triangles",
+            [](const PyScene& s) {
+                std::size_t n = 0;
+                run<false>(s, [&] { n = s.scene.triangles(); });
+                return n;
+            },
+            "int: the number of triangles in the scene, over all meshes.")
+        .def_property_readonly(
+            "meshes",
+            [](const PyScene& s) {
+                std::size_t n = 0;
+                run<false>(s, [&] { n = s.scene.meshes(); });
+                return n;
+            },
+            "int: the number of meshes (geometry ids are 0 .. meshes-1).")
+        .def_property_readonly(
+            "accel",
+            [](const PyScene& s) {
+                std::string a;
+                run<false>(s, [&] { a = s.scene.accel(); });
+                return a;
+            },
+            "str: the structure built (\"bvh-sah\", ...), \"\" before the first build.")
+        .def_property_readonly(
+            "accel_reason",
+            [](const PyScene& s) {
+                std::string a;
+                run<false>(s, [&] { a = s.scene.accel_reason(); });
+                return a;
+            },
+            "str: with accel=\"auto\", why arbor picked the structure it built.")
+        .def_property_readonly(
+            "bounds",
+            [](const PyScene& s) {
+                py::array_t<float> b({py::ssize_t(2), py::ssize_t(3)});
+                float* lo = b.mutable_data();
+                run<false>(s, [&] { s.scene.bounds(lo, lo + 3); });
+                return b;
+            },
+            "numpy.ndarray: the scene's box, a (2, 3) float32 array of its lower and upper corners\n"
+            "(+inf and -inf for an empty scene).")
         .def("__repr__",
              [](const PyScene& s) {
-                 return "<arbor.Scene: " + std::to_string(s.scene.triangles()) + " triangles in " +
-                        std::to_string(s.scene.meshes()) + " meshes, " +
-                        (s.scene.built() ? "built with " + s.scene.accel() : std::string("not built")) + ">";
+                 std::string r;
+                 run<false>(s, [&] {
+                     r = "<arbor.Scene: " + std::to_string(s.scene.triangles()) + " triangles in " +
+                         std::to_string(s.scene.meshes()) + " meshes, " +
+                         (s.scene.built() ? "built with " + s.scene.accel() : std::string("not built")) + ">";
+                 });
+                 return r;
              })
         .def(
             "intersect",
-            [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar, py::handle out) {
-                const Rays r = rays(origins, directions, tnear, tfar);
-                py::array res = result(out, arbor::python::hit_dtype(), "arbor.hit_dtype", alignof(arbor::Hit), r, {origins, directions, tnear, tfar});
-                auto* hits = static_cast<arbor::Hit*>(res.mutable_data());
-                run<false>(s, [&] { s.scene.intersect(r.view, hits); });
-                return res;
+            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar,
+               py::object out, py::object threads, py::object normals) {
+                return arbor::python::intersect(s, origins, directions, tnear, tfar, out, threads, normals);
             },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(),
-            "Closest hit per ray: a structured (N,) array of t, geom, prim, u, v (a miss: t = inf, ids 0xFFFFFFFF); "
-            "with out= (a contiguous (N,) array of arbor.hit_dtype), written there and returned.")
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(), py::kw_only(),
+            "threads"_a = 0, "normals"_a = false,
+            "The closest hit of each ray.\n\n"
+            "Args:\n" ARBOR_RAYS_DOC
+            "    out: None, or an array to write the results into and return: C-contiguous, of the\n"
+            "        results' dtype and shape, not overlapping the inputs.\n" ARBOR_THREADS_DOC
+            "    normals: also give each hit's unit geometric normal (field normal).\n\n"
+            "Returns:\n"
+            "    numpy.ndarray: a structured array of the rays' leading shape (...,) (a 0-d array for\n"
+            "    one ray of shape (3,)), dtype arbor.hit_dtype: t (float32, in units of the direction's\n"
+            "    length), geom and prim (uint32: the mesh and its triangle), u and v (float32: the hit\n"
+            "    point is (1-u-v) v0 + u v1 + v v2 of the triangle's corners). A miss: t = inf,\n"
+            "    geom = prim = arbor.MISS, u = v = 0. With normals=True the dtype is\n"
+            "    arbor.hit_normal_dtype, which adds normal (float32, 3): (v1-v0) x (v2-v0) normalized,\n"
+            "    zeros for a miss.\n" ARBOR_RAISES_DOC)
         .def(
             "occluded",
-            [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar, py::handle out) {
-                const Rays r = rays(origins, directions, tnear, tfar);
-                py::array res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), r, {origins, directions, tnear, tfar});
-                bool* occ = static_cast<bool*>(res.mutable_data());
-                run<false>(s, [&] { s.scene.occluded(r.view, occ); });
-                return res;
+            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar,
+               py::object out, py::object threads) {
+                return arbor::python::occluded(s, origins, directions, tnear, tfar, out, threads);
             },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(),
-            "Any hit per ray: an (N,) bool array; with out= (a contiguous (N,) bool array), written there and returned.")
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "out"_a = py::none(), py::kw_only(),
+            "threads"_a = 0,
+            "Whether each ray hits anything in [tnear, tfar] (any hit: shadow rays).\n\n"
+            "Args:\n" ARBOR_RAYS_DOC
+            "    out: None, or a C-contiguous bool array of the rays' leading shape to write into.\n" ARBOR_THREADS_DOC
+            "\nReturns:\n"
+            "    numpy.ndarray: bool, of the rays' leading shape (...,).\n" ARBOR_RAISES_DOC)
         .def(
             "intersect_all",
-            [](const PyScene& s, py::handle origins, py::handle directions, py::handle tnear, py::handle tfar,
-               py::ssize_t max_hits) {
-                if (max_hits < 0) throw py::value_error("max_hits: expected a number >= 0, got " + std::to_string(max_hits));
-                const Rays r = rays(origins, directions, tnear, tfar);
-                const auto n = py::ssize_t(r.view.count);
-                py::array hits(arbor::python::hit_dtype(), std::vector<py::ssize_t>{n, max_hits});
-                py::array_t<std::int32_t> counts(n);
-                auto* h = static_cast<arbor::Hit*>(hits.mutable_data());
-                std::int32_t* c = counts.mutable_data();
-                run<false>(s, [&] { s.scene.intersect_all(r.view, std::size_t(max_hits), h, c); });
-                return py::make_tuple(hits, counts);
+            [](const PyScene& s, py::object origins, py::object directions, py::object tnear, py::object tfar,
+               py::object max_hits, py::object out, py::object threads, py::object normals) {
+                return arbor::python::intersect_all(s, origins, directions, tnear, tfar, max_hits, out, threads,
+                                                    normals);
             },
-            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "max_hits"_a = 16,
-            "Every crossing per ray, sorted by t: hits (N, max_hits) and counts (N,) int32 (may exceed max_hits).")
+            "origins"_a, "directions"_a, "tnear"_a = 0.0, "tfar"_a = inf, "max_hits"_a = 16, py::kw_only(),
+            "out"_a = py::none(), "threads"_a = 0, "normals"_a = false,
+            "Every triangle each ray crosses in [tnear, tfar], each once, sorted by t.\n\n"
+            "Args:\n" ARBOR_RAYS_DOC
+            "    max_hits: an int >= 0, the room per ray.\n"
+            "    out: None, or a tuple (hits, counts) of C-contiguous arrays of the results' dtypes and\n"
+            "        shapes to write into and return.\n" ARBOR_THREADS_DOC
+            "    normals: also give each hit's unit geometric normal (field normal), as intersect.\n\n"
+            "Returns:\n"
+            "    (hits, counts): hits of shape (..., max_hits), dtype arbor.hit_dtype (or\n"
+            "    arbor.hit_normal_dtype), the crossings in order of t and misses after the last;\n"
+            "    counts (...,) int32, the number of crossings, which may exceed max_hits (then hits\n"
+            "    holds the first max_hits).\n" ARBOR_RAISES_DOC)
         .def(
             "closest_point",
-            [](const PyScene& s, py::handle points, py::handle max_distance) {
-                const Rows3 p = arbor::python::rows3(points, "points");
-                const float reach = arbor::python::number(max_distance, "max_distance");
-                if (!(reach >= 0.0f)) throw py::value_error("max_distance: expected a number >= 0 (inf: no limit)");
-                py::array out(arbor::python::point_dtype(), std::vector<py::ssize_t>{py::ssize_t(p.count)});
-                auto* res = static_cast<arbor::ClosestPoint*>(out.mutable_data());
-                run<false>(s, [&] { s.scene.closest_point(points_of(p), reach, res); });
-                return out;
+            [](const PyScene& s, py::object points, py::object max_distance, py::object out, py::object threads) {
+                return arbor::python::closest_point(s, points, max_distance, out, threads);
             },
-            "points"_a, "max_distance"_a = inf,
-            "Closest point on the scene per point: a structured (N,) array of distance, geom, prim, point, u, v.")
+            "points"_a, "max_distance"_a = inf, py::kw_only(), "out"_a = py::none(), "threads"_a = 0,
+            "The point of the scene closest to each point.\n\n"
+            "Args:\n"
+            "    points: shape (N, 3), any (..., 3), or one point (3,); float32 is read in place, other\n"
+            "        real dtypes are converted; any array, as for intersect.\n"
+            "    max_distance: how far to look, in the scene's units (>= 0, inf: no limit): a number,\n"
+            "        or an array of the points' leading shape (...,), one per point.\n"
+            "    out: None, or a C-contiguous array of arbor.point_dtype and the points' leading shape\n"
+            "        to write into and return.\n" ARBOR_THREADS_DOC
+            "\nReturns:\n"
+            "    numpy.ndarray: a structured array of the points' leading shape (...,) (0-d for one\n"
+            "    point), dtype arbor.point_dtype: distance (float32, scene units), geom and prim\n"
+            "    (uint32), point (float32, 3), u and v (float32: point = (1-u-v) v0 + u v1 + v v2).\n"
+            "    Nothing within max_distance (or a NaN point): distance = inf, geom = prim = "
+            "arbor.MISS.\n" ARBOR_RAISES_DOC)
         .def(
             "inside",
-            [](const PyScene& s, py::handle points) {
-                const Rows3 p = arbor::python::rows3(points, "points");
-                py::array_t<bool> out(py::ssize_t(p.count));
-                bool* in = out.mutable_data();
-                run<false>(s, [&] { s.scene.inside(points_of(p), in); });
-                return out;
+            [](const PyScene& s, py::object points, py::object out, py::object threads) {
+                return arbor::python::inside(s, points, out, threads);
             },
-            "points"_a, "Whether each point is inside the scene's closed meshes: an (N,) bool array.");
+            "points"_a, py::kw_only(), "out"_a = py::none(), "threads"_a = 0,
+            "Whether each point is inside the scene's closed meshes (the parity of a ray's crossings;\n"
+            "points on the surface get either answer).\n\n"
+            "Args:\n"
+            "    points: shape (N, 3), any (..., 3), or one point (3,); any array, as for intersect.\n"
+            "    out: None, or a C-contiguous bool array of the points' leading shape to write "
+            "into.\n" ARBOR_THREADS_DOC
+            "\nReturns:\n"
+            "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC);
 }

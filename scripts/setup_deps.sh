@@ -7,7 +7,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev doctest-dev
   libbenchmark-dev libembree-dev python3-matplotlib python3-numpy
   clang libclang-rt-14-dev
-  pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis python3-mypy
   libassimp-dev libstb-dev
   libopenmpi-dev openmpi-bin
   libcivetweb-dev libturbojpeg0-dev chromium

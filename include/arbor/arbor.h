@@ -9,7 +9,8 @@
 ///
 /// Threads: after build(), every const member of a Scene may be called from any number of threads
 /// at once; each batch call itself runs on the scene's threads (build's `threads`, default: all
-/// cores). add_mesh() and build() must not run while another call is using the scene.
+/// cores) or on the threads its QueryOptions ask for. add_mesh() and build() must not run while
+/// another call is using the scene.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -124,11 +125,27 @@ struct PointArrays {
     std::size_t stride = 3 * sizeof(float);
 };
 
+/// One number per point, read in place: values[i] for point i (consecutive ones `stride` bytes
+/// apart), or `value` for every point when `values` is null.
+struct PointValues {
+    const float* values = nullptr;
+    std::size_t stride = sizeof(float);
+    float value = std::numeric_limits<float>::infinity();
+};
+
+/// Options of one batch query; the answers do not depend on them.
+struct QueryOptions {
+    /// Threads for this call: 0 = the scene's (build's `threads`); counts above the machine's
+    /// cores are taken as all cores. Negative counts throw Error(invalid_argument).
+    int threads = 0;
+};
+
 struct BuildOptions {
     /// The structure: "bvh-sah", "bvh-median", "lbvh", "kdtree", "brute", or "auto" (arbor picks by
     /// predicted build + trace time, the same decision as the command line's --accel auto).
     std::string accel = "auto";
-    /// Threads for the build and for every batch query (0 = all cores).
+    /// Threads for the build and for every batch query (0 = all cores; counts above the machine's
+    /// cores are taken as all cores, so oneTBB has nothing to warn about).
     int threads = 0;
     /// Upper bound on the build's memory in bytes (0 = no limit); a build that would exceed it
     /// throws Error(out_of_memory) before allocating.
@@ -171,24 +188,37 @@ public:
     void bounds(float lo[3], float hi[3]) const;
 
     /// Closest hit of each ray: hits[i] for rays i = 0 .. count-1.
-    void intersect(const RayArrays& rays, Hit* hits) const;
-    std::vector<Hit> intersect(const std::vector<Ray>& rays) const;
+    void intersect(const RayArrays& rays, Hit* hits, const QueryOptions& options = {}) const;
+    std::vector<Hit> intersect(const std::vector<Ray>& rays, const QueryOptions& options = {}) const;
     /// Any hit (shadow rays): occluded[i] is true when ray i hits anything in [tnear, tfar].
-    void occluded(const RayArrays& rays, bool* occluded) const;
-    std::vector<bool> occluded(const std::vector<Ray>& rays) const;
+    void occluded(const RayArrays& rays, bool* occluded, const QueryOptions& options = {}) const;
+    std::vector<bool> occluded(const std::vector<Ray>& rays, const QueryOptions& options = {}) const;
     /// All hits: every triangle ray i crosses in [tnear, tfar], each once, sorted by t (then geom,
     /// prim), in hits[i * max_hits ...], the rest of its row filled with misses. counts[i] is the
     /// number of crossings, which may exceed max_hits (then the row holds the first max_hits).
-    void intersect_all(const RayArrays& rays, std::size_t max_hits, Hit* hits, std::int32_t* counts) const;
-    /// Closest point on the scene to each point, within max_distance (>= 0; +inf: no limit).
-    void closest_point(const PointArrays& points, float max_distance, ClosestPoint* out) const;
+    void intersect_all(const RayArrays& rays, std::size_t max_hits, Hit* hits, std::int32_t* counts,
+                       const QueryOptions& options = {}) const;
+    /// The unit geometric normal of each hit's triangle, (v1-v0) x (v2-v0) normalized, in the
+    /// scene's space: `count` hits read `hit_stride` bytes apart, 3 floats written per hit
+    /// `normal_stride` bytes apart (the two may interleave, e.g. a normal stored after each hit).
+    /// A miss, or a triangle of zero area, gets (0, 0, 0). Throws Error(invalid_argument) for a
+    /// geom or prim that is not in the scene.
+    void hit_normals(const Hit* hits, std::size_t count, std::size_t hit_stride, float* normals,
+                     std::size_t normal_stride, const QueryOptions& options = {}) const;
+    /// Closest point on the scene to each point, within max_distance (>= 0; +inf: no limit): one
+    /// distance for all points, or one per point.
+    void closest_point(const PointArrays& points, float max_distance, ClosestPoint* out,
+                       const QueryOptions& options = {}) const;
+    void closest_point(const PointArrays& points, const PointValues& max_distance, ClosestPoint* out,
+                       const QueryOptions& options = {}) const;
     std::vector<ClosestPoint> closest_point(const std::vector<float>& xyz,
-                                            float max_distance = std::numeric_limits<float>::infinity()) const;
+                                            float max_distance = std::numeric_limits<float>::infinity(),
+                                            const QueryOptions& options = {}) const;
     /// Whether each point is inside the scene's closed meshes: the parity of a ray's crossings, a
     /// second direction where the first meets an edge or vertex exactly. Meaningful for closed
     /// meshes; points on the surface get either answer.
-    void inside(const PointArrays& points, bool* inside) const;
-    std::vector<bool> inside(const std::vector<float>& xyz) const;
+    void inside(const PointArrays& points, bool* inside, const QueryOptions& options = {}) const;
+    std::vector<bool> inside(const std::vector<float>& xyz, const QueryOptions& options = {}) const;
 
     struct Impl;  ///< opaque: the library's own
 

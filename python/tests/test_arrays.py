@@ -9,6 +9,7 @@ import pytest
 
 import arbor
 from conftest import random_rays
+from test_sources import sources
 
 
 def test_conversions_give_the_same_answers(box_scene):
@@ -44,13 +45,13 @@ def test_ray_argument_errors_name_the_argument(box_scene, call):
     f = getattr(box_scene, call)
     o = np.zeros((4, 3), np.float32)
     d = np.ones((4, 3), np.float32)
-    with pytest.raises(ValueError, match=r"origins: expected shape \(N, 3\), got \(4, 2\)"):
+    with pytest.raises(ValueError, match=r"origins: expected shape \(N, 3\) or \(\.\.\., 3\), got \(4, 2\)"):
         f(o[:, :2], d)
-    with pytest.raises(ValueError, match=r"directions: expected shape \(N, 3\), got \(12,\)"):
+    with pytest.raises(ValueError, match=r"directions: expected shape \(N, 3\) or \(\.\.\., 3\), got \(12,\)"):
         f(o, d.ravel())
     with pytest.raises(ValueError, match="directions: expected 4 rows like origins"):
         f(o, d[:3])
-    with pytest.raises(TypeError, match="origins: expected a float32 array of shape \\(N, 3\\), got dtype bool"):
+    with pytest.raises(TypeError, match=r"origins: expected a float32 array of shape \(N, 3\) or \(\.\.\., 3\), got dtype bool"):
         f(o.astype(bool), d)
     with pytest.raises(TypeError, match="directions: .*got dtype <U1"):
         f(o, np.full((4, 3), "a"))
@@ -73,7 +74,7 @@ def test_point_argument_errors(box_scene):
         box_scene.closest_point(np.zeros((2, 3)), max_distance=-1)
     with pytest.raises(ValueError, match="max_distance"):
         box_scene.closest_point(np.zeros((2, 3)), max_distance=np.nan)
-    with pytest.raises(ValueError, match="max_hits: expected a number >= 0"):
+    with pytest.raises(ValueError, match="max_hits: expected an int >= 0, got -1"):
         box_scene.intersect_all(np.zeros((2, 3)), np.ones((2, 3)), max_hits=-1)
     assert box_scene.closest_point(np.zeros((0, 3), np.float32)).shape == (0,)
     assert box_scene.inside(np.zeros((0, 3))).shape == (0,)
@@ -132,18 +133,23 @@ def test_out_errors_name_the_argument(box_scene, call):
 
 def test_float32_input_is_not_copied(box_scene):
     # numpy reports its allocations to tracemalloc: reading float32 rays in place allocates the
-    # result only; float64 rays are converted (a float32 copy of each array).
+    # result only, also when they come through DLPack, __array_interface__ or the buffer protocol
+    # (test_sources.py); float64 rays are converted (a float32 copy of each array).
     n = 200_000
     o32, d32 = random_rays(box_scene, n, seed=4)
     box_scene.intersect(o32[:10], d32[:10])  # built, warmed up
     result = n * arbor.hit_dtype.itemsize
+    inputs = {"f32": (o32, d32), "f64": (o32.astype(np.float64), d32.astype(np.float64))}
+    for name in ("dlpack", "array_interface", "memoryview"):
+        inputs[name] = (sources(o32)[name], sources(d32)[name])
     peaks = {}
-    for name, (o, d) in {"f32": (o32, d32), "f64": (o32.astype(np.float64), d32.astype(np.float64))}.items():
+    for name, (o, d) in inputs.items():
         tracemalloc.start()
         box_scene.intersect(o, d)
         peaks[name] = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
-    assert peaks["f32"] < result + 64 * 1024, peaks
+    for name in ("f32", "dlpack", "array_interface", "memoryview"):
+        assert peaks[name] < result + 64 * 1024, (name, peaks)
     assert peaks["f64"] >= result + 2 * 12 * n, peaks
 
 

@@ -60,7 +60,7 @@ def test_rays_never_crash(o, d, tn, tf, strided, max_hits):
     res = call_or_reject(s.intersect_all, o, d, tn, tf, max_hits=max_hits)
     if res is not None:
         hits, counts = res
-        assert hits.shape == (len(counts), max_hits) and np.all(counts >= 0) and np.all(counts <= 24)
+        assert hits.shape == counts.shape + (max_hits,) and np.all(counts >= 0) and np.all(counts <= 24)
         if h is not None:
             assert np.array_equal(counts > 0, ~np.isinf(h["t"]))
 
@@ -115,3 +115,63 @@ def test_meshes_never_crash(v, f):
         n = len(v) if v.ndim == 2 else 0
         h = s.intersect(np.zeros((4, 3), np.float32), np.ones((4, 3), np.float32))
         assert h.shape == (4,) and s.triangles == (len(f) if f.size else 0) and n >= 0
+
+
+threads = st.one_of(st.sampled_from([0, 1, 2, 3, 1000]), st.integers(-2, 4), st.sampled_from(["2", 1.5, None, True]))
+lead_shapes = hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=4)
+
+
+@SETTINGS
+@given(lead=lead_shapes, one_origin=st.booleans(), t=threads, normals=st.one_of(st.booleans(), st.just(1)),
+       seed=st.integers(0, 2**16), max_hits=st.integers(0, 3))
+def test_shapes_threads_and_normals_keep_the_answers(lead, one_origin, t, normals, seed, max_hits):
+    # Rays of any leading shape (one origin for all, or one each), any threads= and normals=: the
+    # answers of the same rays as a flat (N, 3) batch on one thread, in the rays' shape, or
+    # TypeError / ValueError for a threads= or normals= that is not an int >= 0 or a bool.
+    s = scene()
+    rng = np.random.default_rng(seed)
+    d = rng.normal(size=lead + (3,)).astype(np.float32)
+    o = (rng.normal(size=(3,) if one_origin else lead + (3,)) * 6).astype(np.float32)
+    valid = isinstance(t, int) and not isinstance(t, bool) and t >= 0 and isinstance(normals, bool)
+    h = call_or_reject(s.intersect, o, d, threads=t, normals=normals)
+    assert (h is not None) == valid
+    if not valid:
+        return
+    flat_o = np.broadcast_to(o, lead + (3,)).reshape(-1, 3)
+    ref = s.intersect(flat_o, d.reshape(-1, 3), threads=1, normals=normals)
+    assert h.shape == lead and h.tobytes() == ref.tobytes()
+    if normals:
+        hit = ref["prim"] != arbor.MISS
+        assert np.allclose(np.linalg.norm(ref["normal"][hit], axis=1), 1, atol=1e-6) and np.all(ref["normal"][~hit] == 0)
+    occ = s.occluded(o, d, threads=t)
+    assert occ.shape == lead and np.array_equal(occ.reshape(-1), ref["prim"] != arbor.MISS)
+    rows, counts = s.intersect_all(o, d, max_hits=max_hits, threads=t, normals=normals)
+    ref_rows, ref_counts = s.intersect_all(flat_o, d.reshape(-1, 3), max_hits=max_hits, threads=1, normals=normals)
+    assert rows.shape == lead + (max_hits,) and counts.shape == lead
+    assert rows.tobytes() == ref_rows.tobytes() and counts.tobytes() == ref_counts.tobytes()
+    near = s.closest_point(o * np.float32(0.5), max_distance=np.float32(2.0), threads=t)
+    assert near.shape == o.shape[:-1]
+    assert near.tobytes() == s.closest_point((o * np.float32(0.5)).reshape(-1, 3), 2.0, threads=1).tobytes()
+    ins = s.inside(d, threads=t)
+    assert ins.shape == lead and np.array_equal(ins.reshape(-1), s.inside(d.reshape(-1, 3), threads=1))
+
+
+@SETTINGS
+@given(p=arrays(), reach=st.one_of(floats, arrays(dtype=st.sampled_from([np.float32, np.float64, np.int8]))),
+       out_kind=st.sampled_from(["none", "right", "wrong_shape", "wrong_dtype"]))
+def test_max_distance_arrays_and_out_never_crash(p, reach, out_kind):
+    # max_distance of any shape and value, and out= right or wrong, on points of any shape: an
+    # answer within each point's reach, or TypeError / ValueError.
+    s = scene()
+    lead = p.shape[:-1] if p.ndim >= 1 and p.shape[-1] == 3 else (2,)
+    out = {"none": None, "right": np.empty(lead, arbor.point_dtype), "wrong_shape": np.empty(lead + (1,), arbor.point_dtype),
+           "wrong_dtype": np.empty(lead, np.float32)}[out_kind]
+    res = call_or_reject(s.closest_point, p, reach, out=out)
+    if res is not None:
+        assert out_kind in ("none", "right") and res.shape == lead
+        if out is not None:
+            assert res is out
+        ok = np.isfinite(res["distance"])
+        with np.errstate(over="ignore"):  # a float64 reach beyond float32 is inf, as arbor takes it
+            limit = np.broadcast_to(np.asarray(reach, np.float32), res.shape)
+        assert np.all(res["distance"][ok] <= limit[ok]) and np.all(res["prim"][~ok] == arbor.MISS)

@@ -7,11 +7,16 @@ import numpy as np
 from conftest import shared_models
 
 
-def test_readme_example_renders_a_depth_image(tmp_path, monkeypatch):
+def readme_example():
+    """The ```python block under the README's heading "From Python"."""
     readme = (pathlib.Path(__file__).resolve().parents[2] / "README.md").read_text()
     section = readme[readme.index("## From Python"):]
     block = section[section.index("```python\n") + len("```python\n"):]
-    code = block[:block.index("```")]
+    return block[:block.index("```")]
+
+
+def test_readme_example_renders_a_depth_image(tmp_path, monkeypatch):
+    code = readme_example()
     spot = next(m for m in shared_models() if m.name == "spot.obj")
     assert '"../shared/scenes/models/spot.obj"' in code
     (tmp_path / "example.py").write_text(code.replace('"../shared/scenes/models/spot.obj"', repr(str(spot))))

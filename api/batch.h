@@ -1,0 +1,55 @@
+#pragma once
+/// How a batch call runs: over chunks with fixed boundaries (so the answers do not depend on the
+/// thread count), in parallel, in the scene's task arena or in one of the threads the call's
+/// QueryOptions ask for.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <optional>
+#include <string>
+
+#include "api/scene_impl.h"
+
+namespace arbor {
+
+/// The arena of one call: the scene's when options.threads is 0 or the scene's own count, else
+/// its own arena of that many threads (capped at the cores). Throws Error(invalid_argument),
+/// naming `fn`, for a negative count.
+class CallArena {
+public:
+    CallArena(const Scene::Impl& s, const QueryOptions& o, const char* fn) : s_(s) {
+        if (o.threads < 0)
+            throw Error(Error::Kind::invalid_argument,
+                        std::string(fn) + ": threads must be >= 0 (0 = the scene's), got " + std::to_string(o.threads));
+        threads_ = usable_threads(o.threads);
+    }
+
+    /// Runs f() in the arena (a scene never built has no arena yet: then one of the call's own).
+    template <class F>
+    void execute(F&& f) {
+        if (s_.arena && (threads_ == 0 || threads_ == s_.threads)) return s_.arena->execute(std::forward<F>(f));
+        if (!own_) own_.emplace(threads_ > 0 ? threads_ : int(tbb::task_arena::automatic));
+        own_->execute(std::forward<F>(f));
+    }
+
+private:
+    const Scene::Impl& s_;
+    int threads_ = 0;
+    std::optional<tbb::task_arena> own_;
+};
+
+/// Calls f(begin, end) for the chunks [k * chunk, (k + 1) * chunk) of [0, n), in parallel in `arena`.
+template <class F>
+void for_chunks(CallArena& arena, std::size_t n, std::size_t chunk, F&& f) {
+    if (n == 0) return;
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + chunk - 1) / chunk, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t k = r.begin(); k != r.end(); ++k)
+                                  f(k * chunk, std::min(n, (k + 1) * chunk));
+                          });
+    });
+}
+
+}  // namespace arbor
