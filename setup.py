@@ -1,9 +1,9 @@
 """Builds the Python package `arbor` with CMake (docs/python.md, "Installing the package").
 
-pyproject.toml holds the metadata. This file adds the two things setuptools cannot know by itself:
-the version, read from the top CMakeLists.txt's project() so that CMake's project version stays the
-only source of it, and a build_ext that has CMake build the extension and libarbor instead of
-compiling sources itself.
+pyproject.toml holds the metadata. This file adds the version, read from the top CMakeLists.txt's
+project() so that CMake's project version stays the only source of it; a build_ext that has CMake
+build the extension and libarbor instead of compiling sources itself; and the package's files
+(python/arbor/: __init__.py and any *.pyi and py.typed).
 
 Environment:
   ARBOR_CMAKE_BUILD_DIR   reuse this configured CMake build folder of this checkout (absolute, or
@@ -120,6 +120,11 @@ BUILD_BASE = (REUSED_BUILD_DIR or ROOT / "build" / "pip") / "python-package"
 
 setup(
     version=cmake_version(),
+    packages=["arbor"],
+    package_dir={"": "python"},
+    # The type stubs and the PEP 561 marker, whichever of them python/arbor/ holds.
+    package_data={"arbor": ["*.pyi", "py.typed"]},
+    include_package_data=False,
     ext_modules=[Extension("arbor._arbor", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
     options={"build": {"build_base": str(BUILD_BASE)}},
