@@ -14,14 +14,15 @@
 # pip never reaches the network (--no-index); every failure is a FAIL line and exit status 1.
 set -euo pipefail
 [ $# -eq 5 ] || { echo "usage: $0 PYTHON CHECKOUT BUILD_DIR SHARED_SCENES WORK_DIR" >&2; exit 2; }
+fail() { echo "FAIL: $*"; exit 1; }
 python=$1
 src=$(cd "$2" && pwd)
 build=$(cd "$3" && pwd)
-scenes=$4
+[ -d "$4/models" ] || fail "no shared models in $4/models"
+scenes=$(cd "$4" && pwd)
 work=$5
 here=$(cd "$(dirname "$0")" && pwd)
 
-fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$work"
 mkdir -p "$work"
 work=$(cd "$work" && pwd)
@@ -29,17 +30,18 @@ unset PYTHONPATH PYTHONHOME
 export PIP_NO_INDEX=1 PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_CACHE_DIR=1 PIP_NO_INPUT=1
 export ARBOR_CMAKE_BUILD_DIR=$build ARBOR_SHARED_SCENES=$scenes
 
-# The suite runs from a copy, so the checkout's python/ is on no path; test_readme.py reads
-# ../../README.md from its own folder.
+# The suite and the checker run from copies, so no folder of the checkout is on sys.path (a
+# script's own folder is); test_readme.py reads ../../README.md from its own folder.
 mkdir -p "$work/suite/python"
 cp -r "$src/python/tests" "$work/suite/python/tests"
 cp "$src/README.md" "$work/suite/README.md"
+cp "$here/python_package_check.py" "$work/check.py"
 
 check() {  # check VENV: imports arbor from a folder outside both trees, then the checks and suite
   local venv=$1
   (cd "$work/suite" && "$venv/bin/python" -c "import arbor; print(arbor.__version__)") \
     || fail "import arbor in $venv"
-  (cd "$work/suite" && "$venv/bin/python" "$here/python_package_check.py" --source "$src" \
+  (cd "$work/suite" && "$venv/bin/python" "$work/check.py" --source "$src" \
     --tests "$work/suite/python/tests") || fail "the package installed in $venv (above)"
 }
 
