@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The pip package (docs/python.md, "Installing the package"), for ctest: python_package.
 #
-#   python_package_test.sh PYTHON CHECKOUT BUILD_DIR SHARED_SCENES WORK_DIR
+#   python_package_test.sh PYTHON CHECKOUT BUILD_DIR SHARED_SCENES
 #
 # PYTHON is the interpreter the module was built for; BUILD_DIR the configured build whose module is
 # reused (ARBOR_CMAKE_BUILD_DIR), so nothing is compiled again: the package gets that build's
@@ -13,19 +13,19 @@
 #     then the same checks and suite there.
 # pip never reaches the network (--no-index); every failure is a FAIL line and exit status 1.
 set -euo pipefail
-[ $# -eq 5 ] || { echo "usage: $0 PYTHON CHECKOUT BUILD_DIR SHARED_SCENES WORK_DIR" >&2; exit 2; }
+[ $# -eq 4 ] || { echo "usage: $0 PYTHON CHECKOUT BUILD_DIR SHARED_SCENES" >&2; exit 2; }
 fail() { echo "FAIL: $*"; exit 1; }
 python=$1
 src=$(cd "$2" && pwd)
 build=$(cd "$3" && pwd)
 [ -d "$4/models" ] || fail "no shared models in $4/models"
 scenes=$(cd "$4" && pwd)
-work=$5
 here=$(cd "$(dirname "$0")" && pwd)
 
-rm -rf "$work"
-mkdir -p "$work"
-work=$(cd "$work" && pwd)
+# Everything (the environments, the wheel, the suite's copy) goes in a temporary folder outside the
+# source and build trees, removed when the test passes and kept, with its logs, when it fails.
+work=$(mktemp -d "${TMPDIR:-/tmp}/arbor-python-package.XXXXXX")
+trap 'status=$?; if [ $status -eq 0 ]; then rm -rf "$work"; else echo "(kept: $work)"; fi' EXIT
 unset PYTHONPATH PYTHONHOME
 export PIP_NO_INDEX=1 PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_CACHE_DIR=1 PIP_NO_INPUT=1
 export ARBOR_CMAKE_BUILD_DIR=$build ARBOR_SHARED_SCENES=$scenes
