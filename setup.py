@@ -51,18 +51,25 @@ def reused_build_dir():
     if not cache.is_file():
         raise SetupError(f"ARBOR_CMAKE_BUILD_DIR={value}: not a configured CMake build folder (no "
                          f"{cache}); configure one (cmake --preset release) or unset it to build from scratch")
-    home = re.search(r"^CMAKE_HOME_DIRECTORY:INTERNAL=(.*)$", cache.read_text(), re.M)
-    if not home or pathlib.Path(home.group(1)).resolve() != ROOT:
-        where = home.group(1) if home else "an unknown folder"
-        raise SetupError(f"ARBOR_CMAKE_BUILD_DIR={value}: configured for the sources in {where}, not for "
-                         f"this checkout ({ROOT})")
+    entries = dict(re.findall(r"^([\w.-]+):\w+=(.*)$", cache.read_text(), re.M))
+    home = entries.get("CMAKE_HOME_DIRECTORY")
+    if not home or pathlib.Path(home).resolve() != ROOT:
+        raise SetupError(f"ARBOR_CMAKE_BUILD_DIR={value}: configured for the sources in {home or 'an unknown folder'}, "
+                         f"not for this checkout ({ROOT})")
+    on = lambda name: entries.get(name, "OFF").upper() in ("ON", "TRUE", "YES", "Y", "1")
+    if not on("ARBOR_PYTHON") or on("ARBOR_SANITIZE") or on("ARBOR_TSAN"):
+        raise SetupError(f"ARBOR_CMAKE_BUILD_DIR={value}: that build has no Python module (ARBOR_PYTHON is off, "
+                         f"or it is a sanitizer build)")
     return path
 
 
 def run(cmd):
     """Runs a command, its output going to ours; a failure is one line naming it."""
     print("arbor:", shlex.join(str(c) for c in cmd), flush=True)
-    status = subprocess.run([str(c) for c in cmd]).returncode
+    try:
+        status = subprocess.run([str(c) for c in cmd]).returncode
+    except FileNotFoundError:
+        raise ExecError(f"{cmd[0]}: not found on PATH (scripts/setup_deps.sh installs it)") from None
     if status != 0:
         raise ExecError(f"`{shlex.join(str(c) for c in cmd)}` failed with exit status {status} (its output is above)")
 
