@@ -24,6 +24,7 @@ import sys
 import sysconfig
 
 from setuptools import Extension, setup
+from setuptools.command.build import build
 from setuptools.command.build_ext import build_ext
 from setuptools.errors import ExecError, SetupError
 
@@ -74,6 +75,15 @@ def run(cmd):
         raise ExecError(f"`{shlex.join(str(c) for c in cmd)}` failed with exit status {status} (its output is above)")
 
 
+class CleanBuild(build):
+    """Empties the package's folder in build/lib.* first: setuptools copies into it without removing
+    anything, and a stub deleted since, or another version's libarbor, would go into the wheel."""
+
+    def run(self):
+        shutil.rmtree(pathlib.Path(self.build_lib) / "arbor", ignore_errors=True)
+        super().run()
+
+
 class CMakeBuild(build_ext):
     """Builds the extension `arbor._arbor` by building CMake's target arbor_python, then copies
     the module and libarbor, as CMake's install component `python_package` lays them out (the
@@ -98,11 +108,7 @@ class CMakeBuild(build_ext):
                              f"({sys.executable}) loads {module.name}: configure that build with this Python "
                              f"(-DPython3_EXECUTABLE) or unset ARBOR_CMAKE_BUILD_DIR")
 
-        # A stale module or library of an earlier build (another version's soname) would go into
-        # the wheel too: the package folder gets exactly the files just installed.
         module.parent.mkdir(parents=True, exist_ok=True)
-        for old in [*module.parent.glob("_arbor*"), *module.parent.glob("libarbor.so*")]:
-            old.unlink()
         for path in built:
             shutil.copy2(path, module.parent / path.name)
 
@@ -133,6 +139,6 @@ setup(
     package_data={"arbor": ["*.pyi", "py.typed"]},
     include_package_data=False,
     ext_modules=[Extension("arbor._arbor", sources=[])],
-    cmdclass={"build_ext": CMakeBuild},
+    cmdclass={"build": CleanBuild, "build_ext": CMakeBuild},
     options={"build": {"build_base": str(BUILD_BASE)}},
 )

@@ -40,7 +40,10 @@ def main():
 
     if sys.prefix == sys.base_prefix:
         fail(f"{sys.executable} is not a virtual environment's python")
-    import arbor
+    try:
+        import arbor
+    except ImportError as error:
+        fail(f"import arbor: {error}")
 
     venv = pathlib.Path(sys.prefix).resolve()
     package = pathlib.Path(arbor.__file__).resolve().parent
