@@ -8,6 +8,7 @@ packages=(
   libbenchmark-dev libembree-dev python3-matplotlib python3-numpy
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis python3-mypy
+  python3-venv python3-setuptools python3-wheel python3-build
   libassimp-dev libstb-dev
   libopenmpi-dev openmpi-bin
   libcivetweb-dev libturbojpeg0-dev chromium
