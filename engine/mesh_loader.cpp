@@ -5,6 +5,7 @@
 #include "engine/formats/assimp_import.h"
 #include "engine/formats/gltf_check.h"
 #include "engine/formats/ply_check.h"
+#include "engine/formats/ply_read.h"
 #include "engine/memory_budget.h"
 #include "engine/mesh_validate.h"
 #include "engine/obj_loader.h"
@@ -34,12 +35,20 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
     switch (format) {
     case MeshFormat::ply: {
         const PlyHeader header = parse_ply_header(bytes, name);
+        for (const std::string& w : header.warnings) warnings.add(w);
         check_ply_body(header, bytes, name);
-        // Assimp's own message would be "Unable to extract mesh data".
         if (std::none_of(header.elements.begin(), header.elements.end(),
                          [](const PlyElement& e) { return e.name == "vertex" && e.count > 0; }))
             throw InputError(name, 0, "no triangles (the PLY file has no vertices)");
-        break;
+        PlyMesh ply = read_ply(header, bytes, name, warnings);
+        // Faces of 1 or 2 vertices, or vertices and nothing else: say so. Strips that are all joints
+        // are no points or lines.
+        const bool has_lists = std::any_of(header.elements.begin(), header.elements.end(), [](const PlyElement& e) {
+            return (e.name == "face" || e.name == "tristrips") && e.count > 0;
+        });
+        const bool only_points = ply.mesh.triangle_count() == 0 && (ply.point_line_faces > 0 || !has_lists);
+        validate_mesh(ply.mesh, name, only_points ? ": the file holds only points/lines" : "");
+        return std::move(ply.mesh);
     }
     case MeshFormat::stl_binary: check_stl_binary(bytes, name); break;
     case MeshFormat::gltf:
