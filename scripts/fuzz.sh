@@ -25,6 +25,7 @@ cp tests/fuzz/seeds/obj/* "$work/seeds-obj/"
 cp tests/fuzz/seeds/obj/* tests/fuzz/seeds/mesh/* "$work/seeds-mesh/"
 cp tests/fuzz/regressions/obj/* "$work/seeds-obj/" 2>/dev/null || true
 cp tests/fuzz/regressions/mesh/* "$work/seeds-mesh/" 2>/dev/null || true
+cp tests/data/meshes/* "$work/seeds-mesh/"
 cp tests/fuzz/regressions/rays/* "$work/seeds-rays/" 2>/dev/null || true
 cp tests/fuzz/seeds/view/* "$work/seeds-view/"
 cp tests/fuzz/regressions/view/* "$work/seeds-view/" 2>/dev/null || true

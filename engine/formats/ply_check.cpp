@@ -171,12 +171,12 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& name) {
         } else {
             // Not a keyword: a line such as Blender's "Created by Blender3D 247 - ..." that carries
             // no data. Skipped, as other readers do, but said.
-            std::string text(line.substr(0, std::min<std::size_t>(line.size(), 60)));
+            std::string text(line.substr(0, std::min<std::size_t>(line.size(), 100)));
             while (!text.empty() && (text.back() == '\r' || text.back() == ' ')) text.pop_back();
             for (char& c : text)
                 if (static_cast<unsigned char>(c) < 0x20) c = ' ';
-            h.warnings.push_back(name + ":" + std::to_string(line_no) + ": PLY header line '" + text +
-                                 (line.size() > 60 ? "...'" : "'") + " is no keyword; skipped");
+            h.warnings.push_back(name + ":" + std::to_string(line_no) + ": not a PLY header keyword, line skipped: " + text +
+                                 (line.size() > 100 ? "..." : ""));
         }
     }
 }

@@ -247,7 +247,7 @@ struct Reader {
             if (is_index_list(p))
                 throw InputError(name, 0, "element '" + e.name + "' holds " + p.name +
                                               " lists that arbor does not read as surfaces (it reads 'face' and 'tristrips')");
-        skipped.push_back("element '" + e.name + "' (" + std::to_string(e.count) + " records)");
+        skipped.push_back("element '" + e.name + "' (" + std::to_string(e.count) + (e.count == 1 ? " record)" : " records)"));
         for (std::uint64_t r = 0; r < e.count; ++r)
             for (const PlyProperty& p : e.properties) {
                 values.at(e, r, p);
