@@ -11,6 +11,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <span>
 
 namespace arbor::engine::formats {
 
@@ -63,11 +64,12 @@ public:
             pos_ -= tok.size();  // read it again as a number ("3.0" is an integer too)
         }
         const double v = number(t);
-        if (!(v == std::floor(v)) || std::fabs(v) > 9.0e15) fail("the index " + std::to_string(v) + " is not an integer");
+        if (!(v == std::floor(v)) || std::fabs(v) > 9.0e15) fail("the value " + std::to_string(v) + " is not an integer");
         return std::int64_t(v);
     }
 
     [[noreturn]] void fail(const std::string& problem) const {
+        if (!element_ || !property_) throw InputError(name_, 0, problem);
         throw InputError(name_, 0, problem + " in element '" + element_->name + "' record " + std::to_string(record_ + 1) +
                                        ", property " + property_->name);
     }
@@ -142,7 +144,8 @@ struct IndexLists {
 };
 
 struct Reader {
-    const PlyHeader& header;
+    Reader(const PlyHeader& h, std::string_view bytes, const std::string& n) : name(n), values(h, bytes, n) {}
+
     const std::string& name;
     Values values;
     PlyMesh out;
@@ -172,20 +175,21 @@ struct Reader {
             has[int(slots.back())] = true;
             if (slots.back() == Slot::none) unread.push_back(p.name);
         }
-        for (const auto& [slot, label] : {std::pair{Slot::x, "x"}, {Slot::y, "y"}, {Slot::z, "z"}})
-            if (!has[int(slot)]) throw InputError(name, 0, std::string("element 'vertex' has no property ") + label);
+        if (!has[int(Slot::x)] || !has[int(Slot::y)] || !has[int(Slot::z)])
+            throw InputError(name, 0, std::string("element 'vertex' has no property ") +
+                                          (!has[int(Slot::x)] ? "x" : !has[int(Slot::y)] ? "y" : "z"));
         have_normals = has[int(Slot::nx)] && has[int(Slot::ny)] && has[int(Slot::nz)];
         have_colours = has[int(Slot::red)] && has[int(Slot::green)] && has[int(Slot::blue)];
         have_uvs = has[int(Slot::u)] && has[int(Slot::v)];
-        auto note_unread = [&](bool have, std::initializer_list<Slot> group, std::initializer_list<const char*> labels) {
+        // Part of a set (nx without nz) is not read either.
+        auto note_unread = [&](bool have, Slot first, Slot last, const char* label) {
             bool any = false;
-            for (Slot s : group) any |= has[int(s)];
-            if (any && !have)
-                for (const char* l : labels) unread.push_back(std::string(l) + " (incomplete set)");
+            for (int s = int(first); s <= int(last); ++s) any |= has[s];
+            if (any && !have) unread.push_back(std::string(label) + " (incomplete set)");
         };
-        note_unread(have_normals, {Slot::nx, Slot::ny, Slot::nz}, {"nx/ny/nz"});
-        note_unread(have_colours, {Slot::red, Slot::green, Slot::blue}, {"red/green/blue"});
-        note_unread(have_uvs, {Slot::u, Slot::v}, {"u/v"});
+        note_unread(have_normals, Slot::nx, Slot::nz, "nx/ny/nz");
+        note_unread(have_colours, Slot::red, Slot::blue, "red/green/blue");
+        note_unread(have_uvs, Slot::u, Slot::v, "u/v");
         if (!unread.empty()) {
             std::string s = "vertex properties";
             for (std::size_t k = 0; k < unread.size(); ++k) s += (k ? ", " : " ") + unread[k];
@@ -268,9 +272,13 @@ struct Reader {
 
     void add(std::int64_t a, std::int64_t b, std::int64_t c) {
         const auto i = std::uint32_t(a), j = std::uint32_t(b), k = std::uint32_t(c);
+        // Normals and texture coordinates are per vertex: a corner's index is its vertex's.
         CornerAttributes attr;
-        if (have_normals) attr.normal[0] = i, attr.normal[1] = j, attr.normal[2] = k;
-        if (have_uvs) attr.uv[0] = i, attr.uv[1] = j, attr.uv[2] = k;
+        for (int c = 0; c < 3 && (have_normals || have_uvs); ++c) {
+            const std::uint32_t vertex = c == 0 ? i : c == 1 ? j : k;
+            if (have_normals) attr.normal[c] = vertex;
+            if (have_uvs) attr.uv[c] = vertex;
+        }
         out.mesh.add_triangle(i, j, k, 0, attr);
     }
 
@@ -305,7 +313,7 @@ struct Reader {
 }  // namespace
 
 PlyMesh read_ply(const PlyHeader& header, std::string_view bytes, const std::string& name, Warnings& warnings) {
-    Reader rd{header, name, Values(header, bytes, name), {}, {}, {}, {}, false, false, false, false, {}, {}};
+    Reader rd(header, bytes, name);
     for (const PlyElement& e : header.elements) {
         if (e.name == "vertex") rd.read_vertices(e);
         else if (e.name == "face" || e.name == "tristrips") rd.read_lists(e);
