@@ -30,7 +30,9 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
         // An OFF file (first line OFF, COFF, NOFF, STOFF, 4OFF, ...) would read as OBJ text without faces.
         const std::string_view first = bytes.substr(0, std::min(bytes.find_first_of(" \t\r\n"), bytes.size()));
         if (first.size() >= 3 && first.size() <= 8 && first.substr(first.size() - 3) == "OFF")
-            throw InputError(name, 1, "an OFF file ('" + std::string(first) + "'), a format arbor does not read (OBJ, PLY, STL, glTF)");
+            throw InputError(
+                name, 1,
+                "an OFF file ('" + std::string(first) + "'), a format arbor does not read (OBJ, PLY, STL, glTF)");
         Mesh m = load_obj_text(std::string(bytes), name, read_other_files ? base_dir : "/nonexistent-arbor-input/", warnings);
         validate_mesh(m, name);
         return m;
@@ -69,7 +71,8 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
                                       " (it drops those whose indices point past their primitive's vertices)");
     const bool only_points = counts.polygons == 0 && (counts.point_line_faces > 0 || counts.vertices > 0);
     if (!only_points && gltf.point_line_prims > 0)
-        warnings.add(name + ": glTF: " + std::to_string(gltf.point_line_prims) + " primitive" + (gltf.point_line_prims > 1 ? "s" : "") +
+        warnings.add(name + ": glTF: " + std::to_string(gltf.point_line_prims) + " primitive" +
+                     (gltf.point_line_prims > 1 ? "s" : "") +
                      " of points or lines not read (no surfaces), the first: " + gltf.first_point_line);
     validate_mesh(m, name, only_points ? ": the file holds only points/lines" : "");
     return m;

@@ -353,13 +353,14 @@ OtherElements other_elements(const Lines& lines) {
 void check_other_elements(const OtherElements& o, const std::string& name, bool has_triangles, Warnings& warnings) {
     const auto& surf = o.kinds[4];
     if (surf.count)
-        throw InputError(name, surf.first_line, "free-form surface (surf) not read: arbor reads polygon faces (f) only");
+        throw InputError(name, surf.first_line,
+                         "free-form surface (surf) not read: arbor reads polygon faces (f) only");
     if (!has_triangles) return;
     std::string list;
     for (const auto& k : o.kinds)
         if (k.count)
-            list += (list.empty() ? "" : ", ") + std::to_string(k.count) + " " + k.what + (k.count > 1 ? "s" : "") + " (" +
-                    k.keyword + ", first on line " + std::to_string(k.first_line) + ")";
+            list += (list.empty() ? "" : ", ") + std::to_string(k.count) + " " + k.what + (k.count > 1 ? "s" : "") +
+                    " (" + k.keyword + ", first on line " + std::to_string(k.first_line) + ")";
     if (!list.empty()) warnings.add(name + ": not read (no surfaces): " + list);
 }
 
@@ -401,7 +402,8 @@ Mesh load_obj_text(const std::string& text, const std::string& name, const std::
     const OtherElements others = other_elements(lines);
     check_other_elements(others, name, s.mesh.triangle_count() > 0, warnings);
     if (s.mesh.triangle_count() == 0)
-        throw InputError(name, 0, others.points_and_lines() ? "no triangles: the file holds only points/lines" : "no triangles");
+        throw InputError(name, 0,
+                         others.points_and_lines() ? "no triangles: the file holds only points/lines" : "no triangles");
     if (!s.mesh.material.empty() || s.mesh.materials.size() > 1) s.mesh.material.resize(s.mesh.triangle_count(), 0);
     if (!s.mesh.colors.empty()) s.mesh.colors.resize(s.mesh.vertex_count(), Vec3f{1.0f});
     // Attributes no triangle refers to are dropped, so that "has normals" means some corner uses one.

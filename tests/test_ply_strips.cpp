@@ -27,7 +27,8 @@ std::vector<Tri> strip(const std::vector<std::int64_t>& indices, engine::formats
 
 std::vector<Tri> triangles_of(const engine::Mesh& m) {
     std::vector<Tri> out;
-    for (std::size_t t = 0; t < m.triangle_count(); ++t) out.push_back({m.indices[3 * t], m.indices[3 * t + 1], m.indices[3 * t + 2]});
+    for (std::size_t t = 0; t < m.triangle_count(); ++t)
+        out.push_back({m.indices[3 * t], m.indices[3 * t + 1], m.indices[3 * t + 2]});
     return out;
 }
 
@@ -54,7 +55,8 @@ TEST_CASE("ply strips: windows alternate their winding, joints are dropped, -1 r
 TEST_CASE("ply strips: the regression files, ASCII and binary little-endian, triangle by triangle") {
     // Record 1: ribbon A (0-5), a joint 5 5 6 6, ribbon B (6-9). Record 2: a strip of two indices
     // (nothing), -1, ribbon C (10-13), -1.
-    const std::vector<Tri> want = {{0, 1, 2}, {2, 1, 3}, {2, 3, 4}, {4, 3, 5}, {6, 7, 8}, {8, 7, 9}, {10, 11, 12}, {12, 11, 13}};
+    const std::vector<Tri> want = {{0, 1, 2}, {2, 1, 3}, {2, 3, 4},    {4, 3, 5},
+                                   {6, 7, 8}, {8, 7, 9}, {10, 11, 12}, {12, 11, 13}};
     for (const char* file : {"strips-ascii.ply", "strips-le.ply"}) {
         CAPTURE(file);
         engine::Warnings w;
@@ -70,21 +72,24 @@ TEST_CASE("ply strips: the regression files, ASCII and binary little-endian, tri
 }
 
 TEST_CASE("ply strips: numbered in element order with faces; bad strip indices name the record") {
-    const std::string head = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string head =
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n";
     const std::string verts = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 0 0\n";
     engine::Warnings w;
-    const engine::Mesh m = engine::load_mesh_bytes(head +
-                                                       "element tristrips 1\nproperty list uchar int vertex_indices\n"
-                                                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n" +
-                                                       verts + "4 0 1 2 3\n3 1 4 3\n",
-                                                   "mixed.ply", "", w);
+    const engine::Mesh m =
+        engine::load_mesh_bytes(head +
+                                    "element tristrips 1\nproperty list uchar int vertex_indices\n"
+                                    "element face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+                                    verts + "4 0 1 2 3\n3 1 4 3\n",
+                                "mixed.ply", "", w);
     CHECK(triangles_of(m) == std::vector<Tri>{{0, 1, 2}, {2, 1, 3}, {1, 4, 3}});
     const std::string strips = "element tristrips 1\nproperty list uchar int vertex_indices\nend_header\n" + verts;
     CHECK_THROWS_WITH_AS(engine::load_mesh_bytes(head + strips + "4 0 1 2 5\n", "past.ply", "", w),
-                         "past.ply: tristrips record 1 refers to vertex 5, past the 5 vertices of its mesh", engine::InputError);
+                         "past.ply: tristrips record 1 refers to vertex 5, past the 5 vertices of its mesh",
+                         engine::InputError);
     CHECK_THROWS_WITH_AS(engine::load_mesh_bytes(head + strips + "4 0 1 -2 3\n", "neg.ply", "", w),
                          "neg.ply: tristrips record 1 has the negative vertex index -2", engine::InputError);
     // Strips that are all joints give no triangle, and say so without claiming points or lines.
-    CHECK_THROWS_WITH_AS(engine::load_mesh_bytes(head + strips + "4 0 0 1 1\n", "joints.ply", "", w), "joints.ply: no triangles",
-                         engine::InputError);
+    CHECK_THROWS_WITH_AS(engine::load_mesh_bytes(head + strips + "4 0 0 1 1\n", "joints.ply", "", w),
+                         "joints.ply: no triangles", engine::InputError);
 }

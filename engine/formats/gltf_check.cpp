@@ -132,8 +132,9 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
             else if (mode == 5 || mode == 6) c.triangles += n >= 3 ? n - 2 : 0;
             else if (c.point_line_prims++ == 0) {
                 static const char* const kinds[] = {"points", "lines", "line loop", "line strip"};
-                c.first_point_line = "meshes[" + std::to_string(mi) + "].primitives[" + std::to_string(pi) + "] (mode " +
-                                     std::to_string(mode) + ": " + (mode >= 0 && mode < 4 ? kinds[mode] : "?") + ")";
+                c.first_point_line = "meshes[" + std::to_string(mi) + "].primitives[" + std::to_string(pi) +
+                                     "] (mode " + std::to_string(mode) + ": " +
+                                     (mode >= 0 && mode < 4 ? kinds[mode] : "?") + ")";
             }
         }
     }

@@ -19,11 +19,11 @@ int type_size(std::string_view t, bool* is_signed = nullptr, PlyType* type = nul
     };
     using T = PlyType;
     static const Entry table[] = {
-        {"char", 1, true, T::int8},       {"uchar", 1, false, T::uint8},     {"short", 2, true, T::int16},
-        {"ushort", 2, false, T::uint16},  {"int", 4, true, T::int32},        {"uint", 4, false, T::uint32},
-        {"float", 4, true, T::float32},   {"double", 8, true, T::float64},   {"int8", 1, true, T::int8},
-        {"uint8", 1, false, T::uint8},    {"int16", 2, true, T::int16},      {"uint16", 2, false, T::uint16},
-        {"int32", 4, true, T::int32},     {"uint32", 4, false, T::uint32},   {"float32", 4, true, T::float32},
+        {"char", 1, true, T::int8},      {"uchar", 1, false, T::uint8},   {"short", 2, true, T::int16},
+        {"ushort", 2, false, T::uint16}, {"int", 4, true, T::int32},      {"uint", 4, false, T::uint32},
+        {"float", 4, true, T::float32},  {"double", 8, true, T::float64}, {"int8", 1, true, T::int8},
+        {"uint8", 1, false, T::uint8},   {"int16", 2, true, T::int16},    {"uint16", 2, false, T::uint16},
+        {"int32", 4, true, T::int32},    {"uint32", 4, false, T::uint32}, {"float32", 4, true, T::float32},
         {"float64", 8, true, T::float64}};
     for (const Entry& e : table)
         if (t == e.name) {
@@ -175,8 +175,8 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& name) {
             while (!text.empty() && (text.back() == '\r' || text.back() == ' ')) text.pop_back();
             for (char& c : text)
                 if (static_cast<unsigned char>(c) < 0x20) c = ' ';
-            h.warnings.push_back(name + ":" + std::to_string(line_no) + ": not a PLY header keyword, line skipped: " + text +
-                                 (line.size() > 100 ? "..." : ""));
+            h.warnings.push_back(name + ":" + std::to_string(line_no) + ": not a PLY header keyword, line skipped: " +
+                                 text + (line.size() > 100 ? "..." : ""));
         }
     }
 }

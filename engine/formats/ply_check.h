@@ -14,8 +14,8 @@ enum class PlyType { int8, uint8, int16, uint16, int32, uint32, float32, float64
 
 struct PlyProperty {
     std::string name;
-    PlyType type = PlyType::float32;       ///< of a scalar, or of a list's items
-    PlyType count_type = PlyType::uint8;   ///< of a list's count (lists only)
+    PlyType type = PlyType::float32;      ///< of a scalar, or of a list's items
+    PlyType count_type = PlyType::uint8;  ///< of a list's count (lists only)
     int size = 0;        ///< bytes of a scalar, or of a list's items
     int count_size = 0;  ///< bytes of a list's count (0: not a list)
     bool count_signed = false;

@@ -22,7 +22,10 @@ namespace {
 class Values {
 public:
     Values(const PlyHeader& h, std::string_view bytes, const std::string& name)
-        : bytes_(bytes), pos_(h.body_offset), name_(name), ascii_(h.encoding == PlyHeader::Encoding::ascii),
+        : bytes_(bytes),
+          pos_(h.body_offset),
+          name_(name),
+          ascii_(h.encoding == PlyHeader::Encoding::ascii),
           swap_((h.encoding == PlyHeader::Encoding::binary_big_endian) != (std::endian::native == std::endian::big)) {}
 
     /// Where messages say the value was read ("element 'face' record 3, property vertex_indices").
@@ -42,14 +45,22 @@ public:
             return v;
         }
         switch (t) {
-        case PlyType::int8: return double(load<std::int8_t>());
-        case PlyType::uint8: return double(load<std::uint8_t>());
-        case PlyType::int16: return double(load<std::int16_t>());
-        case PlyType::uint16: return double(load<std::uint16_t>());
-        case PlyType::int32: return double(load<std::int32_t>());
-        case PlyType::uint32: return double(load<std::uint32_t>());
-        case PlyType::float32: return double(load<float>());
-        case PlyType::float64: return load<double>();
+            case PlyType::int8:
+                return double(load<std::int8_t>());
+            case PlyType::uint8:
+                return double(load<std::uint8_t>());
+            case PlyType::int16:
+                return double(load<std::int16_t>());
+            case PlyType::uint16:
+                return double(load<std::uint16_t>());
+            case PlyType::int32:
+                return double(load<std::int32_t>());
+            case PlyType::uint32:
+                return double(load<std::uint32_t>());
+            case PlyType::float32:
+                return double(load<float>());
+            case PlyType::float64:
+                return load<double>();
         }
         return 0.0;
     }
@@ -64,14 +75,16 @@ public:
             pos_ -= tok.size();  // read it again as a number ("3.0" is an integer too)
         }
         const double v = number(t);
-        if (!(v == std::floor(v)) || std::fabs(v) > 9.0e15) fail("the value " + std::to_string(v) + " is not an integer");
+        if (!(v == std::floor(v)) || std::fabs(v) > 9.0e15)
+            fail("the value " + std::to_string(v) + " is not an integer");
         return std::int64_t(v);
     }
 
     [[noreturn]] void fail(const std::string& problem) const {
         if (!element_ || !property_) throw InputError(name_, 0, problem);
-        throw InputError(name_, 0, problem + " in element '" + element_->name + "' record " + std::to_string(record_ + 1) +
-                                       ", property " + property_->name);
+        throw InputError(name_, 0,
+                         problem + " in element '" + element_->name + "' record " + std::to_string(record_ + 1) +
+                             ", property " + property_->name);
     }
 
 private:
@@ -125,13 +138,17 @@ Slot vertex_slot(const PlyProperty& p) {
     return Slot::none;
 }
 
-bool is_index_list(const PlyProperty& p) { return p.count_size && (p.name == "vertex_indices" || p.name == "vertex_index"); }
+bool is_index_list(const PlyProperty& p) {
+    return p.count_size && (p.name == "vertex_indices" || p.name == "vertex_index");
+}
 
 /// A colour value as an 8-bit sRGB code: integer types scaled from their range, floats from [0, 1].
 std::uint8_t colour_code(double v, PlyType t) {
     double scale = 255.0;
-    if (t == PlyType::uint16 || t == PlyType::int16) scale = 65535.0;
-    else if (t == PlyType::uint32 || t == PlyType::int32) scale = 4294967295.0;
+    if (t == PlyType::uint16 || t == PlyType::int16)
+        scale = 65535.0;
+    else if (t == PlyType::uint32 || t == PlyType::int32)
+        scale = 4294967295.0;
     const double unit = t == PlyType::float32 || t == PlyType::float64 ? v : v / scale;
     return std::uint8_t(std::lround(255.0 * (std::isfinite(unit) ? std::clamp(unit, 0.0, 1.0) : 1.0)));
 }
@@ -176,8 +193,10 @@ struct Reader {
             if (slots.back() == Slot::none) unread.push_back(p.name);
         }
         if (!has[int(Slot::x)] || !has[int(Slot::y)] || !has[int(Slot::z)])
-            throw InputError(name, 0, std::string("element 'vertex' has no property ") +
-                                          (!has[int(Slot::x)] ? "x" : !has[int(Slot::y)] ? "y" : "z"));
+            throw InputError(name, 0,
+                             std::string("element 'vertex' has no property ") + (!has[int(Slot::x)]   ? "x"
+                                                                                 : !has[int(Slot::y)] ? "y"
+                                                                                                      : "z"));
         have_normals = has[int(Slot::nx)] && has[int(Slot::ny)] && has[int(Slot::nz)];
         have_colours = has[int(Slot::red)] && has[int(Slot::green)] && has[int(Slot::blue)];
         have_uvs = has[int(Slot::u)] && has[int(Slot::v)];
@@ -216,7 +235,8 @@ struct Reader {
                 const float len = simd::length(n);
                 normals.push_back(len > 0.0f && std::isfinite(len) ? n / len : Vec3f{0.0f});
             }
-            if (have_colours) colours.push_back({srgb_to_linear(code[0]), srgb_to_linear(code[1]), srgb_to_linear(code[2])});
+            if (have_colours)
+                colours.push_back({srgb_to_linear(code[0]), srgb_to_linear(code[1]), srgb_to_linear(code[2])});
             if (have_uvs) uvs.push_back({float(v[int(Slot::u)]), float(v[int(Slot::v)])});
         }
     }
@@ -224,7 +244,9 @@ struct Reader {
     void read_lists(const PlyElement& e) {
         const auto list = std::find_if(e.properties.begin(), e.properties.end(), is_index_list);
         if (list == e.properties.end())
-            throw InputError(name, 0, "element '" + e.name + "' has no list property vertex_indices (nothing to read its surfaces from)");
+            throw InputError(
+                name, 0,
+                "element '" + e.name + "' has no list property vertex_indices (nothing to read its surfaces from)");
         std::string unread;
         for (const PlyProperty& p : e.properties)
             if (&p != &*list) unread += (unread.empty() ? " " : ", ") + p.name;
@@ -249,9 +271,11 @@ struct Reader {
     void read_other(const PlyElement& e) {
         for (const PlyProperty& p : e.properties)
             if (is_index_list(p))
-                throw InputError(name, 0, "element '" + e.name + "' holds " + p.name +
-                                              " lists that arbor does not read as surfaces (it reads 'face' and 'tristrips')");
-        skipped.push_back("element '" + e.name + "' (" + std::to_string(e.count) + (e.count == 1 ? " record)" : " records)"));
+                throw InputError(name, 0,
+                                 "element '" + e.name + "' holds " + p.name +
+                                     " lists that arbor does not read as surfaces (it reads 'face' and 'tristrips')");
+        skipped.push_back("element '" + e.name + "' (" + std::to_string(e.count) +
+                          (e.count == 1 ? " record)" : " records)"));
         for (std::uint64_t r = 0; r < e.count; ++r)
             for (const PlyProperty& p : e.properties) {
                 values.at(e, r, p);
@@ -266,8 +290,9 @@ struct Reader {
         if (strips && i == -1) return;
         const std::string what = (strips ? "tristrips record " : l.element->name + " ") + std::to_string(record + 1);
         if (i < 0) throw InputError(name, 0, what + " has the negative vertex index " + std::to_string(i));
-        throw InputError(name, 0, what + " refers to vertex " + std::to_string(i) + ", past the " + std::to_string(n) +
-                                      " vertices of its mesh");
+        throw InputError(name, 0,
+                         what + " refers to vertex " + std::to_string(i) + ", past the " + std::to_string(n) +
+                             " vertices of its mesh");
     }
 
     void add(std::int64_t a, std::int64_t b, std::int64_t c) {
@@ -301,7 +326,8 @@ struct Reader {
                 add(idx[0], idx[1], idx[2]);
             } else {
                 corners.clear();
-                for (const std::int64_t i : idx) corners.push_back({m.x[std::size_t(i)], m.y[std::size_t(i)], m.z[std::size_t(i)]});
+                for (const std::int64_t i : idx)
+                    corners.push_back({m.x[std::size_t(i)], m.y[std::size_t(i)], m.z[std::size_t(i)]});
                 tris.clear();
                 triangulate_polygon(corners, tris);
                 for (const auto& t : tris) add(idx[t[0]], idx[t[1]], idx[t[2]]);
@@ -315,9 +341,12 @@ struct Reader {
 PlyMesh read_ply(const PlyHeader& header, std::string_view bytes, const std::string& name, Warnings& warnings) {
     Reader rd(header, bytes, name);
     for (const PlyElement& e : header.elements) {
-        if (e.name == "vertex") rd.read_vertices(e);
-        else if (e.name == "face" || e.name == "tristrips") rd.read_lists(e);
-        else rd.read_other(e);
+        if (e.name == "vertex")
+            rd.read_vertices(e);
+        else if (e.name == "face" || e.name == "tristrips")
+            rd.read_lists(e);
+        else
+            rd.read_other(e);
     }
     for (const IndexLists& l : rd.lists) rd.triangulate(l);
     Mesh& m = rd.out.mesh;
@@ -330,7 +359,8 @@ PlyMesh read_ply(const PlyHeader& header, std::string_view bytes, const std::str
         warnings.add(s);
     }
     if (rd.out.point_line_faces > 0 && m.triangle_count() > 0)
-        warnings.add(name + ": " + std::to_string(rd.out.point_line_faces) + " faces with fewer than 3 vertices skipped");
+        warnings.add(name + ": " + std::to_string(rd.out.point_line_faces) +
+                     " faces with fewer than 3 vertices skipped");
     return std::move(rd.out);
 }
 

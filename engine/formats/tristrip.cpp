@@ -17,8 +17,10 @@ StripCounts strip_triangles(std::span<const std::int64_t> indices, std::vector<s
             continue;
         }
         // Window k = i - start - 2: odd windows are flipped to keep the strip's orientation.
-        if ((i - start) % 2 == 0) out.push_back({a, b, c});
-        else out.push_back({b, a, c});
+        if ((i - start) % 2 == 0)
+            out.push_back({a, b, c});
+        else
+            out.push_back({b, a, c});
         ++counts.triangles;
     }
     return counts;
