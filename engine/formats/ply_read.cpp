@@ -40,7 +40,7 @@ public:
             const std::string_view tok = token();
             double v = 0.0;
             const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-            if (ec == std::errc::result_out_of_range) return std::signbit(v) ? -HUGE_VAL : HUGE_VAL;
+            if (ec == std::errc::result_out_of_range) return tok[0] == '-' ? -HUGE_VAL : HUGE_VAL;
             if (ec != std::errc() || end != tok.data() + tok.size()) fail("'" + std::string(tok) + "' is not a number");
             return v;
         }
@@ -299,10 +299,10 @@ struct Reader {
         const auto i = std::uint32_t(a), j = std::uint32_t(b), k = std::uint32_t(c);
         // Normals and texture coordinates are per vertex: a corner's index is its vertex's.
         CornerAttributes attr;
-        for (int c = 0; c < 3 && (have_normals || have_uvs); ++c) {
-            const std::uint32_t vertex = c == 0 ? i : c == 1 ? j : k;
-            if (have_normals) attr.normal[c] = vertex;
-            if (have_uvs) attr.uv[c] = vertex;
+        const std::uint32_t vertex[3] = {i, j, k};
+        for (int corner = 0; corner < 3; ++corner) {
+            if (have_normals) attr.normal[corner] = vertex[corner];
+            if (have_uvs) attr.uv[corner] = vertex[corner];
         }
         out.mesh.add_triangle(i, j, k, 0, attr);
     }
