@@ -178,6 +178,7 @@ PYBIND11_MODULE(_arbor, m) {
         .def_property_readonly("meshes", [](const PyScene& s) { return s.scene.meshes(); })
         .def_property_readonly("accel", [](const PyScene& s) { return s.scene.accel(); })
         .def_property_readonly("accel_reason", [](const PyScene& s) { return s.scene.accel_reason(); })
+        .def_property_readonly("load_warnings", [](const PyScene& s) { return s.scene.load_warnings(); })
         .def_property_readonly("bounds",
                                [](const PyScene& s) {
                                    py::array_t<float> b({py::ssize_t(2), py::ssize_t(3)});
