@@ -301,7 +301,7 @@ TEST_CASE("glTF structure: the valid neighbours of each rule still load") {
 }
 
 TEST_CASE(
-    "glTF structure: primitives of points or lines beside triangles are warned about by name; strips and fans read") {
+    "glTF structure: primitives of points or lines beside triangles are warned about by name, strips and fans read") {
     // The quad's indices once more as a line strip (mode 3) and as points (mode 0), after the triangles.
     const std::string bytes = with([](json& d) {
         auto& prims = d["meshes"][0]["primitives"];

@@ -71,7 +71,7 @@ TEST_CASE("ply strips: the regression files, ASCII and binary little-endian, tri
     }
 }
 
-TEST_CASE("ply strips: numbered in element order with faces; bad strip indices name the record") {
+TEST_CASE("ply strips: numbered in element order with faces, bad strip indices name the record") {
     const std::string head =
         "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n";
     const std::string verts = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 0 0\n";
