@@ -232,7 +232,7 @@ def main():
                 failures.append("%s: expected a refusal (%s): exit %d, stderr %r" % (rel, REFUSED[rel], run.returncode, run.stderr))
             else:
                 refused += 1
-                print("refused  %-60s %s" % (rel, lines[0][len(path) + 2:]))
+                print("refused  %-60s %s" % (rel, lines[0].partition(path + ":")[2].strip()))
             continue
         if run.returncode != 0:
             failures.append("%s: arbor refused it (exit %d): %s" % (rel, run.returncode, run.stderr.strip()))
