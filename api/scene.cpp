@@ -80,6 +80,7 @@ Scene Scene::load(const std::string& path) {
         m.bounds = loaded.bounds;
         s.impl_->first_prim.push_back(0);
         s.impl_->bounds = s.impl_->mesh.bounds;  // the loader refuses non-finite vertices
+        s.impl_->load_warnings = std::move(warnings.lines);
         return s;
     });
 }
@@ -185,6 +186,7 @@ void Scene::build(const BuildOptions& options) {
 bool Scene::built() const { return impl_->ready; }
 std::string Scene::accel() const { return impl_->ready ? impl_->accel_name : std::string(); }
 std::string Scene::accel_reason() const { return impl_->ready ? impl_->accel_reason : std::string(); }
+std::vector<std::string> Scene::load_warnings() const { return impl_->load_warnings; }
 std::size_t Scene::triangles() const { return impl_->mesh.triangle_count(); }
 std::size_t Scene::meshes() const { return impl_->first_prim.size(); }
 

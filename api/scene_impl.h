@@ -26,6 +26,7 @@ struct Scene::Impl {
     BuildOptions options;                   ///< of the last build (a lazy build uses the defaults)
     std::unique_ptr<accel::Accel> accel;
     std::string accel_name, accel_reason;
+    std::vector<std::string> load_warnings;  ///< from Scene::load
     /// auto's calibrated path (TraceRequest::calibrated), else `best`: the path policy decides per batch.
     accel::TracePath path = accel::TracePath::best;
     std::unique_ptr<tbb::task_arena> arena;

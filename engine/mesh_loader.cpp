@@ -5,6 +5,7 @@
 #include "engine/formats/assimp_import.h"
 #include "engine/formats/gltf_check.h"
 #include "engine/formats/ply_check.h"
+#include "engine/formats/ply_read.h"
 #include "engine/memory_budget.h"
 #include "engine/mesh_validate.h"
 #include "engine/obj_loader.h"
@@ -26,6 +27,12 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
     const MeshFormat format = detect_mesh_format(bytes, name);
     if (format_out) *format_out = format;
     if (format == MeshFormat::obj) {
+        // An OFF file (first line OFF, COFF, NOFF, STOFF, 4OFF, ...) would read as OBJ text without faces.
+        const std::string_view first = bytes.substr(0, std::min(bytes.find_first_of(" \t\r\n"), bytes.size()));
+        if (first.size() >= 3 && first.size() <= 8 && first.substr(first.size() - 3) == "OFF")
+            throw InputError(
+                name, 1,
+                "an OFF file ('" + std::string(first) + "'), a format arbor does not read (OBJ, PLY, STL, glTF)");
         Mesh m = load_obj_text(std::string(bytes), name, read_other_files ? base_dir : "/nonexistent-arbor-input/", warnings);
         validate_mesh(m, name);
         return m;
@@ -34,12 +41,20 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
     switch (format) {
     case MeshFormat::ply: {
         const PlyHeader header = parse_ply_header(bytes, name);
+        for (const std::string& w : header.warnings) warnings.add(w);
         check_ply_body(header, bytes, name);
-        // Assimp's own message would be "Unable to extract mesh data".
         if (std::none_of(header.elements.begin(), header.elements.end(),
                          [](const PlyElement& e) { return e.name == "vertex" && e.count > 0; }))
             throw InputError(name, 0, "no triangles (the PLY file has no vertices)");
-        break;
+        PlyMesh ply = read_ply(header, bytes, name, warnings);
+        // Faces of 1 or 2 vertices, or vertices and nothing else: say so. Strips that are all joints
+        // are no points or lines.
+        const bool has_lists = std::any_of(header.elements.begin(), header.elements.end(), [](const PlyElement& e) {
+            return (e.name == "face" || e.name == "tristrips") && e.count > 0;
+        });
+        const bool only_points = ply.mesh.triangle_count() == 0 && (ply.point_line_faces > 0 || !has_lists);
+        validate_mesh(ply.mesh, name, only_points ? ": the file holds only points/lines" : "");
+        return std::move(ply.mesh);
     }
     case MeshFormat::stl_binary: check_stl_binary(bytes, name); break;
     case MeshFormat::gltf:
@@ -55,6 +70,10 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
                                       std::to_string(counts.polygons) +
                                       " (it drops those whose indices point past their primitive's vertices)");
     const bool only_points = counts.polygons == 0 && (counts.point_line_faces > 0 || counts.vertices > 0);
+    if (!only_points && gltf.point_line_prims > 0)
+        warnings.add(name + ": glTF: " + std::to_string(gltf.point_line_prims) + " primitive" +
+                     (gltf.point_line_prims > 1 ? "s" : "") +
+                     " of points or lines not read (no surfaces), the first: " + gltf.first_point_line);
     validate_mesh(m, name, only_points ? ": the file holds only points/lines" : "");
     return m;
 }

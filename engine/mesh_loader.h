@@ -1,7 +1,8 @@
 #pragma once
 /// The one entry for mesh files of every format arbor reads: OBJ (tinyobjloader plus arbor's own
-/// line checks, engine/obj_loader.h), PLY (ASCII and binary of either byte order), STL (ASCII and
-/// binary) and glTF 2.0 (.gltf, .glb) through Assimp (engine/formats/). The format is told by the
+/// line checks, engine/obj_loader.h), PLY (ASCII and binary of either byte order, read by arbor:
+/// engine/formats/ply_read.h), STL (ASCII and binary) and glTF 2.0 (.gltf, .glb) through Assimp
+/// (engine/formats/). The format is told by the
 /// file's content (engine/formats/detect.h), not only by its name. Every format ends in the same
 /// validation (engine/mesh_validate.h) and the same one-line "FILE: problem" errors.
 #include "engine/formats/detect.h"

@@ -319,13 +319,49 @@ void on_usemtl(void* user, const char*, int material_id) {
                              : 0;
 }
 
-/// True when some line is a point ("p") or line ("l") element.
-bool holds_points_or_lines(const Lines& lines) {
+/// The OBJ elements arbor does not turn into triangles: points, lines and free-form curves are no
+/// surfaces (skipped with a warning); free-form surfaces are (refused).
+struct OtherElements {
+    struct Kind {
+        const char* keyword;
+        const char* what;
+        std::size_t count = 0, first_line = 0;
+    };
+    Kind kinds[5] = {{"p", "point"}, {"l", "line"}, {"curv", "curve"}, {"curv2", "2D curve"}, {"surf", "surface"}};
+
+    std::size_t points_and_lines() const { return kinds[0].count + kinds[1].count; }
+};
+
+OtherElements other_elements(const Lines& lines) {
+    OtherElements o;
     for (std::size_t n = 1; n <= lines.count(); ++n) {
-        const auto tokens = split_ws(lines.line(n));
-        if (!tokens.empty() && (tokens[0] == "p" || tokens[0] == "l")) return true;
+        const std::string_view line = lines.line(n);
+        std::size_t b = 0;
+        while (b < line.size() && (line[b] == ' ' || line[b] == '\t')) ++b;
+        // Only lines starting with p, l, c or s can be one of them: the rest costs one compare.
+        if (b == line.size() || (line[b] != 'p' && line[b] != 'l' && line[b] != 'c' && line[b] != 's')) continue;
+        std::size_t e = b;
+        while (e < line.size() && line[e] != ' ' && line[e] != '\t') ++e;
+        const std::string_view keyword = line.substr(b, e - b);
+        for (auto& k : o.kinds)
+            if (keyword == k.keyword && k.count++ == 0) k.first_line = n;
     }
-    return false;
+    return o;
+}
+
+/// Refuses free-form surfaces and warns, in one line, about the points, lines and curves skipped.
+void check_other_elements(const OtherElements& o, const std::string& name, bool has_triangles, Warnings& warnings) {
+    const auto& surf = o.kinds[4];
+    if (surf.count)
+        throw InputError(name, surf.first_line,
+                         "free-form surface (surf) not read: arbor reads polygon faces (f) only");
+    if (!has_triangles) return;
+    std::string list;
+    for (const auto& k : o.kinds)
+        if (k.count)
+            list += (list.empty() ? "" : ", ") + std::to_string(k.count) + " " + k.what + (k.count > 1 ? "s" : "") +
+                    " (" + k.keyword + ", first on line " + std::to_string(k.first_line) + ")";
+    if (!list.empty()) warnings.add(name + ": not read (no surfaces): " + list);
 }
 
 }  // namespace
@@ -363,8 +399,11 @@ Mesh load_obj_text(const std::string& text, const std::string& name, const std::
     if (s.dangling_uv || s.dangling_normal)
         warnings.add(name + ": " + std::to_string(s.dangling_uv) + " texture coordinate and " + std::to_string(s.dangling_normal) +
                      " normal indices of face corners point past the vt/vn lines read so far; those corners have none");
+    const OtherElements others = other_elements(lines);
+    check_other_elements(others, name, s.mesh.triangle_count() > 0, warnings);
     if (s.mesh.triangle_count() == 0)
-        throw InputError(name, 0, holds_points_or_lines(lines) ? "no triangles: the file holds only points/lines" : "no triangles");
+        throw InputError(name, 0,
+                         others.points_and_lines() ? "no triangles: the file holds only points/lines" : "no triangles");
     if (!s.mesh.material.empty() || s.mesh.materials.size() > 1) s.mesh.material.resize(s.mesh.triangle_count(), 0);
     if (!s.mesh.colors.empty()) s.mesh.colors.resize(s.mesh.vertex_count(), Vec3f{1.0f});
     // Attributes no triangle refers to are dropped, so that "has normals" means some corner uses one.

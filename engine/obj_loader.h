@@ -11,11 +11,13 @@ namespace arbor::engine {
 
 /// Loads `path`. Polygons become triangles in file order exactly as spec/rayfile.md numbers them
 /// (convex ones fanned, others cut by ear clipping: engine/polygon.h); faces with fewer than 3
-/// vertices are skipped with a warning. Numbers may carry a sign (`v +1 -2 +3.0`). Normals (`vn`)
-/// and texture coordinates (`vt`) are kept with their per-corner indices, `v x y z r g b` colours
-/// per vertex. Throws InputError ("FILE:LINE: problem") for unreadable or binary files, malformed
-/// numbers or face tokens, non-finite coordinates, indices out of range (1-based, negative =
-/// relative; also for vt and vn), and files without a triangle. Non-fatal problems (missing MTL file; material colours out of range, which are
+/// vertices are skipped with a warning, and so, in one warning naming them, are points (`p`), lines
+/// (`l`) and free-form curves (`curv`, `curv2`): they are no surfaces. Numbers may carry a sign
+/// (`v +1 -2 +3.0`). Normals (`vn`) and texture coordinates (`vt`) are kept with their per-corner
+/// indices, `v x y z r g b` colours per vertex. Throws InputError ("FILE:LINE: problem") for
+/// unreadable or binary files, malformed numbers or face tokens, non-finite coordinates, indices
+/// out of range (1-based, negative = relative; also for vt and vn), free-form surfaces (`surf`,
+/// not read), and files without a triangle. Non-fatal problems (missing MTL file; material colours out of range, which are
 /// clamped: Kd and Ks to [0, 1], Ke to [0, max], non-finite values to 0) are added to `warnings`.
 /// MTL: Kd is the diffuse colour, Ks the mirror reflectance when illum is 3..7, Ke the emission,
 /// map_Kd a diffuse texture (decoded by stb_image; a missing or broken image is a warning).

@@ -136,7 +136,7 @@ static int load_main(int argc, char** argv) {
         std::printf("  %s: %.1f MB\n", f.c_str(), double(std::filesystem::file_size(f)) * 1e-6);
 
     std::vector<Reader> readers = {{"arbor OBJ (tinyobjloader + checks)", obj, Reader::arbor_loader},
-                                   {"arbor binary PLY (checks + Assimp)", ply, Reader::arbor_loader},
+                                   {"arbor binary PLY", ply, Reader::arbor_loader},
                                    {"arbor GLB (checks + Assimp)", glb, Reader::arbor_loader},
                                    {"Assimp's OBJ reader alone", obj, Reader::assimp}};
     if (!arbor_binary.empty())

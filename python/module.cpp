@@ -183,6 +183,15 @@ PYBIND11_MODULE(_arbor, m) {
             },
             "int: the number of triangles in the scene, over all meshes.")
         .def_property_readonly(
+            "load_warnings",
+            [](const PyScene& s) {
+                std::vector<std::string> w;
+                run<false>(s, [&] { w = s.scene.load_warnings(); });
+                return w;
+            },
+            "list[str]: what Scene.load read past, one line each naming the file and the data (e.g. a PLY\n"
+            "edge element); empty for a scene made from arrays.")
+        .def_property_readonly(
             "meshes",
             [](const PyScene& s) {
                 std::size_t n = 0;

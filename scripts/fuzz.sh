@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Fuzzes the OBJ loader, the mesh loader of every format (PLY, STL, glTF through Assimp), the ray-file
+# Fuzzes the OBJ loader, the mesh loader of every format (PLY; STL and glTF through Assimp), the ray-file
 # readers and the viewer's message parser (libFuzzer, preset fuzz: clang + ASan + UBSan) in SECONDS
 # (default 60) on two cores: the OBJ loader then the mesh loader for half of it each on one core, the
 # ray readers for 2/3 of it then the message parser for the rest on the other (the parser is small:
-# its coverage stops growing within seconds). Seeds: tests/fuzz/seeds, the committed regressions,
-# ../shared/scenes/bad, the first vertices and faces of ../shared/scenes/models, and small
+# its coverage stops growing within seconds). Seeds: tests/fuzz/seeds, the committed regressions, the
+# loader test files (tests/data/meshes), ../shared/scenes/bad, the first vertices and faces of
+# ../shared/scenes/models, and small
 # PLY/STL/glTF files good and broken (tests/fuzz/seeds/mesh, written by scripts/fuzz_seeds.py mesh).
 # A finding (crash, sanitizer report, FuzzFinding) is saved under build/fuzz/findings/ and fails the
 # run: commit the input under tests/fuzz/regressions/{obj,mesh,rays,view}/ (the doctest suite replays
@@ -25,6 +26,7 @@ cp tests/fuzz/seeds/obj/* "$work/seeds-obj/"
 cp tests/fuzz/seeds/obj/* tests/fuzz/seeds/mesh/* "$work/seeds-mesh/"
 cp tests/fuzz/regressions/obj/* "$work/seeds-obj/" 2>/dev/null || true
 cp tests/fuzz/regressions/mesh/* "$work/seeds-mesh/" 2>/dev/null || true
+cp tests/data/meshes/* "$work/seeds-mesh/"
 cp tests/fuzz/regressions/rays/* "$work/seeds-rays/" 2>/dev/null || true
 cp tests/fuzz/seeds/view/* "$work/seeds-view/"
 cp tests/fuzz/regressions/view/* "$work/seeds-view/" 2>/dev/null || true

@@ -86,6 +86,21 @@ def ply(vertices, faces, encoding="ascii", normals=None, colours=None, count_ove
     return head.encode() + body
 
 
+def ply_strips(vertices, strips, encoding="ascii", header_extra="", elements=""):
+    """PLY with a tristrips element: one vertex_indices list per strip record, -1 restarts."""
+    endian = {"binary_little_endian": "<", "binary_big_endian": ">"}.get(encoding)
+    head = "ply\nformat %s 1.0\n%selement vertex %d\nproperty float x\nproperty float y\nproperty float z\n" % (
+        encoding, header_extra, len(vertices))
+    head += "element tristrips %d\nproperty list int int vertex_indices\n%send_header\n" % (len(strips), elements)
+    body = b""
+    for v in vertices:
+        body += struct.pack(endian + "3f", *v) if endian else ("%g %g %g\n" % v).encode()
+    for s in strips:
+        body += (struct.pack(endian + "i%di" % len(s), len(s), *s) if endian
+                 else ("%d %s\n" % (len(s), " ".join(map(str, s)))).encode())
+    return head.encode() + body
+
+
 def stl_binary(triangles, count=None):
     out = b"binary STL seed".ljust(80, b" ") + struct.pack("<I", len(triangles) if count is None else count)
     for t in triangles:
@@ -214,6 +229,9 @@ def mesh_seeds(out_dir):
         "index-past.ply": ply(v, [(0, 1, 9)], "binary_little_endian"),
         "nan.ply": ply([(0, 0, 0), (nan, 0, 0), (0, 1, 0)], [(0, 1, 2)], "binary_little_endian"),
         "points.ply": ply(v, []),
+        "strips-be.ply": ply_strips(v, [[0, 1, 3, 2, 2, 4, -1, 1, 2, 4]], "binary_big_endian"),
+        "strips-past.ply": ply_strips(v, [[0, 1, 3, 7]], "binary_little_endian"),
+        "blender-header.ply": ply_strips(v, [[0, 1, 3, 2]], header_extra="Created by Blender3D 247 - www.blender.org\n"),
         "binary.stl": stl_binary(tri),
         "ascii.stl": stl_ascii(tri),
         "truncated.stl": stl_binary(tri)[:-10],

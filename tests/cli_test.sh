@@ -288,7 +288,7 @@ SEEDS=$(dirname "$0")/fuzz/seeds/mesh
 for f in "$SEEDS"/*; do
   name=$(basename "$f")
   case $name in
-    ascii.ply|le.ply|be.ply|concave.ply|binary.stl|ascii.stl|quad.glb|quad.gltf|strip.glb|rich-*.glb)
+    ascii.ply|le.ply|be.ply|concave.ply|strips-be.ply|blender-header.ply|binary.stl|ascii.stl|quad.glb|quad.gltf|strip.glb|rich-*.glb)
       "$ARBOR" info "$f" --json >"$WORK/out" 2>"$WORK/err" || fail "info $name should load (exit $?): $(cat "$WORK/err")"
       grep -q '"triangles":' "$WORK/out" || fail "info $name: no triangle count";;
     *) expect_status 1 "$f: " "$ARBOR" info "$f";;
@@ -313,6 +313,18 @@ grep -q "(PLY)" "$WORK/out" || fail "info names no format: $(cat "$WORK/out")"
   || fail "render of a PLY failed: $(cat "$WORK/out")"
 grep -q "normal(interpolated)" "$WORK/out" || fail "a PLY with normals should shade with them: $(head -1 "$WORK/out")"
 expect_status 1 "only points/lines" "$ARBOR" render "$SEEDS/points.ply" -o "$WORK/p.png"
+# PLY triangle strips (issue 35): every strip triangle through info and render, not one; a strip
+# index past the vertices is exit 1 naming the record; a Blender header line is a warning, exit 0.
+STRIPS=$(dirname "$0")/data/meshes/strips-le.ply
+"$ARBOR" info "$STRIPS" --json >"$WORK/out" 2>"$WORK/err" || fail "info strips-le.ply (exit $?): $(cat "$WORK/err")"
+grep -q '"triangles":8,' "$WORK/out" || fail "strips-le.ply should give 8 triangles: $(cat "$WORK/out")"
+"$ARBOR" render "$STRIPS" -o "$WORK/strips.png" --width 16 --height 12 --spp 1 >"$WORK/out" 2>&1 \
+  || fail "render of PLY strips failed: $(cat "$WORK/out")"
+grep -q "8 triangles" "$WORK/out" || fail "render of strips-le.ply should say 8 triangles: $(cat "$WORK/out")"
+expect_status 1 "tristrips record 1 refers to vertex 7" "$ARBOR" render "$SEEDS/strips-past.ply" -o "$WORK/p.png"
+"$ARBOR" info "$SEEDS/blender-header.ply" >"$WORK/out" 2>"$WORK/err" || fail "blender-header.ply should load (exit $?)"
+grep -q "blender-header.ply:3: not a PLY header keyword, line skipped: Created by Blender3D" "$WORK/err" "$WORK/out" \
+  || fail "blender-header.ply: no warning naming line 3: $(cat "$WORK/err" "$WORK/out")"
 # --version and unknown subcommands
 "$ARBOR" --version >"$WORK/out" 2>&1 || fail "--version exited $?"
 grep -qE '^arbor [0-9]+\.[0-9]+\.[0-9]+$' "$WORK/out" || fail "--version: no 'arbor VERSION' line: $(cat "$WORK/out")"

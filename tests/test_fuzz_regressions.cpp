@@ -57,6 +57,9 @@ TEST_CASE("fuzz regressions: mesh files of every format (seeds good and broken, 
     CHECK(seeds.size() >= 20);
     replay(seeds, arbor::fuzz::fuzz_mesh);
     replay(files_in(fuzz_dir + "/regressions/mesh"), arbor::fuzz::fuzz_mesh);
+    const auto data = files_in(std::string(ARBOR_SOURCE_DIR) + "/tests/data/meshes");
+    CHECK(!data.empty());
+    replay(data, arbor::fuzz::fuzz_mesh);
     replay(files_in(fuzz_dir + "/seeds/obj"), arbor::fuzz::fuzz_mesh);
     const std::string shared = arbor::testing::shared_scenes_dir();
     replay(files_in(shared + "/bad"), arbor::fuzz::fuzz_mesh);

@@ -299,3 +299,29 @@ TEST_CASE("glTF structure: the valid neighbours of each rule still load") {
               a["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"indices", 3}, {"mode", 3}});
           })) == "loaded 2");
 }
+
+TEST_CASE(
+    "glTF structure: primitives of points or lines beside triangles are warned about by name, strips and fans read") {
+    // The quad's indices once more as a line strip (mode 3) and as points (mode 0), after the triangles.
+    const std::string bytes = with([](json& d) {
+        auto& prims = d["meshes"][0]["primitives"];
+        prims.push_back({{"attributes", {{"POSITION", 0}}}, {"indices", 2}, {"mode", 3}});
+        prims.push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 0}});
+    });
+    engine::Warnings w;
+    const engine::Mesh m = engine::load_mesh_bytes(bytes, "mixed.glb", "", w, false);
+    CHECK(m.triangle_count() == 2);
+    REQUIRE(w.lines.size() == 1);
+    CHECK(w.lines[0] ==
+          "mixed.glb: glTF: 2 primitives of points or lines not read (no surfaces), the first: "
+          "meshes[0].primitives[1] (mode 3: line strip)");
+    // A strip (mode 5) and a fan (mode 6) over the 6 indices: 4 triangles each, no warning.
+    for (const int mode : {5, 6}) {
+        CAPTURE(mode);
+        engine::Warnings none;
+        const engine::Mesh s = engine::load_mesh_bytes(
+            with([mode](json& d) { d["meshes"][0]["primitives"][0]["mode"] = mode; }), "strip.glb", "", none, false);
+        CHECK(s.triangle_count() == 4);
+        CHECK(none.lines.empty());
+    }
+}

@@ -128,11 +128,8 @@ struct Converter {
             mesh.colors.resize(base, Vec3f{1.0f});
             for (unsigned v = 0; v < am.mNumVertices; ++v) {
                 Vec3f c{am.mColors[0][v].r, am.mColors[0][v].g, am.mColors[0][v].b};
-                for (int k = 0; k < 3; ++k) {
-                    c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : 1.0f;
-                    // PLY colours are 8-bit sRGB codes (Assimp divides them by 255); glTF's are linear.
-                    if (format == MeshFormat::ply) c[k] = srgb_to_linear(std::uint8_t(std::lround(c[k] * 255.0f)));
-                }
+                // glTF's colours are linear.
+                for (int k = 0; k < 3; ++k) c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : 1.0f;
                 mesh.colors.push_back(c);
             }
         } else if (!mesh.colors.empty()) {
@@ -144,7 +141,7 @@ struct Converter {
             corners.clear();
             for (unsigned k = 0; k < face.mNumIndices; ++k) {
                 const unsigned i = face.mIndices[k];
-                // Assimp's PLY reader passes indices through unchecked.
+                // Assimp's readers are not trusted to have checked indices.
                 if (i >= am.mNumVertices)
                     throw InputError(name, 0, "face " + std::to_string(f + 1) + " refers to vertex " + std::to_string(i) +
                                                   ", past the " + std::to_string(am.mNumVertices) + " vertices of its mesh");
@@ -193,7 +190,7 @@ Mesh import_with_assimp(std::string_view bytes, MeshFormat format, const std::st
         for (unsigned f = 0; f < am->mNumFaces; ++f) ++(am->mFaces[f].mNumIndices < 3 ? counts.point_line_faces : counts.polygons);
     }
     Mesh mesh;
-    // PLY and STL have no materials Assimp does not invent; glTF's base colours are read.
+    // STL has no materials Assimp does not invent; glTF's base colours are read.
     std::vector<std::uint32_t> material_of(scene->mNumMeshes, 0);
     const bool gltf = format == MeshFormat::gltf || format == MeshFormat::glb;
     if (gltf && scene->mNumMaterials > 0) {

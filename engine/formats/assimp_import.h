@@ -1,8 +1,9 @@
 #pragma once
-/// PLY, STL and glTF 2.0 through Assimp (Debian libassimp-dev, 5.2). Assimp is given the file's
-/// bytes from memory under a name with the extension of the format arbor detected (so the content,
-/// not the file name, picks the reader); other files a glTF names (.bin buffers, images) are read
-/// from `base_dir`. No post-processing is asked for: arbor triangulates polygons itself, as
+/// STL and glTF 2.0 through Assimp (Debian libassimp-dev, 5.2); PLY is read by arbor itself
+/// (ply_read.h), as Assimp 5.2's PLY reader makes one triangle of each `tristrips` list. Assimp is
+/// given the file's bytes from memory under a name with the extension of the format arbor detected
+/// (so the content, not the file name, picks the reader); other files a glTF names (.bin buffers,
+/// images) are read from `base_dir`. No post-processing is asked for: arbor triangulates polygons itself, as
 /// spec/rayfile.md numbers them, and applies node transforms itself (glTF: meshes in node order,
 /// depth first). Values are not validated here (engine/mesh_validate.h does that for every format).
 #include "engine/formats/detect.h"

@@ -116,10 +116,12 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
     const nlohmann::json empty = nlohmann::json::array();
     const nlohmann::json& accessors = j.contains("accessors") && j["accessors"].is_array() ? j["accessors"] : empty;
     if (!j["meshes"].is_array()) throw InputError(name, 0, "glTF: meshes is not an array");
-    for (const auto& mesh : j["meshes"]) {
+    for (std::size_t mi = 0; mi < j["meshes"].size(); ++mi) {
+        const auto& mesh = j["meshes"][mi];
         if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
             throw InputError(name, 0, "glTF: a mesh without a primitives array");
-        for (const auto& prim : mesh["primitives"]) {
+        for (std::size_t pi = 0; pi < mesh["primitives"].size(); ++pi) {
+            const auto& prim = mesh["primitives"][pi];
             if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object() ||
                 !prim["attributes"].contains("POSITION"))
                 throw InputError(name, 0, "glTF: a primitive without POSITION");
@@ -128,7 +130,12 @@ GltfCounts check_gltf(std::string_view bytes, const std::string& name) {
                                                               : accessor_count(accessors, prim["attributes"]["POSITION"], name);
             if (mode == 4) c.triangles += n / 3;
             else if (mode == 5 || mode == 6) c.triangles += n >= 3 ? n - 2 : 0;
-            else ++c.point_line_prims;
+            else if (c.point_line_prims++ == 0) {
+                static const char* const kinds[] = {"points", "lines", "line loop", "line strip"};
+                c.first_point_line = "meshes[" + std::to_string(mi) + "].primitives[" + std::to_string(pi) +
+                                     "] (mode " + std::to_string(mode) + ": " +
+                                     (mode >= 0 && mode < 4 ? kinds[mode] : "?") + ")";
+            }
         }
     }
     return c;

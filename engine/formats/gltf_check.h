@@ -18,6 +18,7 @@ bool looks_like_json(std::string_view bytes);
 struct GltfCounts {
     std::uint64_t triangles = 0;        ///< triangles the file's primitives define (each mesh once)
     std::uint64_t point_line_prims = 0;  ///< primitives of points or lines
+    std::string first_point_line;        ///< the first of them, e.g. "meshes[0].primitives[1] (mode 1: lines)"
 };
 
 /// Checks the container and the JSON and counts the triangles; InputError naming `name` for a

@@ -10,19 +10,25 @@ namespace arbor::engine::formats {
 namespace {
 
 /// Bytes of a PLY scalar type, 0 for an unknown name.
-int type_size(std::string_view t, bool* is_signed = nullptr) {
+int type_size(std::string_view t, bool* is_signed = nullptr, PlyType* type = nullptr) {
     struct Entry {
         const char* name;
         int size;
         bool is_signed;
+        PlyType type;
     };
-    static const Entry table[] = {{"char", 1, true},    {"uchar", 1, false},  {"short", 2, true},   {"ushort", 2, false},
-                                  {"int", 4, true},     {"uint", 4, false},   {"float", 4, true},   {"double", 8, true},
-                                  {"int8", 1, true},    {"uint8", 1, false},  {"int16", 2, true},   {"uint16", 2, false},
-                                  {"int32", 4, true},   {"uint32", 4, false}, {"float32", 4, true}, {"float64", 8, true}};
+    using T = PlyType;
+    static const Entry table[] = {
+        {"char", 1, true, T::int8},      {"uchar", 1, false, T::uint8},   {"short", 2, true, T::int16},
+        {"ushort", 2, false, T::uint16}, {"int", 4, true, T::int32},      {"uint", 4, false, T::uint32},
+        {"float", 4, true, T::float32},  {"double", 8, true, T::float64}, {"int8", 1, true, T::int8},
+        {"uint8", 1, false, T::uint8},   {"int16", 2, true, T::int16},    {"uint16", 2, false, T::uint16},
+        {"int32", 4, true, T::int32},    {"uint32", 4, false, T::uint32}, {"float32", 4, true, T::float32},
+        {"float64", 8, true, T::float64}};
     for (const Entry& e : table)
         if (t == e.name) {
             if (is_signed) *is_signed = e.is_signed;
+            if (type) *type = e.type;
             return e.size;
         }
     return 0;
@@ -145,13 +151,13 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& name) {
             if (h.elements.empty()) fail("PLY property before any element");
             PlyProperty p;
             if (w.size() == 5 && w[1] == "list") {
-                p.count_size = type_size(w[2], &p.count_signed);
-                p.size = type_size(w[3]);
+                p.count_size = type_size(w[2], &p.count_signed, &p.count_type);
+                p.size = type_size(w[3], nullptr, &p.type);
                 if (!p.count_size || !p.size || w[2] == "float" || w[2] == "double" || w[2] == "float32" || w[2] == "float64")
                     fail("unknown PLY list types '" + std::string(w[2]) + " " + std::string(w[3]) + "'");
                 p.name = std::string(w[4]);
             } else if (w.size() == 3) {
-                p.size = type_size(w[1]);
+                p.size = type_size(w[1], nullptr, &p.type);
                 if (!p.size) fail("unknown PLY type '" + std::string(w[1]) + "'");
                 p.name = std::string(w[2]);
             } else {
@@ -163,7 +169,14 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& name) {
             h.body_offset = std::min(pos, bytes.size());
             return h;
         } else {
-            fail("unknown PLY header keyword '" + std::string(w[0]) + "'");
+            // Not a keyword: a line such as Blender's "Created by Blender3D 247 - ..." that carries
+            // no data. Skipped, as other readers do, but said.
+            std::string text(line.substr(0, std::min<std::size_t>(line.size(), 100)));
+            while (!text.empty() && (text.back() == '\r' || text.back() == ' ')) text.pop_back();
+            for (char& c : text)
+                if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+            h.warnings.push_back(name + ":" + std::to_string(line_no) + ": not a PLY header keyword, line skipped: " +
+                                 text + (line.size() > 100 ? "..." : ""));
         }
     }
 }

@@ -164,6 +164,9 @@ public:
     /// A scene of one mesh (geom 0) from a model file (any file `arbor info` loads), its triangles
     /// numbered as a .hits file numbers them.
     static Scene load(const std::string& path);
+    /// What load() read past, one line each naming the file and the data (e.g. a PLY `edge`
+    /// element, OBJ `l` lines): what `arbor info` prints as warnings. Empty for other scenes.
+    std::vector<std::string> load_warnings() const;
 
     /// Adds a mesh and returns its geometry id (0, 1, 2, ... in the order added). `positions` holds
     /// `vertex_count` x, y, z float triples, consecutive ones `stride` bytes apart (12 = packed;

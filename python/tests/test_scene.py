@@ -1,4 +1,6 @@
 """Scenes: construction, files, meshes with geometry ids, building, properties and errors."""
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -35,6 +37,29 @@ def test_load_reads_every_format_arbor_info_reads(tmp_path):
     o = np.array([[0.1, 0.2, -5], [0.3, -0.4, 5], [5, 0.1, 0.2]], np.float32)
     d = np.array([[0, 0, 1], [0, 0, -1], [-1, 0, 0]], np.float32)
     assert s.intersect(o, d).tobytes() == ref.intersect(o, d).tobytes()
+
+
+def test_load_reads_ply_triangle_strips():
+    """The strips regression file (tests/data/meshes): 8 triangles, not one; each facing -z."""
+    path = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "meshes" / "strips-le.ply"
+    s = arbor.Scene.load(path)
+    assert s.triangles == 8
+    # Rays from +z down onto the ribbons hit; the triangle numbers are the strips' order.
+    o = np.array([[0.25, 0.25, 1], [4.75, 0.75, 1], [7.75, 0.75, 1]], np.float32)
+    h = s.intersect(o, np.array([[0, 0, -1]], np.float32))
+    assert list(h["prim"]) == [0, 5, 7]
+    assert s.load_warnings == []
+
+
+def test_load_warns_about_data_it_reads_past(tmp_path):
+    """A PLY edge element is no surface: skipped, and said in load_warnings."""
+    ply = tmp_path / "edges.ply"
+    ply.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                   "element face 1\nproperty list uchar int vertex_indices\nelement edge 1\nproperty int vertex1\n"
+                   "property int vertex2\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0 1\n")
+    s = arbor.Scene.load(ply)
+    assert s.triangles == 1
+    assert s.load_warnings == [f"{ply}: PLY data not read (no surfaces): element 'edge' (1 record)"]
 
 
 def test_meshes_get_geometry_ids_and_numbering():
