@@ -10,7 +10,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis
   libassimp-dev libstb-dev
   libopenmpi-dev openmpi-bin
-  libcivetweb-dev libturbojpeg0-dev chromium
+  libturbojpeg0-dev chromium
 )
 missing=()
 for p in "${packages[@]}"; do
