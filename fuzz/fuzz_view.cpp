@@ -1,12 +1,11 @@
-#include "fuzz/fuzz_targets.h"
-
-#include "view/http.h"
-#include "view/protocol.h"
-#include "view/websocket.h"
-
 #include <cmath>
 #include <string>
 #include <string_view>
+
+#include "fuzz/fuzz_targets.h"
+#include "view/http.h"
+#include "view/protocol.h"
+#include "view/websocket.h"
 
 namespace arbor::fuzz {
 
@@ -40,7 +39,8 @@ void fuzz_wire(std::string_view bytes) {
                     "frame refused without a reason or with another code");
             return;
         }
-        if (e.kind == view::ws::Event::message) require(e.payload.size() <= view::max_message_bytes, "a message over the limit");
+        if (e.kind == view::ws::Event::message)
+            require(e.payload.size() <= view::max_message_bytes, "a message over the limit");
     }
 }
 

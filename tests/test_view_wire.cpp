@@ -3,15 +3,15 @@
 // status; the page's frames join into messages, are refused with their close code (1009 from a
 // header alone, before the payload), and read the same fed a byte at a time; the handshake key
 // matches RFC 6455's example.
-#include "view/http.h"
-#include "view/sha1.h"
-#include "view/websocket.h"
-
 #include <doctest/doctest.h>
 
 #include <array>
 #include <string>
 #include <vector>
+
+#include "view/http.h"
+#include "view/sha1.h"
+#include "view/websocket.h"
 
 using namespace arbor::view;
 
@@ -84,8 +84,9 @@ TEST_CASE("view wire: a request head parses to its fields") {
     CHECK(head_length("GET / HTTP/1.1\r\nHost: a\r\n") == 0);
     CHECK(head_length("GET / HTTP/1.1\r\nHost: a\r\n\r\nrest") == 27);
     CHECK(head_length("GET / HTTP/1.1\nHost: a\n\nrest") == 24);
-    const HttpRequest r =
-        parsed("GET /ws?x=1 HTTP/1.1\r\nHost:  127.0.0.1:8080 \r\nConnection: keep-alive, Upgrade\r\nUPGRADE: WebSocket\r\n\r\n");
+    const HttpRequest r = parsed(
+        "GET /ws?x=1 HTTP/1.1\r\nHost:  127.0.0.1:8080 \r\nConnection: keep-alive, Upgrade\r\nUPGRADE: "
+        "WebSocket\r\n\r\n");
     CHECK(r.method == "GET");
     CHECK(r.target == "/ws?x=1");
     CHECK(r.path() == "/ws");
@@ -169,8 +170,8 @@ TEST_CASE("view wire: bad frames are refused with their close code") {
     // Too long, known from the header alone (no payload sent).
     CHECK(code(masked(ws::text, "", true, 5000).substr(0, 8)) == ws::too_big);
     CHECK(code(masked(ws::text, "", true, 1ull << 40).substr(0, 14)) == ws::too_big);
-    CHECK(code(masked(ws::text, std::string(3000, 'a'), false) + masked(ws::continuation, "", true, 2000).substr(0, 8)) ==
-          ws::too_big);
+    CHECK(code(masked(ws::text, std::string(3000, 'a'), false) +
+               masked(ws::continuation, "", true, 2000).substr(0, 8)) == ws::too_big);
     CHECK(read_one(masked(ws::text, "", true, 5000).substr(0, 3)).kind == ws::Event::need_more);  // length incomplete
     std::string unmasked = masked(ws::text, "hi");
     unmasked[1] = char(unmasked[1] & 0x7F);

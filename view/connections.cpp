@@ -1,8 +1,5 @@
 #include "view/connections.h"
 
-#include "view/log.h"
-#include "view/websocket.h"
-
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -19,6 +16,9 @@
 #include <optional>
 #include <stdexcept>
 
+#include "view/log.h"
+#include "view/websocket.h"
+
 namespace arbor::view {
 
 namespace {
@@ -33,7 +33,8 @@ constexpr int reserved_files = 64;
 std::string peer_address(const sockaddr_storage& a) {
     char buf[INET6_ADDRSTRLEN] = "?";
     if (a.ss_family == AF_INET) inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in&>(a).sin_addr, buf, sizeof buf);
-    if (a.ss_family == AF_INET6) inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6&>(a).sin6_addr, buf, sizeof buf);
+    if (a.ss_family == AF_INET6)
+        inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6&>(a).sin6_addr, buf, sizeof buf);
     return buf;
 }
 
@@ -54,9 +55,9 @@ struct ConnectionLoop::Conn {
     // Under mutex_.
     std::string out;  ///< queued output; out_sent bytes of it are written
     std::size_t out_sent = 0;
-    double out_since = 0;    ///< when the output last moved or was queued onto an empty queue
-    bool accepting = true;   ///< send() may queue (false once an answer or a close frame is queued)
-    bool abort = false;      ///< drop at once instead of closing gracefully (too much output unread)
+    double out_since = 0;   ///< when the output last moved or was queued onto an empty queue
+    bool accepting = true;  ///< send() may queue (false once an answer or a close frame is queued)
+    bool abort = false;     ///< drop at once instead of closing gracefully (too much output unread)
     std::optional<CloseReason> close_request;
     std::size_t pending() const { return out.size() - out_sent; }
 };
@@ -160,9 +161,9 @@ bool ConnectionLoop::send(ConnId id, int opcode, std::string_view payload) {
         if (c.pending() + payload.size() + 14 > limits_.max_output_bytes) {
             c.accepting = false;
             c.abort = true;
-            c.close_request = CloseReason{ws::going_away,
-                                          "more than " + std::to_string(limits_.max_output_bytes) + " bytes of output unread",
-                                          true};
+            c.close_request =
+                CloseReason{ws::going_away,
+                            "more than " + std::to_string(limits_.max_output_bytes) + " bytes of output unread", true};
             close_requests_.push_back(id);
         } else {
             if (c.pending() == 0) {
@@ -326,8 +327,10 @@ void ConnectionLoop::on_readable(ConnId id, Conn& c, double now) {
     c.in.append(buf, std::size_t(n));
     c.last_input = now;
     c.ping_sent = false;
-    if (c.state == ConnState::head) on_head(id, c, now);
-    else on_frames(id, c);
+    if (c.state == ConnState::head)
+        on_head(id, c, now);
+    else
+        on_frames(id, c);
 }
 
 void ConnectionLoop::on_head(ConnId id, Conn& c, double now) {
@@ -368,29 +371,32 @@ void ConnectionLoop::on_frames(ConnId id, Conn& c) {
         }
         ws::Event e = c.reader.next(c.in);
         switch (e.kind) {
-        case ws::Event::need_more: return;
-        case ws::Event::error: {
-            std::string frame;
-            ws::append_close(frame, e.code, e.why);
-            queue(c, frame, true);
-            begin_closing(id, c, {e.code, e.why, true});
-            return;
-        }
-        case ws::Event::control:
-            if (e.opcode == ws::ping) {
+            case ws::Event::need_more:
+                return;
+            case ws::Event::error: {
                 std::string frame;
-                ws::append_frame(frame, ws::pong, e.payload);
-                queue(c, frame, false);
-            } else if (e.opcode == ws::close) {
-                // Echo the page's code (RFC 6455 5.5.1); 1005 means it sent none, and is never sent.
-                std::string frame;
-                ws::append_close(frame, e.code == 1005 ? ws::normal : e.code, "");
+                ws::append_close(frame, e.code, e.why);
                 queue(c, frame, true);
-                begin_closing(id, c, {e.code, e.why, false});
+                begin_closing(id, c, {e.code, e.why, true});
                 return;
             }
-            break;
-        case ws::Event::message: handler_.on_message(id, e.opcode, std::move(e.payload)); break;
+            case ws::Event::control:
+                if (e.opcode == ws::ping) {
+                    std::string frame;
+                    ws::append_frame(frame, ws::pong, e.payload);
+                    queue(c, frame, false);
+                } else if (e.opcode == ws::close) {
+                    // Echo the page's code (RFC 6455 5.5.1); 1005 means it sent none, and is never sent.
+                    std::string frame;
+                    ws::append_close(frame, e.code == 1005 ? ws::normal : e.code, "");
+                    queue(c, frame, true);
+                    begin_closing(id, c, {e.code, e.why, false});
+                    return;
+                }
+                break;
+            case ws::Event::message:
+                handler_.on_message(id, e.opcode, std::move(e.payload));
+                break;
         }
     }
 }
@@ -410,8 +416,10 @@ void ConnectionLoop::on_writable(ConnId id, Conn& c, double now) {
         if (n > 0) {
             c.out_sent += std::size_t(n);
             c.out_since = now;
-            if (c.pending() == 0) c.out.clear(), c.out_sent = 0;
-            else if (c.out_sent > (std::size_t(1) << 20)) c.out.erase(0, c.out_sent), c.out_sent = 0;
+            if (c.pending() == 0)
+                c.out.clear(), c.out_sent = 0;
+            else if (c.out_sent > (std::size_t(1) << 20))
+                c.out.erase(0, c.out_sent), c.out_sent = 0;
         } else if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
             failed = errno;
         }
@@ -437,8 +445,10 @@ void ConnectionLoop::take_close_requests() {
             abort = c.abort;
         }
         if (!reason) continue;
-        if (abort) drop(id, *reason);
-        else if (c.state == ConnState::websocket) begin_closing(id, c, *reason);
+        if (abort)
+            drop(id, *reason);
+        else if (c.state == ConnState::websocket)
+            begin_closing(id, c, *reason);
     }
 }
 
@@ -456,30 +466,36 @@ void ConnectionLoop::check_deadlines(double now) {
         }
         const bool stuck = pending > 0 && now - out_since > limits_.write_timeout_s;
         switch (c.state) {
-        case ConnState::head:
-            if (now - c.opened > limits_.head_timeout_s) timed_out.push_back(id);
-            break;
-        case ConnState::websocket:
-            if (stuck) {
-                drops.push_back({id, {ws::going_away, "its output did not move for " + std::to_string(int(limits_.write_timeout_s)) + " s", true}});
-            } else if (now - c.last_input > limits_.idle_timeout_s) {
-                drops.push_back({id, {ws::going_away, "nothing received for " + std::to_string(int(limits_.idle_timeout_s)) + " s", true}});
-            } else if (now - c.last_input > limits_.ping_after_s && !c.ping_sent) {
-                std::string ping;
-                ws::append_frame(ping, ws::ping, "");
-                queue(c, ping, false);
-                c.ping_sent = true;
-            }
-            break;
-        case ConnState::closing:
-            if (!c.write_shut && pending == 0) {
-                ::shutdown(c.fd, SHUT_WR);
-                c.write_shut = true;
-                c.linger_end = now + limits_.linger_s;
-            } else if ((c.write_shut && now > c.linger_end) || stuck) {
-                drops.push_back({id, {}});
-            }
-            break;
+            case ConnState::head:
+                if (now - c.opened > limits_.head_timeout_s) timed_out.push_back(id);
+                break;
+            case ConnState::websocket:
+                if (stuck) {
+                    drops.push_back(
+                        {id,
+                         {ws::going_away,
+                          "its output did not move for " + std::to_string(int(limits_.write_timeout_s)) + " s", true}});
+                } else if (now - c.last_input > limits_.idle_timeout_s) {
+                    drops.push_back(
+                        {id,
+                         {ws::going_away, "nothing received for " + std::to_string(int(limits_.idle_timeout_s)) + " s",
+                          true}});
+                } else if (now - c.last_input > limits_.ping_after_s && !c.ping_sent) {
+                    std::string ping;
+                    ws::append_frame(ping, ws::ping, "");
+                    queue(c, ping, false);
+                    c.ping_sent = true;
+                }
+                break;
+            case ConnState::closing:
+                if (!c.write_shut && pending == 0) {
+                    ::shutdown(c.fd, SHUT_WR);
+                    c.write_shut = true;
+                    c.linger_end = now + limits_.linger_s;
+                } else if ((c.write_shut && now > c.linger_end) || stuck) {
+                    drops.push_back({id, {}});
+                }
+                break;
         }
     }
     if (!timed_out.empty()) {

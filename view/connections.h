@@ -20,8 +20,6 @@
 /// - Closing: once the last byte (an answer, a close frame) is written the write side is shut and
 ///   input is read and thrown away for at most `linger_s`, so the peer reads the answer rather than
 ///   a reset; then the socket is closed.
-#include "view/http.h"
-
 #include <atomic>
 #include <cstdint>
 #include <map>
@@ -31,6 +29,8 @@
 #include <string_view>
 #include <thread>
 #include <vector>
+
+#include "view/http.h"
 
 namespace arbor::view {
 

@@ -49,7 +49,8 @@ const std::string* HttpRequest::field(std::string_view lower_name) const {
 }
 
 std::size_t HttpRequest::count(std::string_view lower_name) const {
-    return std::size_t(std::count_if(fields.begin(), fields.end(), [&](const auto& f) { return f.first == lower_name; }));
+    return std::size_t(
+        std::count_if(fields.begin(), fields.end(), [&](const auto& f) { return f.first == lower_name; }));
 }
 
 bool HttpRequest::has_token(std::string_view lower_name, std::string_view token) const {
@@ -82,7 +83,8 @@ std::optional<HttpRequest> parse_request_head(std::string_view head, int* status
         if (why) *why = std::move(w);
         return std::nullopt;
     };
-    if (head.size() > max_head_bytes) return bad(431, "request head longer than " + std::to_string(max_head_bytes) + " bytes");
+    if (head.size() > max_head_bytes)
+        return bad(431, "request head longer than " + std::to_string(max_head_bytes) + " bytes");
     std::vector<std::string_view> lines;
     while (!head.empty()) {
         std::size_t nl = head.find('\n');
@@ -123,16 +125,26 @@ std::optional<HttpRequest> parse_request_head(std::string_view head, int* status
 
 std::string_view reason_phrase(int status) {
     switch (status) {
-    case 101: return "Switching Protocols";
-    case 200: return "OK";
-    case 400: return "Bad Request";
-    case 403: return "Forbidden";
-    case 404: return "Not Found";
-    case 405: return "Method Not Allowed";
-    case 426: return "Upgrade Required";
-    case 431: return "Request Header Fields Too Large";
-    case 503: return "Service Unavailable";
-    default: return "Error";
+        case 101:
+            return "Switching Protocols";
+        case 200:
+            return "OK";
+        case 400:
+            return "Bad Request";
+        case 403:
+            return "Forbidden";
+        case 404:
+            return "Not Found";
+        case 405:
+            return "Method Not Allowed";
+        case 426:
+            return "Upgrade Required";
+        case 431:
+            return "Request Header Fields Too Large";
+        case 503:
+            return "Service Unavailable";
+        default:
+            return "Error";
     }
 }
 

@@ -17,9 +17,9 @@ inline constexpr std::size_t max_head_bytes = 8192;
 inline constexpr std::size_t max_header_fields = 64;
 
 struct HttpRequest {
-    std::string method;   ///< as sent ("GET"); methods are case-sensitive
-    std::string target;   ///< as sent ("/", "/ws?x=1")
-    std::string version;  ///< "HTTP/1.0" or "HTTP/1.1"
+    std::string method;                                       ///< as sent ("GET"); methods are case-sensitive
+    std::string target;                                       ///< as sent ("/", "/ws?x=1")
+    std::string version;                                      ///< "HTTP/1.0" or "HTTP/1.1"
     std::vector<std::pair<std::string, std::string>> fields;  ///< names lower-cased, values trimmed
 
     /// The value of the first field `lower_name`, nullptr when absent.

@@ -1,18 +1,21 @@
 #include "view/pages.h"
 
+#include <cstdio>
+
 #include "accel/util/timer.h"
 #include "view/log.h"
 #include "view/session.h"
 #include "view/websocket.h"
-
-#include <cstdio>
 
 namespace arbor::view {
 
 /// One page: the Sink of its Session, writing through the connection loop.
 struct Pages::Page final : Sink {
     Page(Pages& pages, ConnId c, int n, const std::string& address)
-        : loop(pages.loop_), conn(c), number(n), peer(address),
+        : loop(pages.loop_),
+          conn(c),
+          number(n),
+          peer(address),
           session(pages.scene_, pages.lights_, pages.cache_, pages.limits_, pages.initial_, *this) {}
 
     bool send_text(std::string_view text) override { return loop.send(conn, ws::text, text); }
@@ -28,8 +31,14 @@ struct Pages::Page final : Sink {
 
 Pages::Pages(const engine::Scene& scene, const engine::LightSet& lights, StructureCache& cache, const Limits& limits,
              const ViewSettings& initial, int max_pages, ConnectionLoop& loop)
-    : scene_(scene), lights_(lights), cache_(cache), limits_(limits), initial_(initial), max_pages_(max_pages),
-      loop_(loop), stopper_([this] { stopper(); }) {}
+    : scene_(scene),
+      lights_(lights),
+      cache_(cache),
+      limits_(limits),
+      initial_(initial),
+      max_pages_(max_pages),
+      loop_(loop),
+      stopper_([this] { stopper(); }) {}
 
 Pages::~Pages() { stop(); }
 
@@ -115,11 +124,12 @@ void Pages::stopper() {
         page->session.stop();  // cancels the pass in progress, joins the worker
         const SessionCounters n = page->session.counters();
         char buf[256];
-        std::snprintf(buf, sizeof buf,
-                      " disconnected: %llu frames sent, %llu passes rendered, %llu cancelled (the last had run %.1f ms); "
-                      "its work stopped in %.1f ms",
-                      (unsigned long long)n.frames, (unsigned long long)n.passes, (unsigned long long)n.cancelled,
-                      n.cancelled_pass_ms, stopping.ms());
+        std::snprintf(
+            buf, sizeof buf,
+            " disconnected: %llu frames sent, %llu passes rendered, %llu cancelled (the last had run %.1f ms); "
+            "its work stopped in %.1f ms",
+            (unsigned long long)n.frames, (unsigned long long)n.passes, (unsigned long long)n.cancelled,
+            n.cancelled_pass_ms, stopping.ms());
         log_line(page->name() + buf);
         page.reset();
         lock.lock();

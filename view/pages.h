@@ -2,12 +2,6 @@
 /// The pages `arbor view` serves: one Session per WebSocket, at most `max_pages` at once, each
 /// stopped on a thread of its own kind (the stopper) when its connection ends, so the connection
 /// loop never waits for a render to cancel or a structure build to finish.
-#include "engine/lights.h"
-#include "engine/scene.h"
-#include "view/connections.h"
-#include "view/protocol.h"
-#include "view/structures.h"
-
 #include <condition_variable>
 #include <deque>
 #include <map>
@@ -15,6 +9,12 @@
 #include <mutex>
 #include <string>
 #include <thread>
+
+#include "engine/lights.h"
+#include "engine/scene.h"
+#include "view/connections.h"
+#include "view/protocol.h"
+#include "view/structures.h"
 
 namespace arbor::view {
 

@@ -1,10 +1,10 @@
 #include "view/server.h"
 
+#include <cstring>
+
 #include "page.h"
 #include "view/log.h"
 #include "view/websocket.h"
-
-#include <cstring>
 
 namespace arbor::view {
 
@@ -43,7 +43,8 @@ Server::~Server() { stop(); }
 void Server::start() {
     port_ = loop_.listen(options_.listen, options_.port);
     any_host_ = is_wildcard(options_.listen);
-    for (const std::string& h : {std::string("127.0.0.1"), std::string("localhost"), std::string("::1"), options_.listen})
+    for (const std::string& h :
+         {std::string("127.0.0.1"), std::string("localhost"), std::string("::1"), options_.listen})
         hosts_.insert(host_port(h, port_));
     loop_.start();
     started_ = true;

@@ -17,16 +17,16 @@
 /// - Idle, half-open and slow connections cost a socket, not a thread, and time out; open
 ///   connections are capped (connections.h has the figures).
 /// - stop() closes every connection; each page's render is cancelled and its thread joined.
+#include <atomic>
+#include <set>
+#include <string>
+
 #include "engine/lights.h"
 #include "engine/scene.h"
 #include "view/connections.h"
 #include "view/pages.h"
 #include "view/protocol.h"
 #include "view/structures.h"
-
-#include <atomic>
-#include <set>
-#include <string>
 
 namespace arbor::view {
 

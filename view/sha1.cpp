@@ -28,10 +28,14 @@ std::array<std::uint8_t, 20> sha1(std::string_view bytes) {
         std::uint32_t a = h[0], b = h[1], c = h[2], d = h[3], e = h[4];
         for (std::size_t t = 0; t < 80; ++t) {
             std::uint32_t f = 0, k = 0;
-            if (t < 20) f = (b & c) | (~b & d), k = 0x5A827999u;
-            else if (t < 40) f = b ^ c ^ d, k = 0x6ED9EBA1u;
-            else if (t < 60) f = (b & c) | (b & d) | (c & d), k = 0x8F1BBCDCu;
-            else f = b ^ c ^ d, k = 0xCA62C1D6u;
+            if (t < 20)
+                f = (b & c) | (~b & d), k = 0x5A827999u;
+            else if (t < 40)
+                f = b ^ c ^ d, k = 0x6ED9EBA1u;
+            else if (t < 60)
+                f = (b & c) | (b & d) | (c & d), k = 0x8F1BBCDCu;
+            else
+                f = b ^ c ^ d, k = 0xCA62C1D6u;
             const std::uint32_t next = rotl(a, 5) + f + e + k + w[t];
             e = d, d = c, c = rotl(b, 30), b = a, a = next;
         }

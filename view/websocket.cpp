@@ -1,8 +1,8 @@
 #include "view/websocket.h"
 
-#include "view/sha1.h"
-
 #include <cstdint>
+
+#include "view/sha1.h"
 
 namespace arbor::view::ws {
 
@@ -21,7 +21,8 @@ Event fail(int code, std::string why) {
 bool valid_key(std::string_view key) {
     if (key.size() != 24 || key.substr(22) != "==") return false;
     for (const char c : key.substr(0, 22)) {
-        const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
+        const bool ok =
+            (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
         if (!ok) return false;
     }
     return true;
@@ -75,13 +76,15 @@ Event MessageReader::next(std::string& buf) {
         header += 4;  // the mask
         const bool is_control = (op & 0x8) != 0;
         if (is_control) {
-            if (op != close && op != ping && op != pong) return fail(protocol_error, "unknown opcode " + std::to_string(op));
+            if (op != close && op != ping && op != pong)
+                return fail(protocol_error, "unknown opcode " + std::to_string(op));
             if (!fin) return fail(protocol_error, "a fragmented control frame");
             if (n > 125) return fail(protocol_error, "a control frame longer than 125 bytes");
         } else {
             if (op != continuation && op != text && op != binary)
                 return fail(protocol_error, "unknown opcode " + std::to_string(op));
-            if (op != continuation && message_op_ >= 0) return fail(protocol_error, "a new message inside a fragmented one");
+            if (op != continuation && message_op_ >= 0)
+                return fail(protocol_error, "a new message inside a fragmented one");
             if (op == continuation && message_op_ < 0) return fail(protocol_error, "a continuation without a message");
             const std::uint64_t before = op == continuation ? message_.size() : 0;
             if (n > max_ || before + n > max_)

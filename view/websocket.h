@@ -54,8 +54,8 @@ public:
 
 private:
     std::size_t max_;
-    std::string message_;   ///< the fragments so far
-    int message_op_ = -1;   ///< its opcode, -1 between messages
+    std::string message_;  ///< the fragments so far
+    int message_op_ = -1;  ///< its opcode, -1 between messages
 };
 
 }  // namespace arbor::view::ws

@@ -95,8 +95,9 @@ Run add_view(CLI::App& cmd) {
         ->check(parse_check("--integrator", parse_integrator_option))
         ->capture_default_str();
     cmd.add_option("--max-clients", o->max_clients, "pages served at once")->check(CLI::Range(1, 64))->capture_default_str();
-    cmd.add_option("--max-connections", o->max_connections,
-                   "connections open at once (pages, requests, idle sockets); at the cap the oldest idle one is dropped")
+    cmd.add_option(
+           "--max-connections", o->max_connections,
+           "connections open at once (pages, requests, idle sockets); at the cap the oldest idle one is dropped")
         ->check(CLI::Range(16, 65536))
         ->capture_default_str();
     add_build_options(cmd, o->build);
