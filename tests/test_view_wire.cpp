@@ -110,7 +110,7 @@ TEST_CASE("view wire: malformed request heads are refused with a status") {
     CHECK(refused("GET / HTTP/1.1\r\nno colon\r\n\r\n") == 400);
     CHECK(refused(std::string("GET / HTTP/1.1\r\nX: a\x01\r\n\r\n")) == 400);
     std::string many = "GET / HTTP/1.1\r\n";
-    for (std::size_t i = 0; i <= max_header_fields; ++i) many += "X" + std::to_string(i) + ": 1\r\n";
+    for (std::size_t i = 0; i <= max_header_fields; ++i) many.append("X").append(std::to_string(i)).append(": 1\r\n");
     CHECK(refused(many + "\r\n") == 431);
     CHECK(refused("GET / HTTP/1.1\r\nX: " + std::string(max_head_bytes, 'a') + "\r\n\r\n") == 431);
     const std::string answer = http_error(405, "only GET");
