@@ -42,7 +42,8 @@ void fuzz_mesh(const std::uint8_t* data, std::size_t size);
 void fuzz_rays(const std::uint8_t* data, std::size_t size);
 /// The viewer's message parser (view::parse_client_message) on `data` as a WebSocket text message:
 /// a message that parses must hold values the server can use (finite camera with a view direction,
-/// settings within the limits); a refused one must say why.
+/// settings within the limits); a refused one must say why. The same bytes also go through the
+/// server's request-head parser and WebSocket frame reader (view/http.h, view/websocket.h).
 void fuzz_view_message(const std::uint8_t* data, std::size_t size);
 
 }  // namespace arbor::fuzz

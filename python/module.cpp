@@ -187,7 +187,9 @@ PYBIND11_MODULE(_arbor, m) {
             [](const PyScene& s) {
                 std::vector<std::string> w;
                 run<false>(s, [&] { w = s.scene.load_warnings(); });
-                return w;
+                py::list out;
+                for (const std::string& line : w) out.append(py::str(line));
+                return out;
             },
             "list[str]: what Scene.load read past, one line each naming the file and the data (e.g. a PLY\n"
             "edge element); empty for a scene made from arrays.")

@@ -11,7 +11,7 @@ packages=(
   python3-venv python3-setuptools python3-wheel python3-build
   libassimp-dev libstb-dev
   libopenmpi-dev openmpi-bin
-  libcivetweb-dev libturbojpeg0-dev chromium
+  libturbojpeg0-dev chromium
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,5 +1,6 @@
 #pragma once
-/// The web server of `arbor view` (civetweb): one page, one WebSocket, nothing else.
+/// The web server of `arbor view`: one page, one WebSocket, nothing else. Connections are served by
+/// one poll loop (connections.h), pages by their sessions (pages.h); this file holds the policy.
 ///
 /// Safe by default:
 /// - It listens on 127.0.0.1 unless told another address.
@@ -13,34 +14,36 @@
 /// - A bad or oversized message (protocol.h) closes that connection with a close frame (1008,
 ///   1009, 1003 or 1002) and a line on stderr; the other pages go on. At most max_clients pages
 ///   at once (503 beyond).
+/// - Idle, half-open and slow connections cost a socket, not a thread, and time out; open
+///   connections are capped (connections.h has the figures).
 /// - stop() closes every connection; each page's render is cancelled and its thread joined.
-#include "engine/lights.h"
-#include "engine/scene.h"
-#include "view/protocol.h"
-#include "view/structures.h"
-
 #include <atomic>
 #include <set>
 #include <string>
 
-struct mg_context;
-struct mg_connection;
+#include "engine/lights.h"
+#include "engine/scene.h"
+#include "view/connections.h"
+#include "view/pages.h"
+#include "view/protocol.h"
+#include "view/structures.h"
 
 namespace arbor::view {
 
 struct ServerOptions {
     std::string listen = "127.0.0.1";  ///< numeric IPv4 or IPv6 address; 0.0.0.0 or :: for all
     int port = 8080;                   ///< 0: any free port (port() tells which)
-    int max_clients = 8;
+    int max_clients = 8;               ///< pages at once
+    ConnectionLimits connections;      ///< connections at once, timeouts, buffers
     Limits limits;
     ViewSettings initial;  ///< what a new page starts with
 };
 
-class Server {
+class Server final : ConnectionHandler {
 public:
     /// `scene` outlives the server.
     Server(const engine::Scene& scene, const accel::BuildConfig& build, const ServerOptions& options);
-    ~Server();
+    ~Server() override;
     Server(const Server&) = delete;
     Server& operator=(const Server&) = delete;
 
@@ -49,30 +52,31 @@ public:
     int port() const { return port_; }
     /// http://ADDRESS:PORT/ (127.0.0.1 when listening on every address).
     std::string url() const;
-    /// Closes every connection and stops listening (idempotent).
+    /// The connection cap in force (ServerOptions, lowered to fit the open-file limit).
+    int max_connections() const { return loop_.max_connections(); }
+    /// Closes every connection and stops listening (idempotent); logs the connection counts.
     void stop();
 
-    struct Client;
-
 private:
-    static int on_http(mg_connection* conn, void* self);
-    static int on_ws_connect(const mg_connection* conn, void* self);
-    static void on_ws_ready(mg_connection* conn, void* self);
-    static int on_ws_data(mg_connection* conn, int bits, char* data, std::size_t size, void* self);
-    static void on_ws_close(const mg_connection* conn, void* self);
-    static int on_log(const mg_connection* conn, const char* message);
+    Answer on_request(ConnId id, const HttpRequest& request, const std::string& peer) override;
+    void on_open(ConnId id) override;
+    void on_message(ConnId id, int opcode, std::string payload) override;
+    void on_closed(ConnId id, const CloseReason& reason) override;
+    Answer websocket(ConnId id, const HttpRequest& request, const std::string& peer);
     /// Empty when the request's Host is this server, else why not.
-    std::string host_problem(const mg_connection* conn) const;
+    std::string host_problem(const HttpRequest& request) const;
 
     const engine::Scene& scene_;
     const engine::LightSet lights_;
     StructureCache cache_;
     const ServerOptions options_;
-    mg_context* ctx_ = nullptr;
+    ConnectionLoop loop_;
+    Pages pages_;
     int port_ = 0;
     std::set<std::string> hosts_;  ///< Host values accepted ("127.0.0.1:8080", ...)
     bool any_host_ = false;        ///< listening on every address: any Host
-    std::atomic<int> clients_{0}, next_id_{1};
+    bool started_ = false;
+    std::atomic<bool> stopping_{false};
 };
 
 }  // namespace arbor::view

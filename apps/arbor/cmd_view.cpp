@@ -22,12 +22,12 @@ namespace {
 struct ViewCommand {
     SceneOptions scene;
     std::string listen = "127.0.0.1", accel = "bvh-sah", integrator = "direct";
-    int port = 8080, threads = 0, max_clients = 8;
+    int port = 8080, threads = 0, max_clients = 8, max_connections = 512;
     accel::BuildConfig build;
 };
 
 int run_view(const ViewCommand& o) {
-    // Every thread started from here on (civetweb's, TBB's, the pages' workers) inherits this mask,
+    // Every thread started from here on (the connection loop, TBB's, the pages' workers) inherits this mask,
     // so SIGINT and SIGTERM reach only the sigwait below: the shutdown runs in this thread, never
     // inside a signal handler.
     sigset_t stop_signals;
@@ -42,6 +42,7 @@ int run_view(const ViewCommand& o) {
     opt.listen = o.listen;
     opt.port = o.port;
     opt.max_clients = o.max_clients;
+    opt.connections.max_connections = o.max_connections;
     opt.limits.max_threads = active_threads();
     opt.initial.threads = opt.limits.max_threads;
     opt.initial.accel = *accel::parse_accel_kind(o.accel);
@@ -53,8 +54,9 @@ int run_view(const ViewCommand& o) {
         throw engine::InputError(e.what());
     }
     std::printf("%s\n", server.url().c_str());
-    std::printf("arbor view: %s, %zu triangles; up to %d pages at once, %d threads; Ctrl-C stops\n", scene.name.c_str(),
-                scene.mesh.triangle_count(), o.max_clients, opt.limits.max_threads);
+    std::printf("arbor view: %s, %zu triangles; up to %d pages and %d connections at once, %d threads; Ctrl-C stops\n",
+                scene.name.c_str(), scene.mesh.triangle_count(), o.max_clients, server.max_connections(),
+                opt.limits.max_threads);
     std::fflush(stdout);
     int sig = 0;
     sigwait(&stop_signals, &sig);
@@ -93,6 +95,11 @@ Run add_view(CLI::App& cmd) {
         ->check(parse_check("--integrator", parse_integrator_option))
         ->capture_default_str();
     cmd.add_option("--max-clients", o->max_clients, "pages served at once")->check(CLI::Range(1, 64))->capture_default_str();
+    cmd.add_option(
+           "--max-connections", o->max_connections,
+           "connections open at once (pages, requests, idle sockets); at the cap the oldest idle one is dropped")
+        ->check(CLI::Range(16, 65536))
+        ->capture_default_str();
     add_build_options(cmd, o->build);
     add_threads_option(cmd, o->threads);
     return [o] { return run_view(*o); };
