@@ -31,9 +31,13 @@ export PIP_NO_INDEX=1 PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_CACHE_DIR=1 PIP_NO_
 export ARBOR_CMAKE_BUILD_DIR=$build ARBOR_SHARED_SCENES=$scenes
 
 # The suite and the checker run from copies, so no folder of the checkout is on sys.path (a
-# script's own folder is); test_readme.py reads ../../README.md from its own folder.
-mkdir -p "$work/suite/python"
+# script's own folder is); tests read, relative to their own folder, ../../README.md, the source
+# stubs in ../arbor (compared with the installed ones) and ../../tests/data/meshes. The source
+# package folder is not importable from there: the checker imports the installed arbor first.
+mkdir -p "$work/suite/python" "$work/suite/tests/data"
 cp -r "$src/python/tests" "$work/suite/python/tests"
+cp -r "$src/python/arbor" "$work/suite/python/arbor"
+cp -r "$src/tests/data/meshes" "$work/suite/tests/data/meshes"
 cp "$src/README.md" "$work/suite/README.md"
 cp "$here/python_package_check.py" "$work/check.py"
 

@@ -17,8 +17,11 @@ HERE = pathlib.Path(__file__).resolve().parent
 
 
 def mypy(tmp_path, *files):
-    env = dict(os.environ, MYPYPATH=str(pathlib.Path(arbor.__file__).resolve().parents[1]))
-    env.pop("PYTHONPATH", None)  # mypy finds arbor through MYPYPATH, numpy where python3 has it
+    env = dict(os.environ)
+    env.pop("PYTHONPATH", None)  # mypy finds numpy where python3 has it
+    where = pathlib.Path(arbor.__file__).resolve().parents[1]
+    if where.name not in ("site-packages", "dist-packages"):
+        env["MYPYPATH"] = str(where)  # a build tree's package; an installed one mypy finds itself
     return subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-color-output", "--cache-dir",
                            str(tmp_path / "cache"), *map(str, files)], capture_output=True, text=True, env=env)
 
