@@ -1,13 +1,11 @@
 /// arbor::Scene's batch queries: the caller's arrays are read in chunks (fixed boundaries, so the
-/// answers do not depend on the thread count), each chunk turned into accel::Ray records or points
-/// in a per-thread buffer, answered by one call of the structure, and written back with geometry ids.
-#include "api/scene_impl.h"
+/// answers do not depend on the thread count; point_batch.h), each chunk turned into accel::Ray
+/// records or points in a per-thread buffer, answered by one call of the structure, and written
+/// back with geometry ids. Winding numbers, signed distances and closed(): winding.cpp.
+#include "api/point_batch.h"
 
 #include "accel/interface/inside.h"
 #include "accel/interface/path_policy.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <cstdint>
@@ -19,29 +17,11 @@ namespace {
 
 /// Rays per chunk: as accel::trace_parallel (whole 8x8 tiles of a camera stay in one chunk).
 constexpr std::size_t ray_chunk = 1024;
-constexpr std::size_t point_chunk = 256;
-
-/// Calls f(begin, end) for the chunks [k * chunk, (k + 1) * chunk) of [0, n), in parallel on the
-/// scene's threads.
-template <class F> void for_chunks(const Scene::Impl& s, std::size_t n, std::size_t chunk, F&& f) {
-    if (n == 0) return;
-    s.arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + chunk - 1) / chunk, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t k = r.begin(); k != r.end(); ++k) f(k * chunk, std::min(n, (k + 1) * chunk));
-        });
-    });
-}
 
 float read_float(const float* base, std::size_t stride, std::size_t i) {
     float v;
     std::memcpy(&v, reinterpret_cast<const unsigned char*>(base) + i * stride, sizeof v);
     return v;
-}
-
-accel::Vec3f read_vec3(const float* base, std::size_t stride, std::size_t i) {
-    float v[3];
-    std::memcpy(v, reinterpret_cast<const unsigned char*>(base) + i * stride, sizeof v);
-    return {v[0], v[1], v[2]};
 }
 
 accel::Ray ray_at(const RayArrays& r, std::size_t i) {
@@ -81,23 +61,10 @@ accel::TraceRequest batch_request(const Scene::Impl& s, const accel::Accel& a, c
     return req;
 }
 
-std::span<const accel::Vec3f> load_points(const PointArrays& p, std::size_t begin, std::size_t end) {
-    thread_local std::vector<accel::Vec3f> buf;
-    buf.resize(end - begin);
-    for (std::size_t i = begin; i < end; ++i) buf[i - begin] = read_vec3(p.xyz, p.stride, i);
-    return buf;
-}
-
 void check_rays(const RayArrays& r, const void* out, const char* fn) {
     if (r.count == 0) return;
     if (!r.origins || !r.directions)
         throw Error(Error::Kind::invalid_argument, std::string(fn) + ": " + (r.origins ? "directions" : "origins") + " is null");
-    if (!out) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": the output array is null");
-}
-
-void check_points(const PointArrays& p, const void* out, const char* fn) {
-    if (p.count == 0) return;
-    if (!p.xyz) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": points is null");
     if (!out) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": the output array is null");
 }
 
@@ -217,15 +184,6 @@ std::vector<bool> Scene::occluded(const std::vector<Ray>& rays) const {
     occluded(RayArrays::of(rays.data(), rays.size()), out.get());
     return std::vector<bool>(out.get(), out.get() + rays.size());
 }
-
-namespace {
-PointArrays packed_points(const std::vector<float>& xyz, const char* fn) {
-    if (xyz.size() % 3 != 0)
-        throw Error(Error::Kind::invalid_argument, std::string(fn) + ": points must hold x, y, z triples (size " +
-                                                       std::to_string(xyz.size()) + ")");
-    return {xyz.size() / 3, xyz.data(), 3 * sizeof(float)};
-}
-}  // namespace
 
 std::vector<ClosestPoint> Scene::closest_point(const std::vector<float>& xyz, float max_distance) const {
     const PointArrays p = packed_points(xyz, "closest_point");

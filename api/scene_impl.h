@@ -30,10 +30,25 @@ struct Scene::Impl {
     std::unique_ptr<tbb::task_arena> arena;
     std::atomic<bool> ready{false};
     std::mutex build_mutex;
+    /// Made on demand, dropped by add_mesh and build (winding.cpp): the structure's winding-number
+    /// tree (it may read the structure's layout), made by the first winding query, and closed()'s
+    /// answer (-1: not known yet).
+    std::unique_ptr<accel::WindingTree> winding;
+    std::atomic<bool> winding_ready{false};
+    std::atomic<int> closed_state{-1};
+    std::mutex lazy_mutex;
 
     /// The structure, built with the last options first when it is not (thread-safe).
     const accel::Accel& structure();
     void build_locked(const BuildOptions& o);
+    /// The structure's winding tree, made first when it is not (thread-safe).
+    const accel::WindingTree& winding_tree();
+    /// Forgets what was made on demand (before the structure or the mesh changes).
+    void drop_derived() {
+        winding_ready = false;
+        winding.reset();
+        closed_state = -1;
+    }
 
     /// Geometry id and triangle number within it of triangle `global` of `mesh`.
     void locate(std::uint32_t global, std::uint32_t& geom, std::uint32_t& prim) const {
