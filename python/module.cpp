@@ -3,6 +3,7 @@
 /// GIL released, on every thread of the scene's arena. A scene is guarded by a reader-writer lock:
 /// queries from several Python threads share it, add_mesh() and build() wait for them.
 #include "arrays.h"
+#include "winding.h"
 
 #include <arbor/arbor.h>
 
@@ -252,4 +253,8 @@ PYBIND11_MODULE(_arbor, m) {
                 return out;
             },
             "points"_a, "Whether each point is inside the scene's closed meshes: an (N,) bool array.");
+    arbor::python::add_winding(m.attr("Scene"), [](py::handle self, const arbor::python::SceneWork& work) {
+        const PyScene& s = self.cast<const PyScene&>();
+        run<false>(s, [&] { work(s.scene); });
+    });
 }
