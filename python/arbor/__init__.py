@@ -8,6 +8,9 @@
     hits, counts = scene.intersect_all(origins, directions, max_hits=16)
     near = scene.closest_point(points)               # distance, geom, prim, point, u, v
     ins = scene.inside(points)                       # bool per point (closed meshes)
+    w = scene.winding_number(points)                 # generalized winding number per point (float64)
+    ins = scene.inside(points, method="winding")     # any mesh (open, overlapping): winding >= 0.5
+    sd = scene.signed_distance(points)               # closest distance, negative inside
 
 The contract is ../shared/spec/python.md. Work runs with the GIL released on all the scene's
 threads; float32 arrays are read in place.
