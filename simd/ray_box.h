@@ -6,7 +6,8 @@
 /// The zero-direction rule, shared by every path: rcp = 1/d is +-inf for d = +-0, the near plane of
 /// each axis is chosen by the sign bit of d (so -0 behaves as negative), and a slab distance that
 /// comes out NaN (0 * inf: the origin lies exactly in the plane) is ignored by rmax/rmin, i.e. the
-/// ray counts as inside that slab.
+/// ray counts as inside that slab; when both planes of a slab of no thickness give NaN, the box is
+/// culled (in_flat_slab: it holds only triangles coplanar with the ray, which the triangle test misses).
 #include "simd/vec3.h"
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace arbor::simd {
 
@@ -162,6 +164,30 @@ inline SlabRay slab_ray(const Vec3f& o, const Vec3f& d) {
 template <class T> inline T slab_accept_bound(const T& t_exit) { return t_exit + rmin(t_exit, T(0.0f)) * T(-0x1p-17f); }
 template <class T> inline Mask<T> slab_accept(const T& t_entry, const T& t_exit) { return t_entry <= slab_accept_bound(t_exit); }
 
+/// The flat-slab rule (lanes where it holds are culled by slab_test): on an axis the ray does not
+/// move along (reciprocal +-inf by slab_rcp's zero-direction rule), a box of no thickness whose
+/// plane holds the origin gives NaN for both its slab distances (0 * inf). Every triangle in that
+/// box lies in that plane, and so does the ray: the watertight test sees all three of its edge
+/// functions exactly 0 (the triangle's coordinates along the axis minus the origin's are exactly 0,
+/// and the shear along it is 0), so its determinant is 0 and it misses. Culling such boxes changes
+/// no answer, and rays lying in the plane of a flat mesh no longer walk every box along their line.
+/// A NaN reciprocal (slab_rcp's unsure axis) never culls; nor does a box with thickness whose face
+/// holds the origin (one NaN distance: triangles crossing that plane can be hit on their edges).
+template <class T> inline Mask<T> in_flat_slab(const Vec3<T>& n, const Vec3<T>& f, const Vec3<T>& rcp_near) {
+    const T inf(std::numeric_limits<float>::infinity());
+    // NaN as !(x == x) on batches: xsimd's != is an ordered compare on some targets (false for NaN).
+    const auto nan = [](const T& x) -> Mask<T> {
+        if constexpr (std::is_same_v<T, float>) return std::isnan(x);
+        else return !(x == x);
+    };
+    const auto flat_axis = [&](int k) -> Mask<T> { return nan(n[k]) && nan(f[k]) && vabs(rcp_near[k]) == inf; };
+    if constexpr (std::is_same_v<T, float>) {
+        return flat_axis(0) || flat_axis(1) || flat_axis(2);
+    } else {
+        return flat_axis(0) | flat_axis(1) | flat_axis(2);
+    }
+}
+
 /// Slab test on planes already sorted into near and far per axis. Returns the entry distance in
 /// `t_entry` and the lanes whose [entry, exit] overlaps [tnear, tfar].
 template <class T>
@@ -171,7 +197,11 @@ inline Mask<T> slab_test(const Vec3<T>& near_plane, const Vec3<T>& far_plane, co
     const Vec3<T> n = (near_plane - org) * rcp_near, f = (far_plane - org) * rcp_far;
     t_entry = rmax(n.x, rmax(n.y, rmax(n.z, tnear)));
     const T t_exit = rmin(f.x, rmin(f.y, rmin(f.z, tfar)));
-    return slab_accept(t_entry, t_exit);
+    if constexpr (std::is_same_v<T, float>) {
+        return slab_accept(t_entry, t_exit) && !in_flat_slab(n, f, rcp_near);
+    } else {
+        return slab_accept(t_entry, t_exit) & !in_flat_slab(n, f, rcp_near);
+    }
 }
 
 /// Whether a ray (per lane) is "plain": tnear >= 0 and all six reciprocals finite and normal (no

@@ -100,6 +100,7 @@ std::vector<StressCase> make_stress_cases(Size size) {
     add_grid_cases(out, size);
     add_precision_cases(out, size);
     add_degenerate_cases(out, size);
+    add_in_plane_cases(out, size);
     add_ray_cases(out, size);
     return out;
 }

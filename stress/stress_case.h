@@ -68,6 +68,7 @@ void add_grid_cases(std::vector<StressCase>& out, Size size);
 void add_precision_cases(std::vector<StressCase>& out, Size size);
 void add_degenerate_cases(std::vector<StressCase>& out, Size size);
 void add_ray_cases(std::vector<StressCase>& out, Size size);
+void add_in_plane_cases(std::vector<StressCase>& out, Size size);
 
 /// Rays from `origin` (inside the closed mesh c.mesh) aimed exactly at every vertex and at points
 /// on every edge (the midpoint and the points 1/8 and 5/8 along it), each with its continuation

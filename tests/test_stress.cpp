@@ -70,6 +70,7 @@ TEST_CASE("stress: integer grids, node-box faces, axis-parallel rays over every 
 }
 TEST_CASE("stress: far, tiny and surface-spawned rays over every structure and path") { check_cases(family(add_precision_cases)); }
 TEST_CASE("stress: degenerate geometry over every structure and path") { check_cases(family(add_degenerate_cases)); }
+TEST_CASE("stress: rays in the plane of flat meshes over every structure and path") { check_cases(family(add_in_plane_cases)); }
 TEST_CASE("stress: non-finite and extreme rays over every structure and path") { check_cases(family(add_ray_cases)); }
 
 TEST_CASE("stress: a closed shared model (spot) from inside never leaks") {

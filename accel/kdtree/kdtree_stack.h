@@ -86,7 +86,7 @@ inline bool stack_start(const KdTree& tree, const Ray& r, StackWalk& w) {
         w.rcp[k] = 1.0 / double(dir[k]);
         w.e[k] = 0.0;
         if (w.flat[k]) {
-            if (w.o[k] < tree.box.lo[k] || w.o[k] > tree.box.hi[k]) return false;
+            if (!flat_axis_can_hit(r.org[k], tree.box.lo[k], tree.box.hi[k])) return false;
             w.lo[k] = w.hi[k] = r.org[k];
             continue;
         }

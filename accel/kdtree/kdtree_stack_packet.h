@@ -137,7 +137,8 @@ template <std::size_t K> struct PacketStack {
                 fl[k] = dk[k] == zero;
                 rk[k] = one / dk[k];
                 const D blo(double(tree.box.lo[k])), bhi(double(tree.box.hi[k]));
-                outside = outside || (fl[k] && (ok[k] < blo || ok[k] > bhi));
+                // flat_axis_can_hit per lane
+                outside = outside || (fl[k] && (ok[k] < blo || ok[k] > bhi || DM(tree.box.lo[k] == tree.box.hi[k])));
                 const D ta = (blo - ok[k]) * rk[k], tb = (bhi - ok[k]) * rk[k];
                 enter[k] = xsimd::select(tb < ta, tb, ta);  // std::min(a, b)
                 leave[k] = xsimd::select(ta < tb, tb, ta);  // std::max(a, b)

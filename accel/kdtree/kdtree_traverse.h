@@ -307,7 +307,7 @@ inline RopeStart rope_start(const KdTree& tree, const Ray& r, RopeRay& s, double
         s.tol[k] = point_tolerance * dmax * std::fabs(s.rcp[k]);
         const float lo = tree.box.lo[k], hi = tree.box.hi[k];
         if (s.flat[k]) {
-            if (s.o[k] < lo || s.o[k] > hi) return RopeStart::none;
+            if (!flat_axis_can_hit(r.org[k], lo, hi)) return RopeStart::none;
             continue;
         }
         // Entry and exit by min and max, not by a branch on the sign of d (a coin toss per ray for

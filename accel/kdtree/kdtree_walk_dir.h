@@ -26,6 +26,13 @@ template <class P> inline auto shears_to_zero(const P& dk, const P& dmax) {
     return (dk != P(0.0f)) & (xsimd::abs(dk) * P(0x1p100f) * P(0x1p50f) <= dmax);
 }
 
+/// Whether a ray that does not move along axis k (walk direction component 0), with origin `o` on
+/// that axis, can meet a triangle of a scene box spanning [lo, hi] on it: the origin must lie in
+/// the slab, and the box must have thickness there. A scene of no thickness along k whose plane
+/// holds the origin has every triangle coplanar with the ray, and the watertight test misses those
+/// (the box test's flat-slab rule, simd/ray_box.h in_flat_slab): nothing to walk.
+inline bool flat_axis_can_hit(float o, float lo, float hi) { return o >= lo && o <= hi && lo != hi; }
+
 inline simd::Vec3f walk_direction(const simd::Vec3f& d) {
     const float dmax = std::max(std::fabs(d.x), std::max(std::fabs(d.y), std::fabs(d.z)));
     simd::Vec3f w = d;
