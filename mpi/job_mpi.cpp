@@ -231,7 +231,7 @@ void MpiJob::require_same(const std::string& what, std::uint64_t value, const st
         if (all[std::size_t(r)] == all[0]) continue;
         if (rank_ == 0) {
             char line[512];
-            std::snprintf(line, sizeof line, "arbor: %s: %s (hash %016llx, rank 0: %016llx): %s\n",
+            std::snprintf(line, sizeof line, "arbor: %s: %s (hash %016llx, rank 0: %016llx): %s",
                           describe_rank(r).c_str(), what.c_str(), (unsigned long long)all[std::size_t(r)],
                           (unsigned long long)all[0], advice.c_str());
             post([this, text = std::string(line)] { end_job(1, text); });

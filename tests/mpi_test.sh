@@ -166,10 +166,10 @@ expect_stop 4 "arbor: rank 0 (pid [0-9]* on .*) was killed by SIGKILL" ARBOR_MPI
 # start-up and the first tiles (about 1 s), the deadline, mpirun's teardown (about 1 s), plus 5 s
 # of margin for a loaded machine.
 fresh=1 within=12 after=5 expect_stop 4 \
-  "arbor: rank 1 (pid [0-9]* on .*) has not answered for [5-6] s (stopped, hung, or cut off from rank 0); the job stops" \
+  "arbor: rank 1 (pid [0-9]* on .*) has not answered for [5-9] s (stopped, hung, or cut off from rank 0); the job stops" \
   $idle ARBOR_MPI_TEST_FAULT=1:2:stop -- "${frame[@]}"
 fresh=1 within=12 after=5 expect_stop 4 \
-  "arbor: rank 0 (pid [0-9]* on .*) has not answered for [5-6] s (stopped, hung, or cut off from rank 1); the job stops" \
+  "arbor: rank 0 (pid [0-9]* on .*) has not answered for [5-9] s (stopped, hung, or cut off from rank 1); the job stops" \
   ARBOR_MPI_TEST_FAULT=0:1:stop -- "${frame[@]}"
 # Ctrl-C to mpirun (a SIGINT to mpirun alone: the ranks run in process groups of their own, so a
 # terminal's Ctrl-C reaches mpirun only). mpirun stops the ranks (SIGTERM after 1 s) and exits 1
