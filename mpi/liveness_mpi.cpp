@@ -97,8 +97,8 @@ void MpiJob::on_launcher_stop(double now) {
         }
         int sent = 0;
         MPI_Test(&stopping_request_, &sent, MPI_STATUS_IGNORE);
-        // Not at once: a rank that ends is announced to the others by Open MPI, whose handler ends
-        // rank 0 at once, before it has read this word (1 run in 5 without the wait).
+        // Not at once: when this rank quit at once, rank 0 was ended before it had read the word in
+        // 1 run in 5, presumably by Open MPI's handling of a rank that ends.
         if (now - launcher_stop_since_ > goodbye_seconds) quit_quietly();
         return;
     }
