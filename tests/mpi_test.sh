@@ -183,9 +183,10 @@ fresh=1 within=8 expect_stop 1 \
 fresh=1 within=8 expect_stop 137 \
   "arbor: rank 1: its guardian (pid [0-9]* on .*, the process mpirun started) was killed (SIGKILL" \
   $idle ARBOR_MPI_TEST_FAULT=1:2:kill-guardian -- "${frame[@]}"
-# A job that runs longer than a (shortened) deadline, with every rank busy, is not stopped.
+# A job that runs several times longer than a (shortened) deadline, every rank busy rendering, is
+# not stopped.
 if ARBOR_MPI_HEARTBEAT=0.5 "${MPIRUN[@]}" -x ARBOR_MPI_HEARTBEAT -np 2 "$ARBOR" render builtin:cornell --integrator path \
-     --width 64 --height 48 --spp 64 -q --threads 1 -o "$WORK/long.exr" >"$WORK/out" 2>"$WORK/err"; then
+     --width 64 --height 48 --spp 256 -q --threads 1 -o "$WORK/long.exr" >"$WORK/out" 2>"$WORK/err"; then
   [ -s "$WORK/long.exr" ] || fail "heartbeat 0.5 s: no image"
 else
   fail "heartbeat 0.5 s: a healthy job was stopped: $(cat "$WORK/err")"
