@@ -5,7 +5,8 @@
 /// SIGINT and SIGHUP are told apart by their sender: from the launcher (mpirun stopping the job
 /// because a rank failed, which it reports itself, or rank 0's MPI_Abort) the service thread ends
 /// the process quietly; from anyone else (a user's `kill`) they are a fault like any other,
-/// reported by rank 0 with the sender, exit 4. Handlers only touch atomics and sleep
+/// reported by rank 0 with the sender, exit 4. The death of the rank's guardian (its parent, the
+/// process the launcher started) is noted for the service thread too. Handlers only touch atomics and sleep
 /// (async-signal-safe); everything else happens on the service thread. They replace Open MPI's
 /// own crash handlers (which print a backtrace and die at once).
 #include "mpi/job_mpi.h"
@@ -27,7 +28,7 @@ namespace {
 
 std::atomic<int> crash_signal{0}, stop_signal{0};
 std::atomic<long> stop_sender{-1};
-std::atomic<bool> launcher_stop{false};
+std::atomic<bool> launcher_stop{false}, guardian_gone{false};
 pthread_t service_thread_handle;
 long guardian_pid = 0, launcher_pid = 0;  ///< from mpi::guardian_variable (0: none)
 
@@ -63,6 +64,8 @@ void on_stop(int sig, siginfo_t* info, void*) {
     if (stop_signal.compare_exchange_strong(none, sig)) stop_sender.store(sender);
 }
 
+void on_guardian_lost(int) { guardian_gone.store(true); }
+
 }  // namespace
 
 void install_signal_handlers() {
@@ -78,12 +81,24 @@ void install_signal_handlers() {
     sa.sa_sigaction = on_stop;
     sa.sa_flags = SA_RESTART | SA_SIGINFO;
     for (int sig : {SIGTERM, SIGINT, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+    if (guardian_pid > 0) {
+        sa = {};
+        sigemptyset(&sa.sa_mask);
+        sa.sa_handler = on_guardian_lost;
+        sa.sa_flags = SA_RESTART;
+        ::sigaction(guardian_lost_signal(), &sa, nullptr);
+        // The guardian may have died before the handler was in place (its signal then ended this
+        // process, unless it died in the instant between the two).
+        if (::getppid() != pid_t(guardian_pid)) guardian_gone.store(true);
+    }
 }
 
 int caught_crash_signal() { return crash_signal.load(); }
 int caught_stop_signal() { return stop_signal.load(); }
 long stop_signal_sender() { return stop_sender.load(); }
 bool stopped_by_launcher() { return launcher_stop.load(); }
+bool guardian_lost() { return guardian_gone.load(); }
+long guardian_process() { return guardian_pid; }
 
 std::string signal_text(int sig) {
     switch (sig) {

@@ -15,7 +15,7 @@
 namespace arbor::mpi {
 
 /// Bumped whenever this interface changes: `arbor` refuses a module built from another version.
-inline constexpr int job_abi_version = 1;
+inline constexpr int job_abi_version = 2;
 
 /// How a farm hands out items [0, items): a taking rank asks rank 0 for up to `batch` items when
 /// fewer than `low_water` are queued for it (0: only when it has nothing queued or in hand).
@@ -73,6 +73,11 @@ public:
     /// Stops the whole job: rank 0 prints one line "arbor: rank R: <what>" (R: this rank), and
     /// mpirun exits with `code` (MPI_Abort). Never returns.
     [[noreturn]] virtual void fail(int code, const std::string& what) = 0;
+    /// `cleanup` runs on the module's thread just before this process ends with the job without
+    /// unwinding (MPI_Abort, a stop by the launcher): it removes what must not outlive the job,
+    /// e.g. unfinished output files. It must not wait for application threads (one may hold a
+    /// crash signal).
+    virtual void set_cleanup(std::function<void()> cleanup) = 0;
 };
 
 }  // namespace arbor::mpi

@@ -47,7 +47,10 @@ MpiJob::~MpiJob() {
     call([this](std::function<void()> done) {
         MPI_Request r;
         MPI_Ibarrier(comm_, &r);
-        watch(r, std::move(done));
+        watch(r, [this, done = std::move(done)] {
+            finished_ = true;  // every rank is here: none will fall silent mid-job any more
+            done();
+        });
     });
     {
         std::lock_guard lock(mu_);
@@ -89,6 +92,11 @@ void MpiJob::loop(std::promise<void>& started) {
     int first_on_node = node_rank_ == 0;
     MPI_Allreduce(&first_on_node, &nodes_, 1, MPI_INT, MPI_SUM, comm_);
     install_signal_handlers();
+    heartbeat_ = Heartbeat::from_environment();
+    last_turn_ = now_seconds();
+    heard_.assign(std::size_t(size_), last_turn_);
+    sent_.assign(std::size_t(size_), last_turn_);
+    stopping_from_.assign(std::size_t(size_), 0);
     started.set_value();  // `started` lives in the constructor's frame: not touched after this
 
     // Sleep between idle turns: 50 us after a message (more may follow), doubling up to 5 ms; a
@@ -116,7 +124,8 @@ void MpiJob::loop(std::promise<void>& started) {
 
 int MpiJob::step() {
     bool busy = false;
-    check_signals();
+    const double now = now_seconds();
+    check_signals(now);
     std::deque<std::function<void()>> work;
     {
         std::lock_guard lock(mu_);
@@ -139,13 +148,13 @@ int MpiJob::step() {
     }
     const bool received = poll_messages();
     if (farm_) busy |= farm_->service_step();
-    if (fatal_deadline_ > 0.0 && now_seconds() > fatal_deadline_) {
+    if (fatal_deadline_ > 0.0 && now > fatal_deadline_) {
         // Rank 0 did not stop the job after this rank's report: stop it from here.
-        std::fprintf(stderr, "arbor: rank %d: %s (rank 0 did not answer)\n", rank_, fatal_what_.c_str());
-        std::fflush(stderr);
-        MPI_Abort(comm_, fatal_code_);
+        end_job(fatal_code_, "arbor: rank " + std::to_string(rank_) + ": " + fatal_what_ + " (rank 0 did not answer)");
     }
-    return received || urgent ? 2 : busy ? 1 : 0;
+    keep_alive(now);
+    // While the launcher stops the job, answers are awaited: keep polling fast.
+    return received || urgent || launcher_stop_since_ > 0.0 ? 2 : busy ? 1 : 0;
 }
 
 bool MpiJob::poll_messages() {
@@ -156,8 +165,13 @@ bool MpiJob::poll_messages() {
         MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &flag, &st);
         if (!flag) return any;
         any = true;
+        heard_[std::size_t(st.MPI_SOURCE)] = now_seconds();  // any message is a sign of life
         if (st.MPI_TAG == tag_fatal) {
             on_fatal(st);
+        } else if (st.MPI_TAG == tag_heartbeat || st.MPI_TAG == tag_stopping) {
+            char none = 0;
+            MPI_Recv(&none, 0, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, comm_, MPI_STATUS_IGNORE);
+            if (st.MPI_TAG == tag_stopping) stopping_from_[std::size_t(st.MPI_SOURCE)] = 1;
         } else {
             FarmImpl::on_message(*this, st);
         }
@@ -185,6 +199,7 @@ void MpiJob::watch(MPI_Request request, std::function<void()> then, bool urgent)
 }
 
 void MpiJob::send(int dest, int tag, std::string bytes, std::function<void()> then) {
+    sent_[std::size_t(dest)] = now_seconds();  // counts as a heartbeat
     sending_.push_back(std::move(bytes));
     const auto it = std::prev(sending_.end());
     MPI_Request r;
@@ -216,14 +231,10 @@ void MpiJob::require_same(const std::string& what, std::uint64_t value, const st
         if (all[std::size_t(r)] == all[0]) continue;
         if (rank_ == 0) {
             char line[512];
-            std::snprintf(line, sizeof line, "arbor: %s: %s (hash %016llx, rank 0: %016llx): %s\n",
+            std::snprintf(line, sizeof line, "arbor: %s: %s (hash %016llx, rank 0: %016llx): %s",
                           describe_rank(r).c_str(), what.c_str(), (unsigned long long)all[std::size_t(r)],
                           (unsigned long long)all[0], advice.c_str());
-            post([this, text = std::string(line)] {
-                std::fputs(text.c_str(), stderr);
-                std::fflush(stderr);
-                MPI_Abort(comm_, 1);
-            });
+            post([this, text = std::string(line)] { end_job(1, text); });
         }
         wait_for_the_end();
     }
@@ -268,15 +279,28 @@ void MpiJob::fail(int code, const std::string& what) {
     wait_for_the_end();
 }
 
+void MpiJob::set_cleanup(std::function<void()> cleanup) {
+    call([&](std::function<void()> done) {
+        cleanup_ = std::move(cleanup);
+        done();
+    });
+}
+
+void MpiJob::end_job(int code, const std::string& line) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+    std::fflush(stderr);
+    if (cleanup_) cleanup_();
+    MPI_Abort(comm_, code);
+    ::_exit(code);  // not reached: MPI_Abort ends this process
+}
+
+void MpiJob::quit_quietly() {
+    if (cleanup_) cleanup_();
+    ::_exit(1);
+}
+
 void MpiJob::stop_job(int code, const std::string& what) {
-    if (rank_ == 0) {
-        if (size_ > 1)
-            std::fprintf(stderr, "arbor: rank 0: %s\n", what.c_str());
-        else
-            std::fprintf(stderr, "arbor: %s\n", what.c_str());
-        std::fflush(stderr);
-        MPI_Abort(comm_, code);
-    }
+    if (rank_ == 0) end_job(code, size_ > 1 ? "arbor: rank 0: " + what : "arbor: " + what);
     if (fatal_sent_.exchange(true)) return;
     std::string msg(sizeof(std::int32_t), '\0');
     const std::int32_t c = code;
@@ -296,9 +320,7 @@ void MpiJob::on_fatal(const MPI_Status& st) {
     if (rank_ != 0 || msg.size() < sizeof(std::int32_t)) return;
     std::int32_t code = 1;
     std::memcpy(&code, msg.data(), sizeof code);
-    std::fprintf(stderr, "arbor: rank %d: %s\n", st.MPI_SOURCE, msg.c_str() + sizeof code);
-    std::fflush(stderr);
-    MPI_Abort(comm_, code);
+    end_job(code, "arbor: rank " + std::to_string(st.MPI_SOURCE) + ": " + (msg.c_str() + sizeof code));
 }
 
 std::string MpiJob::describe_rank(int r) const {
@@ -306,13 +328,21 @@ std::string MpiJob::describe_rank(int r) const {
            hosts_[std::size_t(r)] + ")";
 }
 
-void MpiJob::check_signals() {
+void MpiJob::check_signals(double now) {
     if (const int sig = caught_crash_signal(); sig && !crash_reported_) {
         crash_reported_ = true;
         stop_job(4, "crashed: " + signal_text(sig));
     }
-    // mpirun stopping the job (a rank failed, or rank 0's MPI_Abort): it says why.
-    if (stopped_by_launcher()) ::_exit(1);
+    // mpirun stopping the job: a rank failed (and said so), or mpirun itself was interrupted.
+    if (stopped_by_launcher()) on_launcher_stop(now);
+    if (guardian_lost() && !guardian_reported_) {
+        // mpirun sees the process it started die by a signal and stops the job (exit 128 +
+        // signal, its own rule); the line says which rank and why.
+        guardian_reported_ = true;
+        stop_job(4, "its guardian (pid " + std::to_string(guardian_process()) + " on " + hosts_[std::size_t(rank_)] +
+                        ", the process mpirun started) was killed (SIGKILL: kill -9, or the out-of-memory killer); "
+                        "the job stops");
+    }
     if (const int sig = caught_stop_signal(); sig && !stop_reported_) {
         stop_reported_ = true;
         const long sender = stop_signal_sender();

@@ -3,7 +3,9 @@
 /// MPI, makes every MPI call (MPI_THREAD_FUNNELED: it is MPI's main thread), and finalises it.
 /// It never blocks in MPI: collectives are nonblocking (MPI-3) and tested in its loop, messages
 /// are probed, so it always notices a failing rank, a crash signal or mpirun's SIGTERM within a
-/// millisecond. Application threads hand it work with post() and wait for the answers.
+/// millisecond. It also keeps a heartbeat (mpi/liveness_mpi.cpp): rank 0 and the other ranks
+/// watch each other's messages and stop the job when one falls silent. Application threads hand
+/// it work with post() and wait for the answers.
 #include "mpi/job.h"
 
 #include <mpi.h>
@@ -19,7 +21,23 @@
 
 namespace arbor::mpi::detail {
 
-enum Tag : int { tag_request = 11, tag_grant = 12, tag_result = 13, tag_fatal = 14 };
+enum Tag : int {
+    tag_request = 11,
+    tag_grant = 12,
+    tag_result = 13,
+    tag_fatal = 14,
+    tag_heartbeat = 15,  ///< empty: "still here", sent when nothing else went to that rank lately
+    tag_stopping = 16,   ///< empty, to rank 0: "the launcher is stopping me" (mpirun interrupted)
+};
+
+/// The heartbeat's timing. A rank that sent nothing to a watcher for `beat` seconds sends an
+/// empty message; a watcher that heard nothing from a rank for `deadline` seconds stops the job.
+struct Heartbeat {
+    double beat = 1.0;
+    double deadline = 5.0;
+    /// $ARBOR_MPI_HEARTBEAT (seconds, the deadline; the beat is a fifth of it), else the defaults.
+    static Heartbeat from_environment();
+};
 
 class FarmImpl;
 
@@ -39,6 +57,7 @@ public:
     std::vector<double> sum(const std::vector<double>& values) override;
     std::unique_ptr<Farm> farm(const FarmSpec& spec, FarmResult on_result) override;
     [[noreturn]] void fail(int code, const std::string& what) override;
+    void set_cleanup(std::function<void()> cleanup) override;
 
     // --- for the farm and the fault handling (mpi/farm_mpi.cpp, mpi/faults_mpi.cpp) ---
     /// Runs `f` on the service thread at its next turn.
@@ -59,6 +78,11 @@ public:
     void stop_job(int code, const std::string& what);
     /// "rank R (pid P on HOST)".
     std::string describe_rank(int r) const;
+    /// Service thread: prints `line` (a whole "arbor: ..." line), runs the cleanup and ends the
+    /// job with `code` (MPI_Abort).
+    [[noreturn]] void end_job(int code, const std::string& line);
+    /// Service thread: the launcher is stopping the job; this process ends without a word.
+    [[noreturn]] void quit_quietly();
     bool service_thread() const { return std::this_thread::get_id() == service_.get_id(); }
 
 private:
@@ -68,7 +92,14 @@ private:
     int step();
     bool poll_messages();  ///< receives and dispatches every waiting message
     void on_fatal(const MPI_Status& st);
-    void check_signals();
+    void check_signals(double now);
+    /// mpi/liveness_mpi.cpp: sends heartbeats that are due and stops the job when a watched rank
+    /// has been silent past the deadline.
+    void keep_alive(double now);
+    /// mpi/liveness_mpi.cpp: the launcher stops the job. Rank 0 prints one line when every other
+    /// rank says it is being stopped too (nobody failed: mpirun was interrupted), and nothing when
+    /// one is silent (its failure, reported by itself or its guardian, is why).
+    void on_launcher_stop(double now);
 
     std::thread service_;
     int rank_ = 0, size_ = 1, node_rank_ = 0, nodes_ = 1;
@@ -90,7 +121,17 @@ private:
     std::list<std::string> sending_;  ///< buffers of sends in flight (service thread only)
 
     std::atomic<bool> fatal_sent_{false};
-    bool crash_reported_ = false, stop_reported_ = false;
+    bool crash_reported_ = false, stop_reported_ = false, guardian_reported_ = false;
+    std::function<void()> cleanup_;  ///< set before the first farm; run on the service thread
+
+    // Liveness (service thread only).
+    Heartbeat heartbeat_;
+    std::vector<double> heard_, sent_;  ///< per rank: when the last message came from / went to it
+    double last_turn_ = 0.0;            ///< when this thread's previous turn ran
+    bool finished_ = false;             ///< past the final barrier: no more watching
+    double launcher_stop_since_ = 0.0;  ///< when this rank saw the launcher stopping the job
+    MPI_Request stopping_request_ = MPI_REQUEST_NULL;
+    std::vector<char> stopping_from_;   ///< rank 0: which ranks said the launcher stops them
     double fatal_deadline_ = 0.0;  ///< a non-zero rank that reported a failure stops itself then
     int fatal_code_ = 1;
     std::string fatal_what_;
@@ -111,6 +152,9 @@ int caught_stop_signal();
 long stop_signal_sender();
 /// Whether the launcher (mpirun, directly or through the rank's guardian) sent a stop signal.
 bool stopped_by_launcher();
+/// Whether this rank's guardian (apps/arbor/rank_guardian.h) died, and its process id (0: none).
+bool guardian_lost();
+long guardian_process();
 /// "SIGSEGV (segmentation fault)".
 std::string signal_text(int sig);
 

@@ -2,6 +2,7 @@
 /// Was this process started by an MPI launcher? Read from the environment the launcher sets, so
 /// that a plain `arbor` call never loads or initialises MPI. Header-only, no MPI dependency: the
 /// benchmark binary and builds without MPI use it too.
+#include <csignal>
 #include <cstdlib>
 #include <string>
 
@@ -38,5 +39,10 @@ inline Launch detect_launch() {
 inline constexpr const char* guardian_variable = "ARBOR_RANK_GUARDIAN";
 /// A signal the guardian passes on (sigqueue) carries 0 when it came from the launcher (mpirun
 /// stopping the job), otherwise the process id of its sender (-1: unknown).
+
+/// The signal a rank receives when its guardian dies (PR_SET_PDEATHSIG). Its default action ends
+/// the rank, as SIGKILL would; once MPI is up the rank catches it and reports its guardian's death
+/// (mpi/faults_mpi.cpp). A real-time signal, so that nothing else sends it.
+inline int guardian_lost_signal() { return SIGRTMIN + 2; }
 
 }  // namespace arbor::mpi

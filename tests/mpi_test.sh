@@ -3,8 +3,9 @@
 # ranks equals the single-process image bit for bit (default scene and Cornell box, path traced;
 # converge, direct, on 2 and 3 ranks);
 # rank 0 alone prints and writes; a plain call loads no MPI; a rank that crashes, throws, runs out
-# of memory or is killed mid-frame stops the job with one line naming it, an exit status of
-# 1..127 and no output written or overwritten; a rank with another scene file or other settings is refused.
+# of memory, is killed or stops answering mid-frame, mpirun interrupted, or a rank's guardian
+# killed, stops the job within its bound with one line naming the rank and cause, a set exit status
+# and no output written or overwritten; a rank with another scene file or other settings is refused.
 # Every mpirun runs under `timeout`. Needs Open MPI's mpirun (the MPI front end is built).
 set -u
 . "$(dirname "$0")/mpi_common.sh"
@@ -110,8 +111,9 @@ LD_DEBUG=files "${MPIRUN[@]}" -x LD_DEBUG -np 1 "$ARBOR" render "${small[@]}" -o
 # 5. Faults: one line naming the rank (from rank 0, or from the guardian of a rank killed by a
 # signal), exit 1..127, no output written or overwritten.
 # expect_stop EXIT NEEDLE ENV... -- ARGS...: runs 2 ranks on the Cornell box, writing kept.exr: an
-# existing one must survive; with fresh=1, there is none before and none may appear.
-fresh=0
+# existing one must survive; with fresh=1, there is none before and none may appear. With
+# within=S the job must end within S seconds of its start, with after=S not before S seconds.
+fresh=0 within=0 after=0
 expect_stop() {
   local want_rc=$1 needle=$2; shift 2
   local envs=() xs=()
@@ -119,8 +121,13 @@ expect_stop() {
   shift
   rm -f "$WORK"/kept.*
   [ $fresh = 1 ] || echo "keep me" >"$WORK/kept.exr"
+  local t0; t0=$(date +%s%N)
   env "${envs[@]}" "${MPIRUN[@]}" "${xs[@]}" -np 2 "$@" >"$WORK/out" 2>"$WORK/err"
   local rc=$?
+  local ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+  echo "[$needle] exit $rc after $ms ms"
+  [ "$within" = 0 ] || [ $ms -le $((within * 1000)) ] || fail "[$needle] took $ms ms, bound $within s: $(cat "$WORK/err")"
+  [ "$after" = 0 ] || [ $ms -ge $((after * 1000)) ] || fail "[$needle] ended after $ms ms, before $after s: $(cat "$WORK/err")"
   case $want_rc in
     1..127) { [ $rc -ge 1 ] && [ $rc -le 127 ]; } || fail "[$needle] exit $rc, want 1..127: $(cat "$WORK/err")";;
     *) [ $rc -eq "$want_rc" ] || fail "[$needle] exit $rc, want $want_rc: $(cat "$WORK/err")";;
@@ -154,6 +161,36 @@ expect_stop 4 "arbor: rank 1: stopped by SIGTERM (sent by pid [0-9]*)" $idle ARB
 expect_stop 4 "arbor: rank 1: stopped by SIGTERM (sent by pid [0-9]*)" $idle ARBOR_MPI_TEST_FAULT=1:2:term-guardian \
   -- "${frame[@]}"
 expect_stop 4 "arbor: rank 0 (pid [0-9]* on .*) was killed by SIGKILL" ARBOR_MPI_TEST_FAULT=0:1:kill -- "${frame[@]}"
+# A rank that stops answering (SIGSTOP mid-frame) is found by the heartbeat: its watcher names it
+# once the deadline (5 s) has passed, and the job ends (mpirun resumes and stops the rank). Bound:
+# start-up and the first tiles (about 1 s), the deadline, mpirun's teardown (about 1 s), plus 5 s
+# of margin for a loaded machine.
+fresh=1 within=12 after=5 expect_stop 4 \
+  "arbor: rank 1 (pid [0-9]* on .*) has not answered for [5-9] s (stopped, hung, or cut off from rank 0); the job stops" \
+  $idle ARBOR_MPI_TEST_FAULT=1:2:stop -- "${frame[@]}"
+fresh=1 within=12 after=5 expect_stop 4 \
+  "arbor: rank 0 (pid [0-9]* on .*) has not answered for [5-9] s (stopped, hung, or cut off from rank 1); the job stops" \
+  ARBOR_MPI_TEST_FAULT=0:1:stop -- "${frame[@]}"
+# Ctrl-C to mpirun (a SIGINT to mpirun alone: the ranks run in process groups of their own, so a
+# terminal's Ctrl-C reaches mpirun only). mpirun stops the ranks (SIGTERM after 1 s) and exits 1
+# whatever they do; rank 0 says why. Bound: start-up, mpirun's 1 s, margin.
+fresh=1 within=8 expect_stop 1 \
+  "arbor: interrupted: mpirun stopped the job (Ctrl-C, or SIGINT, SIGTERM or SIGHUP sent to mpirun) while all 2 ranks ran; rank 0 wrote nothing" \
+  $idle ARBOR_MPI_TEST_FAULT=1:2:interrupt -- "${frame[@]}"
+# The guardian killed (SIGKILL): its rank reports it to rank 0, which names it. mpirun's status is
+# 137 here, its own rule for the process it started dying by a signal (128 + 9), which no process
+# of the job can change (docs/mpi.md).
+fresh=1 within=8 expect_stop 137 \
+  "arbor: rank 1: its guardian (pid [0-9]* on .*, the process mpirun started) was killed (SIGKILL" \
+  $idle ARBOR_MPI_TEST_FAULT=1:2:kill-guardian -- "${frame[@]}"
+# A job that runs several times longer than a (shortened) deadline, every rank busy rendering, is
+# not stopped.
+if ARBOR_MPI_HEARTBEAT=0.5 "${MPIRUN[@]}" -x ARBOR_MPI_HEARTBEAT -np 2 "$ARBOR" render builtin:cornell --integrator path \
+     --width 64 --height 48 --spp 256 -q --threads 1 -o "$WORK/long.exr" >"$WORK/out" 2>"$WORK/err"; then
+  [ -s "$WORK/long.exr" ] || fail "heartbeat 0.5 s: no image"
+else
+  fail "heartbeat 0.5 s: a healthy job was stopped: $(cat "$WORK/err")"
+fi
 
 # Ranks that disagree: another file with the same name in another folder, another setting, a
 # file missing on one rank.

@@ -81,3 +81,19 @@ TEST_CASE("atomic write: a failed write leaves the old file untouched") {
     CHECK(engine::read_file(p) == "old");
     CHECK_FALSE(std::filesystem::exists(p + ".tmp-" + std::to_string(::getpid())));
 }
+
+TEST_CASE("atomic write: remove_unfinished_files removes the open temporaries only") {
+    // What an MPI job stopped mid-write relies on: it ends without unwinding.
+    const auto done = temp_path("atomic_done.txt"), open = temp_path("atomic_open.txt");
+    engine::AtomicFile committed(done);
+    engine::write_file_atomic(committed.temp_path(), "whole");
+    committed.commit();
+    engine::AtomicFile unfinished(open);
+    engine::write_file_atomic(unfinished.temp_path(), "partial");
+    REQUIRE(std::filesystem::exists(unfinished.temp_path()));
+    engine::remove_unfinished_files();
+    CHECK_FALSE(std::filesystem::exists(unfinished.temp_path()));
+    CHECK(engine::read_file(done) == "whole");
+    CHECK_FALSE(std::filesystem::exists(open));
+    std::filesystem::remove(done);
+}

@@ -1,6 +1,7 @@
 #include "apps/arbor/cluster.h"
 
 #include "engine/error.h"
+#include "engine/file_io.h"
 #include "engine/scene_hash.h"
 #include "mpi/launcher.h"
 
@@ -71,6 +72,8 @@ Cluster* Cluster::join(bool force) {
     if (the_cluster()) return the_cluster().get();
     if (!force && !mpi::detect_launch().launched) return nullptr;
     the_cluster().reset(new Cluster(open_job()));
+    // A job stopped by MPI_Abort or by mpirun ends without unwinding: no half-written output may stay.
+    the_cluster()->job_->set_cleanup(engine::remove_unfinished_files);
     if (!the_cluster()->root()) {
         // "The other ranks print nothing on standard output": the same code runs on every rank.
         std::fflush(stdout);

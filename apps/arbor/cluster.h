@@ -60,7 +60,8 @@ void add_mpi_option(CLI::App& cmd, bool& flag);
 std::string settings_text(const engine::RenderSettings& s);
 
 /// Test-only fault injection (ARBOR_MPI_TEST_FAULT=RANK:TILES:KIND, KIND one of abort, segv,
-/// kill, term, term-guardian, throw, oom): rank RANK fails that way after finishing TILES tiles. Read once.
+/// kill, term, term-guardian, throw, oom, stop (SIGSTOP), interrupt (SIGINT to mpirun),
+/// kill-guardian): rank RANK fails that way after finishing TILES tiles. Read once.
 void inject_test_fault(int rank, long tiles_done);
 
 }  // namespace arbor::app

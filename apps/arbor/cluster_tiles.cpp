@@ -6,6 +6,8 @@
 /// the assembled image is the same bit for bit.
 #include "apps/arbor/cluster.h"
 
+#include "mpi/launcher.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -149,6 +151,17 @@ void inject_test_fault(int rank, long tiles_done) {
     if (fault.kind == "kill") std::raise(SIGKILL);
     if (fault.kind == "term") std::raise(SIGTERM);                    // as a user's `kill PID` would
     if (fault.kind == "term-guardian") ::kill(::getppid(), SIGTERM);  // a `kill` of the rank's guardian
+    // A rank that stops (as SIGSTOP or Ctrl-Z on its machine would) and stays stopped.
+    if (fault.kind == "stop") std::raise(SIGSTOP);
+    // mpirun interrupted (as by Ctrl-C in its terminal), or the rank's guardian killed: this
+    // thread then holds its tile, so the frame cannot end before the job is stopped.
+    if (fault.kind == "interrupt" || fault.kind == "kill-guardian") {
+        long guardian = 0, launcher = 0;
+        if (const char* ids = std::getenv(mpi::guardian_variable)) std::sscanf(ids, "%ld %ld", &guardian, &launcher);
+        if (fault.kind == "interrupt" && launcher > 0) ::kill(pid_t(launcher), SIGINT);
+        if (fault.kind == "kill-guardian" && guardian > 0) ::kill(pid_t(guardian), SIGKILL);
+        ::sleep(30);
+    }
     if (fault.kind == "throw") throw std::runtime_error("test fault after " + std::to_string(tiles_done) + " tiles");
     if (fault.kind == "oom") throw std::bad_alloc();
 }

@@ -75,7 +75,7 @@ void guard_rank() {
     ::sigprocmask(SIG_BLOCK, &held, &before);
     const pid_t child = ::fork();
     if (child == 0) {
-        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        ::prctl(PR_SET_PDEATHSIG, mpi::guardian_lost_signal());
         if (::getppid() != guardian) ::_exit(4);  // the guardian was gone before the line above
         const std::string ids = std::to_string(long(guardian)) + " " + std::to_string(long(launcher));
         ::setenv(mpi::guardian_variable, ids.c_str(), 1);

@@ -8,8 +8,10 @@
 /// die, prints one line naming the rank and the signal, and exits 4, which mpirun then returns.
 /// Signals sent to the guardian are passed on to the rank, marked with their sender (0: the
 /// launcher), so that the rank tells mpirun stopping the job from a user's `kill`
-/// (mpi/faults_mpi.cpp). The rank dies with its guardian (PR_SET_PDEATHSIG). A plain call (no
-/// launcher in the environment) forks nothing.
+/// (mpi/faults_mpi.cpp). When the guardian dies (SIGKILL), the rank gets a signal
+/// (PR_SET_PDEATHSIG, mpi::guardian_lost_signal()): it ends the rank, or once MPI is up, has the
+/// rank report its guardian's death and stop the job. A plain call (no launcher in the
+/// environment) forks nothing.
 namespace arbor::app {
 
 /// Returns in the rank, or at once when no launcher started this process; in the guardian it
