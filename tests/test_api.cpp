@@ -5,6 +5,7 @@
 #include "accel/interface/inside.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
+#include "api_shapes.h"
 #include "query_check.h"
 
 #include <arbor/arbor.h>
@@ -20,6 +21,9 @@ using accel_ray = arbor::accel::Ray;
 
 namespace {
 
+using arbor::testing::to_public;
+using arbor::testing::TwoMeshes;
+
 /// A vertex as a program might hold it: the position among other fields.
 struct Vertex {
     float normal[3];
@@ -34,40 +38,11 @@ std::uint32_t add_strided(arbor::Scene& scene, const arbor::engine::Mesh& m) {
     return scene.add_mesh(v[0].pos, v.size(), sizeof(Vertex), m.indices.data(), m.triangle_count());
 }
 
-std::vector<arbor::Ray> to_public(const std::vector<accel_ray>& rays) {
-    std::vector<arbor::Ray> out(rays.size());
-    static_assert(sizeof(arbor::Ray) == sizeof(accel_ray));
-    std::memcpy(static_cast<void*>(out.data()), rays.data(), rays.size() * sizeof(accel_ray));
-    return out;
-}
-
 bool same(const arbor::Hit& a, const arbor::Hit& b) {
     return std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t) && a.geom == b.geom && a.prim == b.prim &&
            std::bit_cast<std::uint32_t>(a.u) == std::bit_cast<std::uint32_t>(b.u) &&
            std::bit_cast<std::uint32_t>(a.v) == std::bit_cast<std::uint32_t>(b.v);
 }
-
-/// Two meshes (a sphere, geom 0, and a torus, geom 1) and the same concatenated for the oracle.
-struct TwoMeshes {
-    arbor::engine::Mesh sphere = arbor::engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.05f, 2);
-    arbor::engine::Mesh torus = arbor::engine::make_torus({2.5f, 0, 0}, 1.0f, 0.3f, 24, 12);
-    arbor::engine::Mesh both;
-    TwoMeshes() {
-        both = sphere;
-        both.append(torus);
-        both.compute_bounds();
-    }
-    /// The public hit the oracle's hit maps to.
-    arbor::Hit map(const arbor::accel::Hit& h) const {
-        arbor::Hit out;
-        if (!h.is_hit()) return out;
-        const auto n0 = std::uint32_t(sphere.triangle_count());
-        out.geom = h.prim < n0 ? 0 : 1;
-        out.prim = h.prim < n0 ? h.prim : h.prim - n0;
-        out.t = h.t, out.u = h.u, out.v = h.v;
-        return out;
-    }
-};
 
 }  // namespace
 

@@ -11,38 +11,13 @@
 #include <functional>
 
 #include "engine/procedural.h"
+#include "api_shapes.h"
 #include "query_check.h"
 
 namespace {
 
-/// An icosphere (geom 0) and a torus (geom 1), as a program's packed arrays.
-struct Shapes {
-    arbor::engine::Mesh sphere = arbor::engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.05f, 2);
-    arbor::engine::Mesh torus = arbor::engine::make_torus({2.5f, 0, 0}, 1.0f, 0.3f, 24, 12);
-    arbor::engine::Mesh both;
-    Shapes() {
-        both = sphere;
-        both.append(torus);
-        both.compute_bounds();
-    }
-    static std::vector<float> positions(const arbor::engine::Mesh& m) {
-        std::vector<float> p;
-        for (std::size_t i = 0; i < m.vertex_count(); ++i) p.insert(p.end(), {m.x[i], m.y[i], m.z[i]});
-        return p;
-    }
-    void add_to(arbor::Scene& s) const {
-        s.add_mesh(positions(sphere), sphere.indices);
-        s.add_mesh(positions(torus), torus.indices);
-    }
-    const arbor::engine::Mesh& mesh(std::uint32_t geom) const { return geom == 0 ? sphere : torus; }
-};
-
-std::vector<arbor::Ray> rays_of(const std::vector<arbor::accel::Ray>& in) {
-    std::vector<arbor::Ray> out(in.size());
-    static_assert(sizeof(arbor::Ray) == sizeof(arbor::accel::Ray));
-    std::memcpy(static_cast<void*>(out.data()), in.data(), in.size() * sizeof(arbor::Ray));
-    return out;
-}
+using arbor::testing::TwoMeshes;
+using arbor::testing::to_public;
 
 template <class T>
 bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
@@ -63,8 +38,8 @@ int error_kind(const std::function<void()>& f, const char* expected_words) {
 
 TEST_CASE("api: QueryOptions threads 1, 2, 3, 0 and above the cores give the same bits on every query") {
     using namespace arbor;
-    const Shapes m;
-    const std::vector<Ray> rays = rays_of(testing::three_kinds(m.both.bounds, 3000, 11));
+    const TwoMeshes m;
+    const std::vector<Ray> rays = to_public(testing::three_kinds(m.both.bounds, 3000, 11));
     const RayArrays view = RayArrays::of(rays.data(), rays.size());
     std::vector<float> xyz;
     for (const auto& p : testing::query_points(m.both, 60, 5)) xyz.insert(xyz.end(), {p.x, p.y, p.z});
@@ -122,8 +97,8 @@ TEST_CASE("api: QueryOptions threads 1, 2, 3, 0 and above the cores give the sam
 
 TEST_CASE("api: hit_normals are the unit (v1-v0) x (v2-v0) of each hit's triangle, zeros for a miss") {
     using namespace arbor;
-    const Shapes m;
-    const std::vector<Ray> rays = rays_of(testing::random_rays_into(m.both.bounds, 2000, 4));
+    const TwoMeshes m;
+    const std::vector<Ray> rays = to_public(testing::random_rays_into(m.both.bounds, 2000, 4));
     Scene scene;
     m.add_to(scene);
     const std::vector<Hit> hits = scene.intersect(rays);
@@ -181,7 +156,7 @@ TEST_CASE("api: hit_normals are the unit (v1-v0) x (v2-v0) of each hit's triangl
 
 TEST_CASE("api: closest_point with one max_distance per point answers as one call per distance") {
     using namespace arbor;
-    const Shapes m;
+    const TwoMeshes m;
     Scene scene;
     m.add_to(scene);
     std::vector<float> xyz;
