@@ -2,10 +2,122 @@
 #include "winding_check.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <optional>
 
 namespace arbor::testing {
+
+namespace {
+
+/// A signed integer of any size, just enough for an exact 3x3 determinant: magnitude in base 2^32
+/// limbs, least significant first.
+struct BigInt {
+    bool negative = false;
+    std::vector<std::uint32_t> limbs;
+
+    bool zero() const { return limbs.empty(); }
+    void trim() {
+        while (!limbs.empty() && limbs.back() == 0) limbs.pop_back();
+        if (limbs.empty()) negative = false;
+    }
+    /// m * 2^shift for an integer |m| < 2^64 and shift >= 0.
+    static BigInt of(std::uint64_t m, bool neg, int shift) {
+        BigInt r;
+        r.negative = neg;
+        r.limbs.assign(std::size_t(shift / 32) + 3, 0);
+        const unsigned __int128 v = static_cast<unsigned __int128>(m) << (shift % 32);
+        for (int k = 0; k < 3; ++k) r.limbs[std::size_t(shift / 32 + k)] = std::uint32_t(v >> (32 * k));
+        r.trim();
+        return r;
+    }
+    friend BigInt operator*(const BigInt& x, const BigInt& y) {
+        BigInt r;
+        r.negative = x.negative != y.negative;
+        r.limbs.assign(x.limbs.size() + y.limbs.size(), 0);
+        for (std::size_t i = 0; i < x.limbs.size(); ++i) {
+            std::uint64_t carry = 0;
+            for (std::size_t j = 0; j < y.limbs.size(); ++j) {
+                const std::uint64_t t = std::uint64_t(x.limbs[i]) * y.limbs[j] + r.limbs[i + j] + carry;
+                r.limbs[i + j] = std::uint32_t(t);
+                carry = t >> 32;
+            }
+            r.limbs[i + y.limbs.size()] = std::uint32_t(carry);
+        }
+        r.trim();
+        return r;
+    }
+    /// |x| compared with |y|: -1, 0, 1.
+    static int compare(const BigInt& x, const BigInt& y) {
+        if (x.limbs.size() != y.limbs.size()) return x.limbs.size() < y.limbs.size() ? -1 : 1;
+        for (std::size_t i = x.limbs.size(); i-- > 0;)
+            if (x.limbs[i] != y.limbs[i]) return x.limbs[i] < y.limbs[i] ? -1 : 1;
+        return 0;
+    }
+    friend BigInt operator+(const BigInt& x, const BigInt& y) {
+        BigInt r;
+        if (x.negative == y.negative) {  // magnitudes add
+            r.negative = x.negative;
+            std::uint64_t carry = 0;
+            for (std::size_t i = 0; i < std::max(x.limbs.size(), y.limbs.size()); ++i) {
+                const std::uint64_t t =
+                    std::uint64_t(i < x.limbs.size() ? x.limbs[i] : 0) + (i < y.limbs.size() ? y.limbs[i] : 0) + carry;
+                r.limbs.push_back(std::uint32_t(t));
+                carry = t >> 32;
+            }
+            r.limbs.push_back(std::uint32_t(carry));
+        } else {  // the larger magnitude minus the smaller, with the larger's sign
+            const bool x_big = compare(x, y) >= 0;
+            const BigInt& big = x_big ? x : y;
+            const BigInt& small = x_big ? y : x;
+            r.negative = big.negative;
+            std::int64_t borrow = 0;
+            for (std::size_t i = 0; i < big.limbs.size(); ++i) {
+                std::int64_t t = std::int64_t(big.limbs[i]) - (i < small.limbs.size() ? small.limbs[i] : 0) - borrow;
+                borrow = t < 0;
+                if (t < 0) t += std::int64_t(1) << 32;
+                r.limbs.push_back(std::uint32_t(t));
+            }
+        }
+        r.trim();
+        return r;
+    }
+    friend BigInt operator-(const BigInt& x, BigInt y) {
+        y.negative = !y.negative && !y.zero();
+        return x + y;
+    }
+};
+
+/// Whether the triple product of q's rows is exactly 0, in integers (independent of the library's
+/// expansion arithmetic): each row entry is an exact difference of floats (long double holds it),
+/// so an integer times 2^lo for the smallest lo among them.
+bool exactly_coplanar(const long double q[3][3]) {
+    int lo = std::numeric_limits<int>::max();
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k)
+            if (q[r][k] != 0.0L) {
+                int ex = 0;
+                std::frexp(q[r][k], &ex);
+                lo = std::min(lo, ex - 64);
+            }
+    if (lo == std::numeric_limits<int>::max()) return true;  // all zero
+    BigInt v[3][3];
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) {
+            int ex = 0;
+            const long double m = std::frexp(q[r][k], &ex);  // |m| in [1/2, 1): 64 mantissa bits
+            const auto bits = static_cast<std::uint64_t>(std::fabs(std::ldexp(m, 64)));
+            v[r][k] = BigInt::of(bits, m < 0.0L, ex - 64 - lo);
+        }
+    const BigInt det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[2][1]) +
+                       v[0][1] * (v[1][2] * v[2][0] - v[1][0] * v[2][2]) +
+                       v[0][2] * (v[1][0] * v[2][1] - v[1][1] * v[2][0]);
+    return det.zero();
+}
+
+}  // namespace
 
 long double oracle_winding(const accel::TriangleView& tris, const accel::Vec3f& p) {
     using L = long double;
@@ -21,7 +133,7 @@ long double oracle_winding(const accel::TriangleView& tris, const accel::Vec3f& 
         const L det = q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) +
                       q[0][1] * (q[1][2] * q[2][0] - q[1][0] * q[2][2]) +
                       q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
-        if (det == 0.0L) continue;
+        if (exactly_coplanar(q)) continue;
         const L la = std::sqrt(dot(q[0], q[0])), lb = std::sqrt(dot(q[1], q[1])), lc = std::sqrt(dot(q[2], q[2]));
         const L den = la * lb * lc + dot(q[0], q[1]) * lc + dot(q[0], q[2]) * lb + dot(q[1], q[2]) * la;
         sum += std::atan2(det, den);

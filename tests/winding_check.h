@@ -12,7 +12,9 @@ namespace arbor::testing {
 
 /// The oracle: every finite triangle's solid angle by Van Oosterom & Strackee, each term and the
 /// sum in long double, written apart from accel/core/solid_angle.h. Same convention for a point
-/// exactly in a triangle's plane (a zero triple product): 0.
+/// exactly in a triangle's plane: 0, decided in exact integer arithmetic. (The differences of
+/// float coordinates are exact in long double while their exponents are within 39 of each other,
+/// which every test point keeps.)
 long double oracle_winding(const accel::TriangleView& tris, const accel::Vec3f& p);
 
 /// A closed axis-aligned box [lo, hi]^3 whose faces are n x n grids of quads (two triangles each),
