@@ -40,6 +40,9 @@ MISUSES = [
     ("h: str = scene.triangles", "str"),
     ("scene.intersect_all(o, d, 0.0, 1.0, 4, None)", "intersect_all"),
     ("scene.inside(o, method=3)", "method"),
+    ('scene.signed_distance(o, "ray")', "signed_distance"),
+    ("w: list[float] = scene.winding_number(o)", "floating[_64Bit]"),
+    ("scene.closed = True", "closed"),
 ]
 
 
@@ -71,3 +74,6 @@ def test_the_typed_usage_runs_and_returns_what_it_states(tmp_path):
     assert got["grid_hits"].shape == (3, 4) and got["near"].shape == () and got["nears"].shape == (2,)
     assert got["ins"].dtype == np.bool_ and got["file_hits"].shape == (3,)
     assert got["triangles"] == 4 and got["meshes"] == 1 and got["geom"] == 0
+    assert got["winding"].dtype == np.float64 and abs(got["winding"][0] - 1) < 0.05 and abs(got["winding"][1]) < 0.05
+    assert list(got["ins_winding"]) == [True, False] and got["closed"] is True
+    assert got["signed"].dtype == np.float32 and got["signed"][0] < 0 < got["signed"][1]
