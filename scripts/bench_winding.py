@@ -50,6 +50,8 @@ def main():
     ap.add_argument("--sample", type=int, default=2000, help="points checked against the exact sum")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--accel", default="bvh-sah")
+    ap.add_argument("--dump", help="also write the mesh, the points, the sample and its exact winding numbers "
+                    "here (raw little-endian arrays, for scripts/libigl_winding.sh)")
     args = ap.parse_args()
 
     v, f = load_obj(args.model)
@@ -70,6 +72,14 @@ def main():
     exact = scene.winding_number(sample, exact=True)
     exact_s = time.perf_counter() - t
     print(f"exact: {args.sample} points in {exact_s:.2f} s ({exact_s / args.sample * 1e6:.0f} us/point)")
+    if args.dump:
+        d = pathlib.Path(args.dump)
+        d.mkdir(parents=True, exist_ok=True)
+        v.astype("<f4").tofile(d / "V.f32")
+        f.astype("<i4").tofile(d / "F.i32")
+        pts.astype("<f4").tofile(d / "Q.f32")
+        sample.astype("<f4").tofile(d / "S.f32")
+        exact.astype("<f8").tofile(d / "S_exact.f64")
     print("| beta | 1M points (s) | us/point | max abs error | 99.9th pct | mean abs error | inside wrong |")
     print("|---|---|---|---|---|---|---|")
     for beta in (2.0, 4.0, 8.0):

@@ -91,7 +91,7 @@ TEST_CASE("api: winding_number exact and fast on every structure, inside and sig
     }
 }
 
-TEST_CASE("api: winding inside of flipped, doubled and open meshes; the parity agrees on closed ones") {
+TEST_CASE("api: winding inside of flipped, doubled and open meshes, the parity agreeing on closed ones") {
     const engine::Mesh sphere = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.05f, 3);
     std::vector<float> xyz;
     for (int i = 0; i < 200; ++i) {  // along a line through the sphere, none near the surface
@@ -163,7 +163,7 @@ TEST_CASE("api: closed() by vertex numbers, recomputed after add_mesh") {
     }
 }
 
-TEST_CASE("api: winding errors name the argument; a non-finite point is NaN; 1 and 2 threads agree") {
+TEST_CASE("api: winding errors name the argument, a non-finite point is NaN, 1 and 2 threads agree") {
     Scene s;
     add(s, engine::make_icosphere({0, 0, 0}, 1.0f, 5));
     const std::vector<float> xyz = {0, 0, 0, NAN, 0, 0, 0, 0, INFINITY, 3, 0, 0};

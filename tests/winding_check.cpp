@@ -229,19 +229,30 @@ engine::Mesh slivers() {
     return m;
 }
 
-TreeCheck check_tree(const accel::WindingTree& tree, const accel::TriangleView& tris,
-                     const std::vector<accel::Vec3f>& points, double beta) {
+Reference reference(const accel::TriangleView& tris, const std::vector<accel::Vec3f>& points) {
+    Reference r;
+    r.exact.resize(points.size());
+    accel::make_exact_winding(tris)->winding_numbers(points, accel::default_winding_beta, r.exact);
+    for (const accel::Vec3f& p : points) r.oracle.push_back(double(oracle_winding(tris, p)));
+    return r;
+}
+
+TreeCheck check_tree(const accel::WindingTree& tree, const Reference& ref, const std::vector<accel::Vec3f>& points,
+                     double beta) {
     TreeCheck r;
-    std::vector<double> w(points.size()), bound(points.size()), exact(points.size());
+    std::vector<double> w(points.size()), bound(points.size());
     tree.winding_numbers(points, beta, w, bound);
-    accel::make_exact_winding(tris)->winding_numbers(points, beta, exact);
     for (std::size_t i = 0; i < points.size(); ++i) {
-        const double oracle = double(oracle_winding(tris, points[i]));
-        r.worst_vs_oracle = std::max(r.worst_vs_oracle, std::fabs(w[i] - oracle));
-        r.worst_bound_excess = std::max(r.worst_bound_excess, std::fabs(w[i] - exact[i]) - bound[i]);
+        r.worst_vs_oracle = std::max(r.worst_vs_oracle, std::fabs(w[i] - ref.oracle[i]));
+        r.worst_bound_excess = std::max(r.worst_bound_excess, std::fabs(w[i] - ref.exact[i]) - bound[i]);
         r.largest_bound = std::max(r.largest_bound, bound[i]);
     }
     return r;
+}
+
+TreeCheck check_tree(const accel::WindingTree& tree, const accel::TriangleView& tris,
+                     const std::vector<accel::Vec3f>& points, double beta) {
+    return check_tree(tree, reference(tris, points), points, beta);
 }
 
 }  // namespace arbor::testing

@@ -41,6 +41,13 @@ struct TreeCheck {
     double worst_bound_excess = -1.0;
     double largest_bound = 0.0;  ///< > 0 when some point used a dipole
 };
+/// The exact sum (make_exact_winding) and the oracle at each point, to check many trees against.
+struct Reference {
+    std::vector<double> exact, oracle;
+};
+Reference reference(const accel::TriangleView& tris, const std::vector<accel::Vec3f>& points);
+TreeCheck check_tree(const accel::WindingTree& tree, const Reference& ref, const std::vector<accel::Vec3f>& points,
+                     double beta);
 TreeCheck check_tree(const accel::WindingTree& tree, const accel::TriangleView& tris,
                      const std::vector<accel::Vec3f>& points, double beta);
 
