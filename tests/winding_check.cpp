@@ -133,7 +133,12 @@ long double oracle_winding(const accel::TriangleView& tris, const accel::Vec3f& 
         const L det = q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) +
                       q[0][1] * (q[1][2] * q[2][0] - q[1][0] * q[2][2]) +
                       q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
-        if (exactly_coplanar(q)) continue;
+        // Far from 0 relative to its terms, the long-double value cannot be a rounded 0; near it,
+        // integers decide.
+        const L perm = std::fabs(q[0][0]) * (std::fabs(q[1][1] * q[2][2]) + std::fabs(q[1][2] * q[2][1])) +
+                       std::fabs(q[0][1]) * (std::fabs(q[1][2] * q[2][0]) + std::fabs(q[1][0] * q[2][2])) +
+                       std::fabs(q[0][2]) * (std::fabs(q[1][0] * q[2][1]) + std::fabs(q[1][1] * q[2][0]));
+        if (!(std::fabs(det) > 1e-12L * perm) && exactly_coplanar(q)) continue;
         const L la = std::sqrt(dot(q[0], q[0])), lb = std::sqrt(dot(q[1], q[1])), lc = std::sqrt(dot(q[2], q[2]));
         const L den = la * lb * lc + dot(q[0], q[1]) * lc + dot(q[0], q[2]) * lb + dot(q[1], q[2]) * la;
         sum += std::atan2(det, den);
