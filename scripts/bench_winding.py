@@ -10,6 +10,7 @@ exact=True on a sample of the points. Also timed: inside by parity and by windin
     PYTHONPATH=build/release/python python3 scripts/bench_winding.py --threads 2
 """
 import argparse
+import os
 import pathlib
 import time
 
@@ -44,7 +45,9 @@ def subdivide(v, f):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--model", default=str(pathlib.Path(__file__).resolve().parents[1] / ".." / "shared" / "scenes" / "models" / "spot.obj"))
+    shared = os.environ.get("ARBOR_SHARED_SCENES") or str(pathlib.Path(__file__).resolve().parents[1] / ".." / "shared" / "scenes")
+    ap.add_argument("--model", default=str(pathlib.Path(shared) / "models" / "spot.obj"),
+                    help="default: spot.obj of $ARBOR_SHARED_SCENES (else ../shared/scenes)")
     ap.add_argument("--levels", type=int, default=2, help="1-to-4 subdivisions")
     ap.add_argument("--points", type=int, default=1_000_000)
     ap.add_argument("--sample", type=int, default=2000, help="points checked against the exact sum")
