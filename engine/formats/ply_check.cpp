@@ -66,6 +66,7 @@ void walk_binary(const PlyHeader& h, std::string_view bytes, const std::string& 
     const std::size_t end = bytes.size();
     const bool big = h.encoding == PlyHeader::Encoding::binary_big_endian;
     for (const PlyElement& e : h.elements) {
+        if (e.properties.empty()) continue;  // records of no bytes: nothing to walk, whatever the count
         for (std::uint64_t r = 0; r < e.count; ++r)
             for (const PlyProperty& p : e.properties) {
                 if (!p.count_size) {
@@ -98,7 +99,8 @@ void walk_ascii(const PlyHeader& h, std::string_view bytes, const std::string& n
         return !token.empty();
     };
     std::string_view tok;
-    for (const PlyElement& e : h.elements)
+    for (const PlyElement& e : h.elements) {
+        if (e.properties.empty()) continue;  // records of no numbers: nothing to walk, whatever the count
         for (std::uint64_t r = 0; r < e.count; ++r)
             for (const PlyProperty& p : e.properties) {
                 if (!next(tok)) throw InputError(name, 0, "ASCII PLY body ends inside " + at(e, r) + " (truncated file?)");
@@ -110,6 +112,7 @@ void walk_ascii(const PlyHeader& h, std::string_view bytes, const std::string& n
                 for (long long k = 0; k < n; ++k)
                     if (!next(tok)) throw InputError(name, 0, "ASCII PLY body ends inside " + at(e, r) + " (truncated file?)");
             }
+    }
 }
 
 }  // namespace

@@ -276,6 +276,7 @@ struct Reader {
                                      " lists that arbor does not read as surfaces (it reads 'face' and 'tristrips')");
         skipped.push_back("element '" + e.name + "' (" + std::to_string(e.count) +
                           (e.count == 1 ? " record)" : " records)"));
+        if (e.properties.empty()) return;  // records of no values: nothing to skip, whatever the count
         for (std::uint64_t r = 0; r < e.count; ++r)
             for (const PlyProperty& p : e.properties) {
                 values.at(e, r, p);
