@@ -4,8 +4,10 @@
 spot.obj (5,856 triangles, closed) is subdivided twice 1-to-4 (edge midpoints shared, so it stays
 closed): 93,696 triangles. 1M points uniform in its box grown by 20% are answered by
 Scene.winding_number at beta 2 (and larger betas) on a bvh-sah scene built with `--threads`
-threads; the first call's time includes making the dipoles. The error is measured against
-exact=True on a sample of the points. Also timed: inside by parity and by winding on the same points.
+threads; the first call's time includes making the dipoles, and with --repeat the median of that
+many more calls is printed too, with its process CPU time (steadier than the wall time on a
+shared machine). The error is measured against exact=True on a sample of the points.
+Also timed: inside by parity and by winding on the same points.
 
     PYTHONPATH=build/release/python python3 scripts/bench_winding.py --threads 2
 """
@@ -53,6 +55,9 @@ def main():
     ap.add_argument("--sample", type=int, default=2000, help="points checked against the exact sum")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--accel", default="bvh-sah")
+    ap.add_argument("--betas", default="2,4,8", help="comma-separated")
+    ap.add_argument("--repeat", type=int, default=0, help="time this many more calls per beta; print their median")
+    ap.add_argument("--no-inside", action="store_true", help="skip the inside timings")
     ap.add_argument("--dump", help="also write the mesh, the points, the sample and its exact winding numbers "
                     "here (raw little-endian arrays, for scripts/libigl_winding.sh)")
     args = ap.parse_args()
@@ -83,19 +88,29 @@ def main():
         pts.astype("<f4").tofile(d / "Q.f32")
         sample.astype("<f4").tofile(d / "S.f32")
         exact.astype("<f8").tofile(d / "S_exact.f64")
-    print("| beta | 1M points (s) | us/point | max abs error | 99.9th pct | mean abs error | inside wrong |")
-    print("|---|---|---|---|---|---|---|")
-    for beta in (2.0, 4.0, 8.0):
+    print("| beta | 1M points (s) | median of repeats (s) | its cpu (s) | us/point | max abs error | 99.9th pct | mean abs error | inside wrong |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for beta in (float(b) for b in args.betas.split(",")):
         s = arbor.Scene(v.astype(np.float32), f)
         s.build(args.accel, threads=args.threads)
         t = time.perf_counter()
         w = s.winding_number(pts, beta=beta)  # the first call makes the dipoles
         first_s = time.perf_counter() - t
+        times, cpu = [], []
+        for _ in range(args.repeat):
+            t, c = time.perf_counter(), time.process_time()
+            s.winding_number(pts, beta=beta)
+            times.append(time.perf_counter() - t)
+            cpu.append(time.process_time() - c)
+        median_s = float(np.median(times)) if times else float("nan")
+        median_cpu = float(np.median(cpu)) if cpu else float("nan")
         err = np.abs(s.winding_number(sample, beta=beta) - exact)
         wrong = np.count_nonzero((s.winding_number(sample, beta=beta) >= 0.5) != (exact >= 0.5))
-        print(f"| {beta:g} | {first_s:.2f} | {first_s / len(pts) * 1e6:.2f} | {err.max():.2e} | "
+        print(f"| {beta:g} | {first_s:.3f} | {median_s:.3f} | {median_cpu:.3f} | {first_s / len(pts) * 1e6:.2f} | {err.max():.2e} | "
               f"{np.quantile(err, 0.999):.2e} | {err.mean():.2e} | {wrong} of {args.sample} |")
         del w
+    if args.no_inside:
+        return
     t = time.perf_counter()
     scene.inside(pts)
     parity_s = time.perf_counter() - t

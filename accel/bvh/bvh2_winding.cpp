@@ -46,13 +46,13 @@ public:
     }
     std::string_view method() const override { return method_; }
     std::size_t memory_bytes() const override {
-        return dipoles_.capacity() * sizeof(Dipole) + (owned_ ? owned_->memory_bytes() : 0);
+        return dipoles_.capacity() * sizeof(DipoleSlots<2>) + (owned_ ? owned_->memory_bytes() : 0);
     }
 
 private:
     std::unique_ptr<Bvh2Layout> owned_;
     Bvh2Tree tree_;
-    std::vector<Dipole> dipoles_;
+    std::vector<DipoleSlots<2>> dipoles_;
     std::string method_;
 };
 

@@ -18,11 +18,14 @@
 ///   Vec3f vertex(std::uint32_t slot, int k) const;
 #include "accel/core/solid_angle.h"
 
+#include "simd/simd.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <numbers>
 #include <span>
 #include <vector>
 
@@ -90,11 +93,29 @@ inline Dipole merge_dipoles(std::span<const Dipole> parts, const Bounds& box) {
 
 }  // namespace detail
 
-/// One dipole per child slot, dipoles[n * L::width + c] for child c of node n (unused slots: zero
-/// dipoles). Leaves in parallel, then the interior bottom-up; the result does not depend on the
-/// number of threads.
+/// The dipoles of one node's child slots in SoA form, each array padded to whole double batches
+/// so that the walk tests and sums them a batch at a time (unused slots: zeros, masked out by the
+/// walk). Per slot: the center, the area vector, the radius and the unsigned area (Dipole).
+template <std::size_t W>
+struct alignas(64) DipoleSlots {
+    using Batch = xsimd::batch<double>;
+    static constexpr std::size_t lanes = Batch::size;
+    static constexpr std::size_t size = (W + lanes - 1) / lanes * lanes;
+    double cx[size], cy[size], cz[size];
+    double nx[size], ny[size], nz[size];
+    double radius[size], area[size];
+
+    void set(std::size_t c, const Dipole& d) {
+        cx[c] = d.center.x, cy[c] = d.center.y, cz[c] = d.center.z;
+        nx[c] = d.normal.x, ny[c] = d.normal.y, nz[c] = d.normal.z;
+        radius[c] = d.radius, area[c] = d.area;
+    }
+};
+
+/// One DipoleSlots per interior node, dipoles[n] for node n (child slot c: lane c). Leaves in
+/// parallel, then the interior bottom-up; the result does not depend on the number of threads.
 template <class L>
-std::vector<Dipole> make_dipoles(const L& t) {
+std::vector<DipoleSlots<L::width>> make_dipoles(const L& t) {
     constexpr std::size_t w = L::width;
     std::vector<Dipole> dip(t.nodes() * w);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.nodes(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -111,59 +132,101 @@ std::vector<Dipole> make_dipoles(const L& t) {
                 dip[n * w + c] =
                     detail::merge_dipoles({dip.data() + std::size_t(m) * w, t.children(m)}, t.box(std::uint32_t(n), c));
             }
-    return dip;
+    std::vector<DipoleSlots<w>> soa(t.nodes(), DipoleSlots<w>{});
+    for (std::size_t n = 0; n < t.nodes(); ++n)
+        for (std::size_t c = 0; c < t.children(std::uint32_t(n)); ++c) soa[n].set(c, dip[n * w + c]);
+    return soa;
 }
 
-/// The winding number of the tree's triangles around p (finite): dipoles for the children farther
-/// than beta * radius, exact solid angles in the leaves opened. `bound` gets the sum of the error
-/// bounds of the dipoles used. `stack` is scratch (kept between calls to reuse its memory).
+namespace detail {
+
+/// The sum of the exact winding numbers of a leaf's triangles around p: the adapter's own batch
+/// evaluation when it has one (L::leaf_winding), else triangle by triangle.
 template <class L>
-double winding_at(const L& t, std::span<const Dipole> dip, const Vec3f& p, double beta, double& bound,
-                  std::vector<std::uint32_t>& stack) {
-    constexpr std::size_t w = L::width;
-    const Vec3d q = to_double(p);
-    double sum = 0.0;
-    bound = 0.0;
-    const auto leaf = [&](Slots s) {
+double leaf_winding(const L& t, Slots s, const Vec3f& p) {
+    if constexpr (requires { t.leaf_winding(s, p); }) {
+        return t.leaf_winding(s, p);
+    } else {
+        double sum = 0.0;
         for (std::uint32_t i = s.first; i < s.first + s.count; ++i)
             sum += triangle_winding(p, t.vertex(i, 0), t.vertex(i, 1), t.vertex(i, 2));
-    };
-    if (t.root_is_leaf()) {
-        leaf(t.root_slots());
         return sum;
     }
+}
+
+}  // namespace detail
+
+/// The winding number of the tree's triangles around p (finite): dipoles for the children farther
+/// than beta * radius (compared squared: |center - p|^2 > beta^2 radius^2), exact solid angles in
+/// the leaves opened. A node's children are tested and their dipoles summed a double batch at a
+/// time, into per-lane sums added up once at the end. With Bound, `bound` gets the sum of the error
+/// bounds of the dipoles used. `stack` is scratch (kept between calls to reuse its memory).
+template <bool Bound, class L>
+double winding_at(const L& t, std::span<const DipoleSlots<L::width>> dip, const Vec3f& p, double beta, double& bound,
+                  std::vector<std::uint32_t>& stack) {
+    using Slots_ = DipoleSlots<L::width>;
+    using B = typename Slots_::Batch;
+    constexpr std::size_t lanes = Slots_::lanes;
+    bound = 0.0;
+    if (t.root_is_leaf()) return detail::leaf_winding(t, t.root_slots(), p);
     if (t.nodes() == 0) return 0.0;
+    const B qx(double(p.x)), qy(double(p.y)), qz(double(p.z)), beta2(beta * beta);
+    // Lane numbers, to mask the slots past a node's children.
+    alignas(64) double lane_ids[lanes];
+    for (std::size_t i = 0; i < lanes; ++i) lane_ids[i] = double(i);
+    const B ids = B::load_aligned(lane_ids);
+    B far_sum(0.0), bound_sum(0.0);
+    double near_sum = 0.0;
     stack.clear();
     stack.push_back(0);
     while (!stack.empty()) {
         const std::uint32_t n = stack.back();
         stack.pop_back();
-        for (std::size_t c = 0; c < t.children(n); ++c) {
-            const Dipole& d = dip[std::size_t(n) * w + c];
-            const double dist = simd::length(d.center - q);
-            if (dist > beta * d.radius) {
-                sum += dipole_winding(d, q);
-                bound += dipole_error_bound(d, dist);
-            } else if (t.is_leaf(n, c)) {
-                leaf(t.slots(n, c));
-            } else {
-                stack.push_back(t.node(n, c));
+        const Slots_& d = dip[n];
+        const std::size_t kids = t.children(n);
+        for (std::size_t g = 0; g < kids; g += lanes) {
+            const B rx = B::load_aligned(d.cx + g) - qx, ry = B::load_aligned(d.cy + g) - qy,
+                    rz = B::load_aligned(d.cz + g) - qz;
+            const B r2 = rx * rx + ry * ry + rz * rz;
+            const B rad = B::load_aligned(d.radius + g);
+            const auto used = ids < B(double(kids - g));
+            const auto far = used && r2 > beta2 * (rad * rad);
+            if (xsimd::any(far)) {
+                const B len = xsimd::sqrt(r2);
+                const B dot = B::load_aligned(d.nx + g) * rx + B::load_aligned(d.ny + g) * ry + B::load_aligned(d.nz + g) * rz;
+                far_sum += xsimd::select(far, dot / (r2 * len), B(0.0));
+                if constexpr (Bound) {
+                    const B gap = len - rad;
+                    bound_sum += xsimd::select(far, B::load_aligned(d.area + g) * rad / (gap * gap * gap), B(0.0));
+                }
+            }
+            // The near children, in slot order: leaves summed exactly, nodes opened.
+            alignas(64) double near_lanes[lanes];
+            xsimd::select(used && !far, B(1.0), B(0.0)).store_aligned(near_lanes);
+            for (std::size_t i = 0; i < lanes && g + i < kids; ++i) {
+                if (near_lanes[i] == 0.0) continue;
+                const std::size_t c = g + i;
+                if (t.is_leaf(n, c)) near_sum += detail::leaf_winding(t, t.slots(n, c), p);
+                else stack.push_back(t.node(n, c));
             }
         }
     }
-    return sum;
+    if constexpr (Bound) bound = xsimd::hadd(bound_sum) / (2.0 * std::numbers::pi);
+    return near_sum + xsimd::hadd(far_sum) / (4.0 * std::numbers::pi);
 }
 
 /// winding_at over a batch (WindingTree::winding_numbers): NaN for non-finite points.
 template <class L>
-void winding_batch(const L& t, std::span<const Dipole> dip, std::span<const Vec3f> points, double beta,
+void winding_batch(const L& t, std::span<const DipoleSlots<L::width>> dip, std::span<const Vec3f> points, double beta,
                    std::span<double> out, std::span<double> bound) {
     std::vector<std::uint32_t> stack;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const Vec3f& p = points[i];
         double b = 0.0;
         const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-        out[i] = finite ? winding_at(t, dip, p, beta, b, stack) : std::numeric_limits<double>::quiet_NaN();
+        if (!finite) out[i] = std::numeric_limits<double>::quiet_NaN();
+        else if (bound.empty()) out[i] = winding_at<false>(t, dip, p, beta, b, stack);
+        else out[i] = winding_at<true>(t, dip, p, beta, b, stack);
         if (!bound.empty()) bound[i] = finite ? b : std::numeric_limits<double>::quiet_NaN();
     }
 }

@@ -1,5 +1,6 @@
 #include "accel/wide/wide_winding.h"
 
+#include "accel/core/solid_angle_soa.h"
 #include "accel/core/winding_walk.h"
 #include "accel/util/timer.h"
 
@@ -30,6 +31,13 @@ struct WideTree {
         return {{b[0][0][c], b[0][1][c], b[0][2][c]}, {b[1][0][c], b[1][1][c], b[1][2][c]}};
     }
     Vec3f vertex(std::uint32_t slot, int k) const { return l.vertex(slot, k); }
+    /// A leaf's triangles block by block, each block's lanes a double batch at a time.
+    double leaf_winding(Slots s, const Vec3f& p) const {
+        double sum = 0.0;
+        for (std::uint32_t done = 0; done < s.count; done += std::uint32_t(N))
+            sum += soa_triangles_winding<N>(p, l.blocks[(s.first + done) / N].tris.v, std::min<std::size_t>(N, s.count - done));
+        return sum;
+    }
 };
 
 template <std::size_t N>
@@ -46,11 +54,11 @@ public:
         winding_batch(tree_, dipoles_, points, beta, out, bound);
     }
     std::string_view method() const override { return method_; }
-    std::size_t memory_bytes() const override { return dipoles_.capacity() * sizeof(Dipole); }
+    std::size_t memory_bytes() const override { return dipoles_.capacity() * sizeof(DipoleSlots<N>); }
 
 private:
     WideTree<N> tree_;
-    std::vector<Dipole> dipoles_;
+    std::vector<DipoleSlots<N>> dipoles_;
     std::string method_;
 };
 
