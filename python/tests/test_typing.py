@@ -40,9 +40,6 @@ MISUSES = [
     ("h: str = scene.triangles", "str"),
     ("scene.intersect_all(o, d, 0.0, 1.0, 4, None)", "intersect_all"),
     ("scene.inside(o, method=3)", "method"),
-    ('scene.signed_distance(o, "ray")', "signed_distance"),
-    ("w: list[float] = scene.winding_number(o)", "floating[_64Bit]"),
-    ("scene.closed = True", "closed"),
 ]
 
 
@@ -53,6 +50,28 @@ def test_mypy_strict_fails_on_a_misuse(tmp_path, line, word):
                    "o = np.zeros((2, 3), np.float32)\nd = np.ones((2, 3), np.float32)\n" + line + "\n")
     run = mypy(tmp_path, bad)
     assert run.returncode == 1 and "bad.py:7: error" in run.stdout and word in run.stdout, run.stdout + run.stderr
+
+
+# Misuses of the winding calls, checked in one mypy run (each costs seconds): each line is an error.
+WINDING_MISUSES = [
+    ('scene.signed_distance(o, "ray")', "signed_distance"),
+    ("w: list[float] = scene.winding_number(o)", "floating[_64Bit]"),
+    ("scene.closed = True", "closed"),
+    ("scene.inside(o, exact=1.5)", "exact"),
+]
+
+
+def test_mypy_strict_fails_on_each_winding_misuse(tmp_path):
+    bad = tmp_path / "bad.py"
+    head = ("import numpy as np\nimport arbor\n\nscene = arbor.Scene()\n"
+            "o = np.zeros((2, 3), np.float32)\nd = np.ones((2, 3), np.float32)\n")
+    bad.write_text(head + "".join(line + "\n" for line, _ in WINDING_MISUSES))
+    run = mypy(tmp_path, bad)
+    assert run.returncode == 1, run.stdout + run.stderr
+    errors = run.stdout.splitlines()
+    for n, (line, word) in enumerate(WINDING_MISUSES, start=7):
+        at = [e for e in errors if f"bad.py:{n}: error" in e]
+        assert at and any(word in e for e in at), (line, run.stdout)
 
 
 def test_the_typed_usage_runs_and_returns_what_it_states(tmp_path):
