@@ -1,6 +1,7 @@
 /// arbor::Scene's batch queries: the caller's arrays are read in chunks (api/batch.h), each chunk
 /// turned into accel::Ray records or points in a per-thread buffer, answered by one call of the
-/// structure, and written back with geometry ids.
+/// structure, and written back with geometry ids. Winding numbers, inside by method, signed
+/// distances and closed(): winding.cpp.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -16,18 +17,11 @@ namespace {
 
 /// Rays per chunk: as accel::trace_parallel (whole 8x8 tiles of a camera stay in one chunk).
 constexpr std::size_t ray_chunk = 1024;
-constexpr std::size_t point_chunk = 256;
 
 float read_float(const float* base, std::size_t stride, std::size_t i) {
     float v;
     std::memcpy(&v, reinterpret_cast<const unsigned char*>(base) + i * stride, sizeof v);
     return v;
-}
-
-accel::Vec3f read_vec3(const float* base, std::size_t stride, std::size_t i) {
-    float v[3];
-    std::memcpy(v, reinterpret_cast<const unsigned char*>(base) + i * stride, sizeof v);
-    return {v[0], v[1], v[2]};
 }
 
 accel::Ray ray_at(const RayArrays& r, std::size_t i) {
@@ -67,23 +61,10 @@ accel::TraceRequest batch_request(const Scene::Impl& s, const accel::Accel& a, c
     return req;
 }
 
-std::span<const accel::Vec3f> load_points(const PointArrays& p, std::size_t begin, std::size_t end) {
-    thread_local std::vector<accel::Vec3f> buf;
-    buf.resize(end - begin);
-    for (std::size_t i = begin; i < end; ++i) buf[i - begin] = read_vec3(p.xyz, p.stride, i);
-    return buf;
-}
-
 void check_rays(const RayArrays& r, const void* out, const char* fn) {
     if (r.count == 0) return;
     if (!r.origins || !r.directions)
         throw Error(Error::Kind::invalid_argument, std::string(fn) + ": " + (r.origins ? "directions" : "origins") + " is null");
-    if (!out) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": the output array is null");
-}
-
-void check_points(const PointArrays& p, const void* out, const char* fn) {
-    if (p.count == 0) return;
-    if (!p.xyz) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": points is null");
     if (!out) throw Error(Error::Kind::invalid_argument, std::string(fn) + ": the output array is null");
 }
 
@@ -207,21 +188,6 @@ void Scene::closest_point(const PointArrays& points, const PointValues& max_dist
     });
 }
 
-void Scene::inside(const PointArrays& points, bool* inside, const QueryOptions& options) const {
-    guarded([&] {
-        CallArena arena(*impl_, options, "inside");
-        check_points(points, inside, "inside");
-        const accel::Accel& a = impl_->structure();
-        for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
-            const auto in = load_points(points, b, e);
-            thread_local std::vector<std::uint8_t> res;
-            res.resize(in.size());
-            accel::inside_points(a, impl_->bounds, in, res);
-            for (std::size_t i = b; i < e; ++i) inside[i] = res[i - b] != 0;
-        });
-    });
-}
-
 std::vector<Hit> Scene::intersect(const std::vector<Ray>& rays, const QueryOptions& options) const {
     std::vector<Hit> hits(rays.size());
     intersect(RayArrays::of(rays.data(), rays.size()), hits.data(), options);
@@ -234,28 +200,12 @@ std::vector<bool> Scene::occluded(const std::vector<Ray>& rays, const QueryOptio
     return std::vector<bool>(out.get(), out.get() + rays.size());
 }
 
-namespace {
-PointArrays packed_points(const std::vector<float>& xyz, const char* fn) {
-    if (xyz.size() % 3 != 0)
-        throw Error(Error::Kind::invalid_argument, std::string(fn) + ": points must hold x, y, z triples (size " +
-                                                       std::to_string(xyz.size()) + ")");
-    return {xyz.size() / 3, xyz.data(), 3 * sizeof(float)};
-}
-}  // namespace
-
 std::vector<ClosestPoint> Scene::closest_point(const std::vector<float>& xyz, float max_distance,
                                                const QueryOptions& options) const {
     const PointArrays p = packed_points(xyz, "closest_point");
     std::vector<ClosestPoint> out(p.count);
     closest_point(p, max_distance, out.data(), options);
     return out;
-}
-
-std::vector<bool> Scene::inside(const std::vector<float>& xyz, const QueryOptions& options) const {
-    const PointArrays p = packed_points(xyz, "inside");
-    const std::unique_ptr<bool[]> out(new bool[p.count]);
-    inside(p, out.get(), options);
-    return std::vector<bool>(out.get(), out.get() + p.count);
 }
 
 }  // namespace arbor

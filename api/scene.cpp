@@ -121,6 +121,7 @@ std::uint32_t Scene::add_mesh(const float* positions, std::size_t vertex_count, 
         m.bounds = impl_->bounds;
         impl_->first_prim.push_back(first);
         // The structure no longer covers the scene: the next query builds again.
+        impl_->drop_derived();
         impl_->ready = false;
         impl_->accel.reset();
         impl_->accel_name.clear(), impl_->accel_reason.clear();
@@ -142,6 +143,7 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
         throw Error(Kind::invalid_argument, "build: unknown structure '" + o.accel + "' (expected " + accel::accel_kind_names() + ")");
     if (o.threads < 0) throw Error(Kind::invalid_argument, "build: threads must be >= 0 (0 = all cores), got " + std::to_string(o.threads));
     ready = false;
+    drop_derived();  // the winding tree may read the structure's layout
     accel.reset();
     threads = usable_threads(o.threads);
     arena = std::make_unique<tbb::task_arena>(threads > 0 ? threads : int(tbb::task_arena::automatic));

@@ -19,6 +19,8 @@
 
 namespace arbor {
 
+class CallArena;  // api/batch.h
+
 struct Scene::Impl {
     engine::Mesh mesh;
     std::vector<std::uint32_t> first_prim;  ///< per geometry, its first triangle in `mesh`
@@ -33,10 +35,25 @@ struct Scene::Impl {
     int threads = 0;  ///< the arena's threads: build's `threads` as usable_threads() takes it (0 = all)
     std::atomic<bool> ready{false};
     std::mutex build_mutex;
+    /// Made on demand, dropped by add_mesh and build (winding.cpp): the structure's winding-number
+    /// tree (it may read the structure's layout), made by the first winding query, and closed()'s
+    /// answer (-1: not known yet).
+    std::unique_ptr<accel::WindingTree> winding;
+    std::atomic<bool> winding_ready{false};
+    std::atomic<int> closed_state{-1};
+    std::mutex lazy_mutex;
 
     /// The structure, built with the last options first when it is not (thread-safe).
     const accel::Accel& structure();
     void build_locked(const BuildOptions& o);
+    /// The structure's winding tree, made first (on the call's threads) when it is not (thread-safe).
+    const accel::WindingTree& winding_tree(CallArena& call);
+    /// Forgets what was made on demand (before the structure or the mesh changes).
+    void drop_derived() {
+        winding_ready = false;
+        winding.reset();
+        closed_state = -1;
+    }
 
     /// Geometry id and triangle number within it of triangle `global` of `mesh`.
     void locate(std::uint32_t global, std::uint32_t& geom, std::uint32_t& prim) const {

@@ -50,6 +50,11 @@ constexpr const char* structures = "brute, bvh-median, bvh-sah, lbvh, kdtree or 
 #define ARBOR_THREADS_DOC                                                                          \
     "    threads: threads for this call: 0 = the scene's (build's threads); more than the cores\n" \
     "        = all cores. The answers do not depend on it.\n"
+#define ARBOR_WINDING_DOC                                                                          \
+    "    exact: winding numbers as the exact sum over every triangle rather than from the tree\n" \
+    "        (slower; the same answer on every structure).\n"                                \
+    "    beta: the tree's accuracy, a number > 1 (inf: exact): a box's triangles count as one dipole\n" \
+    "        beyond beta times their radius; larger is slower and more accurate.\n"
 #define ARBOR_RAISES_DOC                                                                               \
     "\nRaises:\n"                                                                                      \
     "    TypeError, ValueError: an argument of the wrong type, dtype or shape; the one-line message\n" \
@@ -58,7 +63,9 @@ constexpr const char* structures = "brute, bvh-median, bvh-sah, lbvh, kdtree or 
 }  // namespace
 
 PYBIND11_MODULE(_arbor, m) {
-    m.doc() = "arbor: ray queries on triangle meshes (closest hit, any hit, all hits, closest point, inside)";
+    m.doc() =
+        "arbor: ray queries on triangle meshes (closest hit, any hit, all hits, closest point, inside, "
+        "winding number, signed distance)";
     m.attr("__version__") = arbor::version();
     m.def("kernel_set", &arbor::kernel_set,
           "The SIMD kernel set arbor's queries run on on this machine: \"avx512\", \"avx2\" or \"sse4\".");
@@ -313,16 +320,64 @@ PYBIND11_MODULE(_arbor, m) {
             "arbor.MISS.\n" ARBOR_RAISES_DOC)
         .def(
             "inside",
-            [](const PyScene& s, py::object points, py::object out, py::object threads) {
-                return arbor::python::inside(s, points, out, threads);
+            [](const PyScene& s, py::object points, py::object method, py::object out, py::object threads,
+               py::object exact, py::object beta) {
+                return arbor::python::inside(s, points, method, out, threads, exact, beta);
             },
-            "points"_a, py::kw_only(), "out"_a = py::none(), "threads"_a = 0,
-            "Whether each point is inside the scene's closed meshes (the parity of a ray's crossings;\n"
-            "points on the surface get either answer).\n\n"
+            "points"_a, "method"_a = "parity", py::kw_only(), "out"_a = py::none(), "threads"_a = 0,
+            "exact"_a = false, "beta"_a = 2.0,
+            "Whether each point is inside the scene.\n\n"
             "Args:\n"
             "    points: shape (N, 3), any (..., 3), or one point (3,); any array, as for intersect.\n"
+            "    method: \"parity\" (the parity of a ray's crossings: for closed meshes; points on the\n"
+            "        surface get either answer) or \"winding\" (winding_number >= 0.5: any mesh, also open\n"
+            "        or self-overlapping ones; the inside of overlapping parts is their union).\n"
             "    out: None, or a C-contiguous bool array of the points' leading shape to write "
-            "into.\n" ARBOR_THREADS_DOC
+            "into.\n" ARBOR_THREADS_DOC ARBOR_WINDING_DOC
             "\nReturns:\n"
-            "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC);
+            "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC)
+        .def(
+            "winding_number",
+            [](const PyScene& s, py::object points, py::object out, py::object threads, py::object exact,
+               py::object beta) { return arbor::python::winding_number(s, points, out, threads, exact, beta); },
+            "points"_a, py::kw_only(), "out"_a = py::none(), "threads"_a = 0, "exact"_a = false, "beta"_a = 2.0,
+            "The generalized winding number of the scene's triangles around each point (Jacobson et al.\n"
+            "2013): their signed solid angle over 4 pi. 1 inside a closed mesh whose triangles turn\n"
+            "counter-clockwise seen from outside, 0 outside, -1 inside one turned inside out, n inside n\n"
+            "overlapping closed parts, fractional near the holes of an open mesh; 1/2 on a face.\n\n"
+            "Args:\n"
+            "    points: shape (N, 3), any (..., 3), or one point (3,); any array, as for intersect.\n"
+            "    out: None, or a C-contiguous float64 array of the points' leading shape to write "
+            "into.\n" ARBOR_THREADS_DOC ARBOR_WINDING_DOC
+            "\nReturns:\n"
+            "    numpy.ndarray: float64, of the points' leading shape (...,) (0-d for one point); NaN for\n"
+            "    a point with a NaN or infinite coordinate.\n" ARBOR_RAISES_DOC)
+        .def(
+            "signed_distance",
+            [](const PyScene& s, py::object points, py::object method, py::object out, py::object threads,
+               py::object exact, py::object beta) {
+                return arbor::python::signed_distance(s, points, method, out, threads, exact, beta);
+            },
+            "points"_a, "method"_a = "parity", py::kw_only(), "out"_a = py::none(), "threads"_a = 0,
+            "exact"_a = false, "beta"_a = 2.0,
+            "The distance from each point to the closest point of the scene, negative inside.\n\n"
+            "Args:\n"
+            "    points: shape (N, 3), any (..., 3), or one point (3,); any array, as for intersect.\n"
+            "    method: how inside is decided: \"parity\" or \"winding\", as for inside.\n"
+            "    out: None, or a C-contiguous float32 array of the points' leading shape to write "
+            "into.\n" ARBOR_THREADS_DOC ARBOR_WINDING_DOC
+            "\nReturns:\n"
+            "    numpy.ndarray: float32, of the points' leading shape (...,) (0-d for one point), in the\n"
+            "    scene's units; inf for an empty scene or a point with a NaN or infinite coordinate.\n"
+            ARBOR_RAISES_DOC)
+        .def_property_readonly(
+            "closed",
+            [](const PyScene& s) {
+                bool c = false;
+                run<false>(s, [&] { c = s.scene.closed(); });
+                return c;
+            },
+            "bool: every edge is shared by exactly two faces (edges compared by vertex number, so a mesh\n"
+            "whose triangles repeat their corners instead of sharing them is open; orientation is not\n"
+            "checked). A scene without triangles is closed.");
 }

@@ -83,6 +83,34 @@ Points points(py::handle obj) {
     return out;
 }
 
+/// method= of inside and signed_distance.
+arbor::InsideMethod inside_method(py::handle obj) {
+    const std::string m = str_arg(obj, "method", "\"parity\" or \"winding\"");
+    if (m == "parity") return arbor::InsideMethod::parity;
+    if (m == "winding") return arbor::InsideMethod::winding;
+    throw py::value_error("method: expected \"parity\" or \"winding\", got " + py::repr(obj).cast<std::string>());
+}
+
+/// exact= and beta= of the winding-number queries (beta: a real number > 1, inf: exact).
+arbor::WindingOptions winding_options(py::handle exact, py::handle beta) {
+    arbor::WindingOptions w;
+    w.exact = bool_arg(exact, "exact");
+    // A number: Python's or numpy's (not a bool, not an array of several).
+    bool number = !py::isinstance<py::bool_>(beta) && !py::isinstance<py::str>(beta) &&
+                  !py::isinstance(beta, py::module_::import("numpy").attr("bool_")) && PyNumber_Check(beta.ptr());
+    if (number) {
+        try {
+            w.beta = py::float_(py::reinterpret_borrow<py::object>(beta)).cast<double>();
+        } catch (py::error_already_set&) {
+            number = false;
+        }
+    }
+    if (!number) throw py::type_error("beta: expected a number > 1 (inf: exact), got " + type_name(beta));
+    if (!(w.beta > 1.0))
+        throw py::value_error("beta: expected a number > 1 (inf: exact), got " + py::repr(beta).cast<std::string>());
+    return w;
+}
+
 float value_at(const PerValue& v, std::size_t i) {
     float x;
     std::memcpy(&x, reinterpret_cast<const unsigned char*>(v.data) + i * v.stride, sizeof x);
@@ -174,12 +202,38 @@ py::object closest_point(const PyScene& s, py::handle points_obj, py::handle max
     return std::move(res);
 }
 
-py::object inside(const PyScene& s, py::handle points_obj, py::handle out, py::handle threads) {
+py::object inside(const PyScene& s, py::handle points_obj, py::handle method, py::handle out, py::handle threads,
+                  py::handle exact, py::handle beta) {
     const arbor::QueryOptions o = options(threads);
+    const arbor::InsideMethod m = inside_method(method);
+    const arbor::WindingOptions w = winding_options(exact, beta);
     const Points p = points(points_obj);
     py::array res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), p.shape, {points_obj});
     bool* in = static_cast<bool*>(res.mutable_data());
-    run<false>(s, [&] { s.scene.inside(points_of(p.rows), in, o); });
+    run<false>(s, [&] { s.scene.inside(points_of(p.rows), in, m, w, o); });
+    return std::move(res);
+}
+
+py::object winding_number(const PyScene& s, py::handle points_obj, py::handle out, py::handle threads,
+                          py::handle exact, py::handle beta) {
+    const arbor::QueryOptions o = options(threads);
+    const arbor::WindingOptions w = winding_options(exact, beta);
+    const Points p = points(points_obj);
+    py::array res = result(out, py::dtype::of<double>(), "float64", alignof(double), p.shape, {points_obj});
+    auto* wn = static_cast<double*>(res.mutable_data());
+    run<false>(s, [&] { s.scene.winding_number(points_of(p.rows), wn, w, o); });
+    return std::move(res);
+}
+
+py::object signed_distance(const PyScene& s, py::handle points_obj, py::handle method, py::handle out,
+                           py::handle threads, py::handle exact, py::handle beta) {
+    const arbor::QueryOptions o = options(threads);
+    const arbor::InsideMethod m = inside_method(method);
+    const arbor::WindingOptions w = winding_options(exact, beta);
+    const Points p = points(points_obj);
+    py::array res = result(out, py::dtype::of<float>(), "float32", alignof(float), p.shape, {points_obj});
+    auto* d = static_cast<float*>(res.mutable_data());
+    run<false>(s, [&] { s.scene.signed_distance(points_of(p.rows), d, m, w, o); });
     return std::move(res);
 }
 

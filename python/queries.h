@@ -18,6 +18,13 @@ py::tuple intersect_all(const PyScene& s, py::handle origins, py::handle directi
                         py::handle max_hits, py::handle out, py::handle threads, py::handle normals);
 py::object closest_point(const PyScene& s, py::handle points, py::handle max_distance, py::handle out,
                          py::handle threads);
-py::object inside(const PyScene& s, py::handle points, py::handle out, py::handle threads);
+/// inside and signed_distance decide inside by `method` ("parity" or "winding"); the winding
+/// queries take exact= (bool) and beta= (a number > 1) as arbor::WindingOptions.
+py::object inside(const PyScene& s, py::handle points, py::handle method, py::handle out, py::handle threads,
+                  py::handle exact, py::handle beta);
+py::object winding_number(const PyScene& s, py::handle points, py::handle out, py::handle threads, py::handle exact,
+                          py::handle beta);
+py::object signed_distance(const PyScene& s, py::handle points, py::handle method, py::handle out, py::handle threads,
+                           py::handle exact, py::handle beta);
 
 }  // namespace arbor::python

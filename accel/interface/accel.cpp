@@ -1,5 +1,7 @@
 #include "accel/interface/accel.h"
 
+#include "accel/bvh/bvh2_winding.h"
+
 #include <array>
 #include <stdexcept>
 #include <utility>
@@ -61,6 +63,10 @@ std::string accel_kind_names() {
         out += name;
     }
     return out;
+}
+
+std::unique_ptr<WindingTree> Accel::make_winding_tree(const TriangleView& tris) const {
+    return make_internal_winding(tris);
 }
 
 }  // namespace arbor::accel

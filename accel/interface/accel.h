@@ -13,6 +13,7 @@
 #include "accel/core/closest_point.h"
 #include "accel/core/geometry.h"
 #include "accel/core/query.h"
+#include "accel/core/winding_tree.h"
 #include "accel/interface/path_policy.h"
 
 #include <cstdint>
@@ -67,6 +68,15 @@ public:
     /// (closest_point.h; every structure returns the record brute force returns). Non-finite points
     /// and a negative max_distance get the miss record. Single-threaded, as above.
     virtual void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const = 0;
+    /// The tree that answers generalized winding numbers for this structure (core/winding_tree.h),
+    /// made now: call it on the first winding query and keep the result (a plain build makes
+    /// none, so builds and traces cost the same as without winding numbers). `tris` are the
+    /// triangles the structure was built over; the tree may read them (exact) and may read the
+    /// structure's layout, so both must outlive it. The BVHs put a dipole on each child box of their
+    /// own layout (no second tree); brute sums every triangle (it is the oracle, and builds
+    /// nothing); this default, for the kd-tree, builds an internal BVH: the kd-tree lists a triangle in
+    /// every leaf it crosses, so a sum over its leaves would count it more than once.
+    virtual std::unique_ptr<WindingTree> make_winding_tree(const TriangleView& tris) const;
 
 protected:
     explicit Accel(AccelKind kind) : kind_(kind) {}

@@ -92,4 +92,8 @@ PathOffer brute_offer() {
     return o;
 }
 
+std::unique_ptr<WindingTree> BruteAccel::make_winding_tree(const TriangleView& tris) const {
+    return make_exact_winding(tris);
+}
+
 }  // namespace arbor::accel

@@ -17,6 +17,8 @@ public:
     void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
     /// Every triangle's exact distance.
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
+    /// The exact sum over `tris` (make_exact_winding): brute force is the oracle.
+    std::unique_ptr<WindingTree> make_winding_tree(const TriangleView& tris) const override;
 
 private:
     /// One path (scalar), and the counted mode: one node (the whole list) per traceable ray, every

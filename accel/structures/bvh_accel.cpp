@@ -2,6 +2,7 @@
 
 #include "accel/bvh/bvh2_queries.h"
 #include "accel/bvh/bvh2_traverse.h"
+#include "accel/bvh/bvh2_winding.h"
 #include "accel/core/hit_record.h"
 #include "accel/util/timer.h"
 #include "simd/ray_triangle.h"
@@ -159,6 +160,10 @@ std::vector<std::string> bvh_skipped(const BuildConfig& cfg, std::uint32_t leaf_
         out.push_back("binary splits of ranges of at most " + std::to_string(leaf_floor) +
                       " triangles (the SIMD leaves' blocks hold them; --simd-leaf-floor 1 makes them)");
     return out;
+}
+
+std::unique_ptr<WindingTree> BvhAccel::make_winding_tree(const TriangleView&) const {
+    return make_bvh2_winding(layout_);
 }
 
 }  // namespace arbor::accel

@@ -36,6 +36,9 @@ public:
     /// (wide_queries.h).
     void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
+    /// Dipoles on the scalar layout (bvh/bvh2_winding.h); WideBvhAccel puts them on its SIMD
+    /// layout (wide/wide_winding.h).
+    std::unique_ptr<WindingTree> make_winding_tree(const TriangleView& tris) const override;
     const Bvh2Layout& layout() const { return layout_; }
     const WideShape& wide_shape() const { return wide_; }
 

@@ -13,6 +13,7 @@
 #include "accel/wide/wide_root.h"
 #include "accel/wide/wide_shared_leaves.h"
 #include "accel/wide/wide_traverse.h"
+#include "accel/wide/wide_winding.h"
 #include "simd/packet_bounds.h"
 #include "simd/tri_kernels.h"
 #include "simd/wide_ray_setup.h"
@@ -46,6 +47,11 @@ public:
     }
 
     const WideLayout<N>& wide_layout() const { return layout_; }
+
+    /// Dipoles on the SIMD layout (wide/wide_winding.h), whether or not the scalar one was built too.
+    std::unique_ptr<WindingTree> make_winding_tree(const TriangleView&) const override {
+        return make_wide_winding<N>(layout_);
+    }
 
     /// On the SIMD layout (wide_queries.h), whether or not the scalar one was built too.
     void trace_all(std::span<const Ray> rays, HitSink& sink) const override {

@@ -2,7 +2,7 @@
 /// arbor's public C++ API: the one header a program includes (link arbor::arbor after
 /// find_package(arbor)). A Scene of your own triangle arrays or of a model file, one build step,
 /// and four batch queries: closest hit, any hit, all hits along a ray, closest point on the surface,
-/// plus inside/outside for closed meshes.
+/// plus inside/outside (crossing parity or winding number), winding numbers and signed distances.
 ///
 /// C++14 or later, standard library only: no SIMD, TBB or GLM type appears here, and the installed package
 /// sets no compile option on your code. Every error is an arbor::Error with a one-line message.
@@ -140,6 +140,24 @@ struct QueryOptions {
     int threads = 0;
 };
 
+/// How inside() and signed_distance() decide inside: `parity`, the crossings of a ray (closed
+/// meshes; the default), or `winding`, the generalized winding number >= 1/2 (any mesh: open,
+/// self-intersecting, with duplicated faces; on closed meshes the two agree off the surface).
+enum class InsideMethod { parity, winding };
+
+/// The accuracy of winding_number() (and of InsideMethod::winding).
+struct WindingOptions {
+    /// true: the exact sum of every triangle's solid angle (time per point grows with the
+    /// triangle count; the same answer on every structure). false: the hierarchical evaluation.
+    bool exact = false;
+    /// Hierarchical evaluation: the triangles of a box of the structure are replaced by one
+    /// dipole (their area-weighted normal at their area-weighted centroid) when the point is
+    /// farther than beta times their radius from that centroid. Must be > 1; larger is slower and
+    /// more accurate (the error of one dipole is at most area * radius / (2 pi (d - radius)^3) at
+    /// distance d; +inf: exact). 2 as in libigl.
+    double beta = 2.0;
+};
+
 struct BuildOptions {
     /// The structure: "bvh-sah", "bvh-median", "lbvh", "kdtree", "brute", or "auto" (arbor picks by
     /// predicted build + trace time, the same decision as the command line's --accel auto).
@@ -222,6 +240,42 @@ public:
     /// meshes; points on the surface get either answer.
     void inside(const PointArrays& points, bool* inside, const QueryOptions& options = {}) const;
     std::vector<bool> inside(const std::vector<float>& xyz, const QueryOptions& options = {}) const;
+    /// The same by `method`: parity as above, or winding_number(points, winding) >= 0.5 (meaningful
+    /// for open meshes too; the inside of overlapping closed parts is their union).
+    void inside(const PointArrays& points, bool* inside, InsideMethod method, const WindingOptions& winding = {},
+                const QueryOptions& options = {}) const;
+    std::vector<bool> inside(const std::vector<float>& xyz, InsideMethod method, const WindingOptions& winding = {},
+                             const QueryOptions& options = {}) const;
+
+    /// The generalized winding number of the scene's triangles around each point (Jacobson et al.
+    /// 2013): the signed solid angle they subtend over 4 pi, summed in double. 1 inside a closed
+    /// mesh whose triangles turn counter-clockwise seen from outside, 0 outside, -1 inside one
+    /// turned inside out, n inside n nested or overlapping closed parts, fractional near the holes
+    /// of an open mesh. A point exactly in a triangle's plane gets nothing from that triangle, so a
+    /// point exactly on a closed mesh gets 1/2 on a face and the interior's share of the directions
+    /// on an edge or a corner (1/4 on a cube's edge); a point a rounding error off a face gets 0 or
+    /// 1 by the side it lies on. A non-finite point: NaN. Triangles with a NaN or infinite corner
+    /// are left out. The hierarchical evaluation runs on the structure built (the BVHs' own trees;
+    /// the kd-tree builds an internal BVH; brute sums every triangle) and makes its data on the
+    /// first call after a build; results do not depend on the thread count. Throws
+    /// Error(invalid_argument) for beta <= 1 or NaN.
+    void winding_number(const PointArrays& points, double* out, const WindingOptions& winding = {},
+                        const QueryOptions& options = {}) const;
+    std::vector<double> winding_number(const std::vector<float>& xyz, const WindingOptions& winding = {},
+                                       const QueryOptions& options = {}) const;
+
+    /// The distance to the closest point of the scene, negative inside (by `method`, as inside()).
+    /// An empty scene or a non-finite point: +inf.
+    void signed_distance(const PointArrays& points, float* out, InsideMethod method = InsideMethod::parity,
+                         const WindingOptions& winding = {}, const QueryOptions& options = {}) const;
+    std::vector<float> signed_distance(const std::vector<float>& xyz, InsideMethod method = InsideMethod::parity,
+                                       const WindingOptions& winding = {}, const QueryOptions& options = {}) const;
+
+    /// True when every edge is shared by exactly two triangles (of the same mesh: meshes share no
+    /// vertices). Edges are compared by vertex number, not position (vertices are not welded: a
+    /// file whose triangles repeat their corners instead of sharing them is open); orientation is
+    /// not checked. A scene without triangles is closed. Computed on the first call after add_mesh.
+    bool closed() const;
 
     struct Impl;  ///< opaque: the library's own
 

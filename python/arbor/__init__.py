@@ -9,6 +9,9 @@
     hits, counts = scene.intersect_all(origins, directions, max_hits=16)
     near = scene.closest_point(points)               # distance, geom, prim, point, u, v
     ins = scene.inside(points)                       # bool per point (closed meshes)
+    w = scene.winding_number(points)                 # generalized winding number per point (float64)
+    ins = scene.inside(points, method="winding")     # any mesh (open, overlapping): winding >= 0.5
+    sd = scene.signed_distance(points)               # closest distance, negative inside
 
 Rays and points may have any leading shape, (N, 3), (H, W, 3) or one (3,), and the results take
 it. Every query takes threads= (0: the scene's setting); the answers do not depend on it. Arrays

@@ -3,7 +3,7 @@ kinds and defaults are those of the module: python/tests/test_stubs.py fails whe
 Shapes, dtypes and units are in the docstrings (help(arbor.Scene.intersect))."""
 from math import inf
 from os import PathLike
-from typing import Any, Protocol, Union
+from typing import Any, Literal, Protocol, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -26,6 +26,9 @@ _Records = npt.NDArray[np.void]
 _Bools = npt.NDArray[np.bool_]
 _Counts = npt.NDArray[np.int32]
 _Floats = npt.NDArray[np.float32]
+_Doubles = npt.NDArray[np.float64]
+# method= of inside and signed_distance.
+_Method = Literal["parity", "winding"]
 
 __version__: str
 
@@ -91,4 +94,34 @@ class Scene:
         out: _Records | None = None,
         threads: int = 0,
     ) -> _Records: ...
-    def inside(self, points: _Array, *, out: _Bools | None = None, threads: int = 0) -> _Bools: ...
+    def inside(
+        self,
+        points: _Array,
+        method: _Method = "parity",
+        *,
+        out: _Bools | None = None,
+        threads: int = 0,
+        exact: bool = False,
+        beta: float = 2.0,
+    ) -> _Bools: ...
+    def winding_number(
+        self,
+        points: _Array,
+        *,
+        out: _Doubles | None = None,
+        threads: int = 0,
+        exact: bool = False,
+        beta: float = 2.0,
+    ) -> _Doubles: ...
+    def signed_distance(
+        self,
+        points: _Array,
+        method: _Method = "parity",
+        *,
+        out: _Floats | None = None,
+        threads: int = 0,
+        exact: bool = False,
+        beta: float = 2.0,
+    ) -> _Floats: ...
+    @property
+    def closed(self) -> bool: ...

@@ -52,6 +52,28 @@ def test_mypy_strict_fails_on_a_misuse(tmp_path, line, word):
     assert run.returncode == 1 and "bad.py:7: error" in run.stdout and word in run.stdout, run.stdout + run.stderr
 
 
+# Misuses of the winding calls, checked in one mypy run (each costs seconds): each line is an error.
+WINDING_MISUSES = [
+    ('scene.signed_distance(o, "ray")', "signed_distance"),
+    ("w: list[float] = scene.winding_number(o)", "floating[_64Bit]"),
+    ("scene.closed = True", "closed"),
+    ("scene.inside(o, exact=1.5)", "exact"),
+]
+
+
+def test_mypy_strict_fails_on_each_winding_misuse(tmp_path):
+    bad = tmp_path / "bad.py"
+    head = ("import numpy as np\nimport arbor\n\nscene = arbor.Scene()\n"
+            "o = np.zeros((2, 3), np.float32)\nd = np.ones((2, 3), np.float32)\n")
+    bad.write_text(head + "".join(line + "\n" for line, _ in WINDING_MISUSES))
+    run = mypy(tmp_path, bad)
+    assert run.returncode == 1, run.stdout + run.stderr
+    errors = run.stdout.splitlines()
+    for n, (line, word) in enumerate(WINDING_MISUSES, start=7):
+        at = [e for e in errors if f"bad.py:{n}: error" in e]
+        assert at and any(word in e for e in at), (line, run.stdout)
+
+
 def test_the_typed_usage_runs_and_returns_what_it_states(tmp_path):
     sys.path.insert(0, str(HERE))
     try:
@@ -71,3 +93,6 @@ def test_the_typed_usage_runs_and_returns_what_it_states(tmp_path):
     assert got["grid_hits"].shape == (3, 4) and got["near"].shape == () and got["nears"].shape == (2,)
     assert got["ins"].dtype == np.bool_ and got["file_hits"].shape == (3,)
     assert got["triangles"] == 4 and got["meshes"] == 1 and got["geom"] == 0
+    assert got["winding"].dtype == np.float64 and abs(got["winding"][0] - 1) < 0.05 and abs(got["winding"][1]) < 0.05
+    assert list(got["ins_winding"]) == [True, False] and got["closed"] is True
+    assert got["signed"].dtype == np.float32 and got["signed"][0] < 0 < got["signed"][1]

@@ -56,6 +56,11 @@ def use_everything(model: pathlib.Path, rays_file: pathlib.Path) -> dict[str, ob
     reach = np.array([0.5, np.inf], np.float32)
     nears: npt.NDArray[np.void] = scene.closest_point(origins, reach, out=np.empty(2, arbor.point_dtype))
     ins: npt.NDArray[np.bool_] = scene.inside(origins, out=np.empty(2, bool), threads=1)
+    pts = np.array([[0.1, 0.1, 0.1], [5.0, 5.0, 5.0]], np.float32)
+    winding: npt.NDArray[np.float64] = scene.winding_number(pts, threads=1, beta=4.0)
+    ins_winding: npt.NDArray[np.bool_] = scene.inside(pts, "winding", exact=True)
+    signed: npt.NDArray[np.float32] = scene.signed_distance(pts, method="winding", out=np.empty(2, np.float32))
+    closed: bool = scene.closed
     o, d, tnear, tfar = arbor.read_rays(rays_file)
     file_hits: npt.NDArray[np.void] = loaded.intersect(o, d, tnear, tfar)
     return {
@@ -63,5 +68,6 @@ def use_everything(model: pathlib.Path, rays_file: pathlib.Path) -> dict[str, ob
         "triangles": triangles, "meshes": meshes, "accel": accel, "reason": reason, "bounds": bounds,
         "hits": hits, "with_normals": with_normals, "occ": occ, "all_hits": all_hits, "counts": counts,
         "grid_hits": grid_hits, "near": near, "nears": nears, "ins": ins, "file_hits": file_hits,
-        "loaded": repr(loaded),
+        "loaded": repr(loaded), "winding": winding, "ins_winding": ins_winding, "signed": signed,
+        "closed": closed,
     }

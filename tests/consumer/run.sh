@@ -4,7 +4,7 @@
 # arbor-bench, arbor linking no Embree); then builds the README's C++ example (the first ```cpp block
 # of its section "Use arbor from C++", copied out of README.md) twice as a separate project with the
 # compiler's default flags, once against libarbor.so (arbor::arbor) and once against libarbor.a
-# (arbor::arbor_static), checks that no flag of arbor's own reached its compile line, that the
+# (arbor::arbor_static), checks that libarbor.a defines every function libarbor.so exports, that no flag of arbor's own reached its compile line, that the
 # static program needs no libarbor.so, and runs both on a model. The build's own compiler is used when given (a sanitizer build's library needs
 # that compiler's runtime).
 # Usage: run.sh BUILD_DIR WORK_DIR README.md MODEL.obj [CXX]
@@ -25,6 +25,12 @@ archives=$(cd "$work/prefix" && find . -name '*.a' | sed 's|.*/||' | sort)
 if [ "$archives" != "libarbor.a" ]; then
   echo "FAIL: the installed tree should hold exactly one static library, libarbor.a; it holds: ${archives:-none}"; exit 1
 fi
+# libarbor.a defines every function libarbor.so exports (a source file missing from the static
+# library's list leaves its members undefined for static programs only).
+so=$(find "$work/prefix" -name libarbor.so | head -1); a=$(find "$work/prefix" -name libarbor.a | head -1)
+missing=$(comm -23 <(nm -D --defined-only "$so" | awk '$2 ~ /[TW]/ {print $3}' | sort -u) \
+                   <(nm --defined-only "$a" 2>/dev/null | awk '$2 ~ /[TW]/ {print $3}' | sort -u))
+if [ -n "$missing" ]; then echo "FAIL: libarbor.a lacks what libarbor.so exports:"; echo "$missing" | c++filt | head; exit 1; fi
 # The installed product links no Embree (only the lab tool arbor-bench, installed beside it, may).
 if ldd "$work/prefix/bin/arbor" | grep -qi embree; then echo "FAIL: the installed arbor links Embree"; exit 1; fi
 for link in shared static; do
