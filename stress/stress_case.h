@@ -27,6 +27,10 @@ struct RayTag {
     /// Starts just past the ray's crossing of a closed surface: a hit the oracle rejects is a
     /// double hit (the same crossing hit twice at different t).
     bool continuation = false;
+    /// The parity of the closed surfaces' crossings in [tnear, tfar] (Accel::trace_all): 1 odd
+    /// (from inside), 0 even, -1 no promise. A wrong parity is a crossing counted twice (a double
+    /// hit, e.g. an edge or vertex given to two triangles) or lost (a false miss).
+    int parity = -1;
 
     bool must_hit() const { return !std::isnan(surface_t); }
 };
