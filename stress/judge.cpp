@@ -94,7 +94,9 @@ void judge_crossings(const StressCase& c, std::span<const std::vector<Hit>> list
     for (std::size_t i = 0; i < c.rays.size() && i < c.tags.size(); ++i) {
         const int parity = c.tags[i].parity;
         if (parity < 0 || !accel::ray_is_traceable(c.rays[i])) continue;
-        const std::vector<Hit>& l = lists[i];
+        std::vector<Hit> l;
+        for (const Hit& h : lists[i])
+            if (h.prim < c.parity_prims) l.push_back(h);
         if (int(l.size() % 2) == parity) continue;
         // Two crossings at one point: the lists are sorted by t, so they are neighbours.
         bool twice = false;

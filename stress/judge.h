@@ -47,8 +47,9 @@ Tally judge(const StressCase& c, const Oracle& oracle, std::span<const OracleAns
 /// True when some ray of `c` promises a crossing parity (RayTag::parity).
 bool has_parity(const StressCase& c);
 
-/// Judges the all-hits lists of the rays of `c` (Accel::trace_all, one list per ray) against their
-/// parity promises (RayTag::parity) and adds the failures to `out`; the band does not apply: the
+/// Judges the all-hits lists of the rays of `c` (Accel::trace_all, one list per ray; hits on
+/// triangles from c.parity_prims on are not counted) against their parity promises
+/// (RayTag::parity) and adds the failures to `out`; the band does not apply: the
 /// triangle test's tie rule makes a closed surface's crossings exact at edges and vertices too.
 /// The rays' other answers are judged by judge(); `out.rays` is not changed.
 void judge_crossings(const StressCase& c, std::span<const std::vector<Hit>> lists, Tally& out);

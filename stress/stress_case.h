@@ -41,6 +41,9 @@ struct StressCase {
     engine::Mesh mesh;
     std::vector<accel::Ray> rays;
     std::vector<RayTag> tags;  ///< one per ray
+    /// Triangles [0, parity_prims) form the closed surfaces that RayTag::parity counts the
+    /// crossings of; later ones (open scenery around them) are not counted.
+    std::size_t parity_prims = std::numeric_limits<std::size_t>::max();
     /// Triangles every structure must drop as non-finite (-1: not checked).
     std::int64_t expected_dropped = -1;
 
