@@ -69,22 +69,26 @@ inline float tie_sign(float px, float py, float qx, float qy) {
     if (qx != px) return qx < px ? 1.0f : -1.0f;
     return 0.0f;
 }
-/// Settles zero edge functions exactly, then applies the tie rule: a zero edge function whose
-/// tie_sign is not the sign of the non-zero ones is set to the opposite sign (a miss); one that
-/// agrees stays 0, so the hit's t, u and v are those of the test without the rule. U belongs to
-/// edge b -> c, V to c -> a, W to a -> b.
+/// Settles the edge functions exactly (some float one is 0), then applies the tie rule: a zero
+/// edge function whose tie_sign is not the sign of the non-zero ones is set to the opposite sign
+/// (a miss); one that agrees stays 0, so the hit's t, u and v are those of the test without the
+/// rule. U belongs to edge b -> c, V to c -> a, W to a -> b. Out of line and cold: it is rare, and
+/// inlined its size made GCC 12 call woop_test in the scalar walks and add_woop and wide_ray_setup
+/// in the wide paths instead of inlining them.
+[[gnu::cold, gnu::noinline]] inline void settle_edges(float& U, float& V, float& W, float ax, float ay, float bx,
+                                                      float by, float cx, float cy) {
+    U = edge_exact(cx, by, cy, bx);
+    V = edge_exact(ax, cy, ay, cx);
+    W = edge_exact(bx, ay, by, ax);
+    const bool pos = U > 0.0f || V > 0.0f || W > 0.0f, neg = U < 0.0f || V < 0.0f || W < 0.0f;
+    if (pos == neg) return;  // mixed signs (a miss), or all three 0 (det == 0: a miss)
+    const float s = pos ? 1.0f : -1.0f;
+    if (U == 0.0f && tie_sign(bx, by, cx, cy) != s) U = -s;
+    if (V == 0.0f && tie_sign(cx, cy, ax, ay) != s) V = -s;
+    if (W == 0.0f && tie_sign(ax, ay, bx, by) != s) W = -s;
+}
 inline void refine_edges(float& U, float& V, float& W, float ax, float ay, float bx, float by, float cx, float cy) {
-    if (U == 0.0f || V == 0.0f || W == 0.0f) {
-        U = edge_exact(cx, by, cy, bx);
-        V = edge_exact(ax, cy, ay, cx);
-        W = edge_exact(bx, ay, by, ax);
-        const bool pos = U > 0.0f || V > 0.0f || W > 0.0f, neg = U < 0.0f || V < 0.0f || W < 0.0f;
-        if (pos == neg) return;  // mixed signs (a miss), or all three 0 (det == 0: a miss)
-        const float s = pos ? 1.0f : -1.0f;
-        if (U == 0.0f && tie_sign(bx, by, cx, cy) != s) U = -s;
-        if (V == 0.0f && tie_sign(cx, cy, ax, ay) != s) V = -s;
-        if (W == 0.0f && tie_sign(ax, ay, bx, by) != s) W = -s;
-    }
+    if (U == 0.0f || V == 0.0f || W == 0.0f) settle_edges(U, V, W, ax, ay, bx, by, cx, cy);
 }
 template <class A>  // (forced inline: as push_ordered16, accel/wide/wide_push.h)
 ARBOR_INLINE void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>& V, xsimd::batch<float, A>& W,
@@ -103,7 +107,7 @@ ARBOR_INLINE void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>
     while (bits) {
         const int i = std::countr_zero(bits);
         bits &= bits - 1;
-        refine_edges(u[i], v[i], w[i], a0[i], a1[i], b0[i], b1[i], c0[i], c1[i]);
+        settle_edges(u[i], v[i], w[i], a0[i], a1[i], b0[i], b1[i], c0[i], c1[i]);
     }
     U = B::load_aligned(u); V = B::load_aligned(v); W = B::load_aligned(w);
 }
