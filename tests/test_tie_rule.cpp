@@ -4,17 +4,17 @@
 // (Accel::trace_all, every structure and width): exactly 2 through closed cubes at their face
 // diagonals, edges and corners, even on every closed shared model for rays aimed exactly at its
 // vertices and edges. Each check also counts the exact ties it met, so it proves it used the rule.
-#include "engine/procedural.h"
-#include "query_check.h"
-#include "simd/ray_triangle.h"
-#include "stress/stress_case.h"
-#include "testing.h"
-
 #include <doctest/doctest.h>
 
 #include <array>
 #include <cmath>
 #include <random>
+
+#include "engine/procedural.h"
+#include "query_check.h"
+#include "simd/ray_triangle.h"
+#include "stress/stress_case.h"
+#include "testing.h"
 
 using namespace arbor;
 using accel::Hit;
@@ -62,10 +62,12 @@ bool perturbed_inside(const Ray& r, const Vec3f& v0, const Vec3f& v1, const Vec3
         return f > 0.0 ? 1 : f < 0.0 ? -1 : 0;
     };
     int e[3], s[3];
-    for (int k = 0; k < 3; ++k) e[k] = exact(c[(k + 1) % 3], c[(k + 2) % 3]), s[k] = perturbed_sign(c[(k + 1) % 3], c[(k + 2) % 3]);
+    for (int k = 0; k < 3; ++k)
+        e[k] = exact(c[(k + 1) % 3], c[(k + 2) % 3]), s[k] = perturbed_sign(c[(k + 1) % 3], c[(k + 2) % 3]);
     const bool pos = e[0] > 0 || e[1] > 0 || e[2] > 0, neg = e[0] < 0 || e[1] < 0 || e[2] < 0;
     tie = (e[0] == 0 || e[1] == 0 || e[2] == 0) && pos != neg;
-    const double area = (double(c[1][0]) - c[0][0]) * (double(c[2][1]) - c[0][1]) - (double(c[1][1]) - c[0][1]) * (double(c[2][0]) - c[0][0]);
+    const double area = (double(c[1][0]) - c[0][0]) * (double(c[2][1]) - c[0][1]) -
+                        (double(c[1][1]) - c[0][1]) * (double(c[2][0]) - c[0][0]);
     return area != 0.0 && s[0] != 0 && s[0] == s[1] && s[1] == s[2];
 }
 
@@ -122,7 +124,8 @@ std::vector<Ray> box_rays(const Box& b) {
                 points.push_back(p);
             }
     }
-    for (int corner = 0; corner < 8; ++corner) points.push_back({corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z});
+    for (int corner = 0; corner < 8; ++corner)
+        points.push_back({corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z});
     const Vec3f mid = (lo + hi) * 0.5f;
     for (const Vec3f& p : points)
         for (int k = 0; k < 3; ++k) {
@@ -166,7 +169,8 @@ TEST_CASE("tie rule: woop_test agrees with the plain perturbation oracle at edge
     targets.push_back({1.2f, 0.9f, 0});
     std::size_t pairs = 0, ties = 0, tie_hits = 0, wrong = 0;
     for (const Vec3f& p : targets)
-        for (const Vec3f d : {Vec3f{0, 0, -1}, Vec3f{0, 0, 1}, Vec3f{0.25f, -0.5f, -2}, Vec3f{-0.75f, 0.5f, 4}, Vec3f{1, 0.5f, -0.25f}}) {
+        for (const Vec3f d : {Vec3f{0, 0, -1}, Vec3f{0, 0, 1}, Vec3f{0.25f, -0.5f, -2}, Vec3f{-0.75f, 0.5f, 4},
+                              Vec3f{1, 0.5f, -0.25f}}) {
             const Ray r{p - d, 0.0f, d, inf};  // the plane z = 0 at t = 1
             for (const auto& t : tris) {
                 bool tie = false;
@@ -189,7 +193,8 @@ TEST_CASE("tie rule: a fan around a vertex and a square's diagonal are hit exact
     const Vec3f c{1, 1, 0};
     const Vec3f ring[6] = {{2, 1, 0}, {1.5f, 2, 0}, {0.5f, 2, 0}, {0, 1, 0}, {0.5f, 0, 0}, {1.5f, 0, 0}};
     for (const bool flip : {false, true})
-        for (const Vec3f d : {Vec3f{0, 0, -1}, Vec3f{0, 0, 1}, Vec3f{0.5f, 0.25f, -1}, Vec3f{-0.5f, 0.25f, 1}, Vec3f{0.25f, 1, 0.5f}}) {
+        for (const Vec3f d :
+             {Vec3f{0, 0, -1}, Vec3f{0, 0, 1}, Vec3f{0.5f, 0.25f, -1}, Vec3f{-0.5f, 0.25f, 1}, Vec3f{0.25f, 1, 0.5f}}) {
             CAPTURE(flip);
             CAPTURE(d.x);
             CAPTURE(d.z);
@@ -204,8 +209,10 @@ TEST_CASE("tie rule: a fan around a vertex and a square's diagonal are hit exact
             for (const float f : {0.125f, 0.5f, 0.75f}) {
                 const Vec3f p{f, f, 0};
                 const Vec3f sq[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-                const bool h1 = simd::woop_test(p - d, s, 0, inf, sq[0], flip ? sq[2] : sq[1], flip ? sq[1] : sq[2]).hit;
-                const bool h2 = simd::woop_test(p - d, s, 0, inf, sq[0], flip ? sq[3] : sq[2], flip ? sq[2] : sq[3]).hit;
+                const bool h1 =
+                    simd::woop_test(p - d, s, 0, inf, sq[0], flip ? sq[2] : sq[1], flip ? sq[1] : sq[2]).hit;
+                const bool h2 =
+                    simd::woop_test(p - d, s, 0, inf, sq[0], flip ? sq[3] : sq[2], flip ? sq[2] : sq[3]).hit;
                 CHECK(h1 + h2 == 1);
             }
         }
@@ -242,7 +249,8 @@ TEST_CASE("tie rule: exactly 2 crossings through closed cubes at face diagonals,
             const auto lists = testing::all_hits(*s.accel, rays);
             std::size_t wrong = 0;
             for (std::size_t i = 0; i < rays.size(); ++i)
-                if (lists[i].size() != 2 && wrong++ < 3) MESSAGE("ray " << i << ": " << lists[i].size() << " crossings");
+                if (lists[i].size() != 2 && wrong++ < 3)
+                    MESSAGE("ray " << i << ": " << lists[i].size() << " crossings");
             CHECK(wrong == 0);
         }
     }
@@ -291,7 +299,8 @@ TEST_CASE("tie rule: even crossing counts on every closed shared model, rays aim
             rays.push_back({q, 0.0f, d, inf});
         }
         std::size_t vertex_ties = 0, edge_ties = 0;
-        for (std::size_t i = 0; i < rays.size(); ++i) (i % 2 ? edge_ties : vertex_ties) += ties_along(mesh, rays[i]) > 0;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            (i % 2 ? edge_ties : vertex_ties) += ties_along(mesh, rays[i]) > 0;
         MESSAGE(mesh.triangle_count() << " triangles: " << vertex_ties << " vertex rays and " << edge_ties
                                       << " edge rays of " << per_model << " each meet an exact tie");
         CHECK(vertex_ties >= per_model / 4);
@@ -301,7 +310,8 @@ TEST_CASE("tie rule: even crossing counts on every closed shared model, rays aim
             const auto lists = testing::all_hits(*s.accel, rays);
             std::size_t odd = 0;
             for (std::size_t i = 0; i < rays.size(); ++i)
-                if (lists[i].size() % 2 != 0 && odd++ < 3) MESSAGE("ray " << i << ": " << lists[i].size() << " crossings");
+                if (lists[i].size() % 2 != 0 && odd++ < 3)
+                    MESSAGE("ray " << i << ": " << lists[i].size() << " crossings");
             CHECK(odd == 0);
         }
     });
