@@ -8,6 +8,18 @@
 /// so its sign is either exact or 0, and a 0 is settled exactly in double precision (products of
 /// floats are exact in double). Two triangles sharing an edge therefore see exactly opposite
 /// signs. This needs a*b - c*d to be rounded twice: the build uses -ffp-contract=off.
+///
+/// Ties (an edge function exactly 0: the ray passes exactly through an edge or a vertex as the
+/// test sees them) are decided as if the ray's point in the sheared frame were moved by an
+/// infinitesimal step (e, e*h), 0 < h << 1, the same for every triangle (symbolic perturbation, as
+/// rasterizers' top-left rule): the zero edge function of an edge p -> q then takes the sign of
+/// q.y - p.y, or of p.x - q.x when q.y == p.y, and the triangle is hit only when that sign is the
+/// sign of its other, non-zero edge functions (of det). The moved point lies on no edge line, so a
+/// ray through an edge shared by two triangles that it crosses hits exactly one of them, one it
+/// grazes (a silhouette: the two project onto the same side) both or neither, and a ray through a
+/// vertex hits exactly one triangle of a fan it crosses. A closed, consistently oriented mesh is
+/// therefore crossed an even number of times by a ray from outside, also through its edges and
+/// vertices. Away from ties nothing changes, and an accepted tie keeps its t, u and v.
 #include "simd/vec3.h"
 
 #include <cfloat>
@@ -50,12 +62,33 @@ inline float edge_exact(float ax, float by, float ay, float bx) {
     const float f = float(d);
     return f != 0.0f ? f : std::copysign(FLT_MIN, float(d > 0 ? 1 : -1));
 }
+/// The sign (+1, -1; 0 for a zero-length edge) that the zero edge function of edge p -> q takes
+/// when the ray's point moves by (e, e*h): see the header comment.
+inline float tie_sign(float px, float py, float qx, float qy) {
+    if (qy != py) return qy > py ? 1.0f : -1.0f;
+    if (qx != px) return qx < px ? 1.0f : -1.0f;
+    return 0.0f;
+}
+/// Settles the edge functions exactly (some float one is 0), then applies the tie rule: a zero
+/// edge function whose tie_sign is not the sign of the non-zero ones is set to the opposite sign
+/// (a miss); one that agrees stays 0, so the hit's t, u and v are those of the test without the
+/// rule. U belongs to edge b -> c, V to c -> a, W to a -> b. Out of line and cold: it is rare, and
+/// inlined its size made GCC 12 call woop_test in the scalar walks and add_woop and wide_ray_setup
+/// in the wide paths instead of inlining them.
+[[gnu::cold, gnu::noinline]] inline void settle_edges(float& U, float& V, float& W, float ax, float ay, float bx,
+                                                      float by, float cx, float cy) {
+    U = edge_exact(cx, by, cy, bx);
+    V = edge_exact(ax, cy, ay, cx);
+    W = edge_exact(bx, ay, by, ax);
+    const bool pos = U > 0.0f || V > 0.0f || W > 0.0f, neg = U < 0.0f || V < 0.0f || W < 0.0f;
+    if (pos == neg) return;  // mixed signs (a miss), or all three 0 (det == 0: a miss)
+    const float s = pos ? 1.0f : -1.0f;
+    if (U == 0.0f && tie_sign(bx, by, cx, cy) != s) U = -s;
+    if (V == 0.0f && tie_sign(cx, cy, ax, ay) != s) V = -s;
+    if (W == 0.0f && tie_sign(ax, ay, bx, by) != s) W = -s;
+}
 inline void refine_edges(float& U, float& V, float& W, float ax, float ay, float bx, float by, float cx, float cy) {
-    if (U == 0.0f || V == 0.0f || W == 0.0f) {
-        U = edge_exact(cx, by, cy, bx);
-        V = edge_exact(ax, cy, ay, cx);
-        W = edge_exact(bx, ay, by, ax);
-    }
+    if (U == 0.0f || V == 0.0f || W == 0.0f) settle_edges(U, V, W, ax, ay, bx, by, cx, cy);
 }
 template <class A>  // (forced inline: as push_ordered16, accel/wide/wide_push.h)
 ARBOR_INLINE void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>& V, xsimd::batch<float, A>& W,
@@ -74,16 +107,17 @@ ARBOR_INLINE void refine_edges(xsimd::batch<float, A>& U, xsimd::batch<float, A>
     while (bits) {
         const int i = std::countr_zero(bits);
         bits &= bits - 1;
-        refine_edges(u[i], v[i], w[i], a0[i], a1[i], b0[i], b1[i], c0[i], c1[i]);
+        settle_edges(u[i], v[i], w[i], a0[i], a1[i], b0[i], b1[i], c0[i], c1[i]);
     }
     U = B::load_aligned(u); V = B::load_aligned(v); W = B::load_aligned(w);
 }
 }  // namespace detail
 
 /// The test on vertices already taken relative to the ray origin and permuted into the ray's
-/// (kx, ky, kz) frame (so .z is the dominant axis). Accepts t in [tnear, tfar]; a hit on an edge
-/// or vertex counts. Degenerate triangles (det == 0) and NaN results never hit. EarlyOut: when no
-/// lane can hit, return before the division with t = u = v = 0 (the hits are the same).
+/// (kx, ky, kz) frame (so .z is the dominant axis). Accepts t in [tnear, tfar]; a hit exactly on
+/// an edge or vertex counts when the tie rule (header comment) gives it to this triangle.
+/// Degenerate triangles (det == 0) and NaN results never hit. EarlyOut: when no lane can hit,
+/// return before the division with t = u = v = 0 (the hits are the same).
 template <class T, bool EarlyOut = false>
 ARBOR_INLINE TriHit<T> woop_permuted(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const T& sx, const T& sy,
                                const T& sz, const T& tnear, const T& tfar) {

@@ -59,10 +59,13 @@ void add_rays_at_vertices_and_edges(StressCase& c, const Vec3f& origin, bool sta
         if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) return;
         RayTag tag;
         tag.surface_t = star ? 1.0f : inf;  // o + 1*d is the target (exactly when the subtraction was exact)
+        tag.parity = 1;                      // from inside: an odd number of crossings
         c.add({origin, 0.0f, d, inf}, tag);
-        // Past the crossing at t = 1 the ray is outside; another hit must be a real surface.
+        // Past the crossing at t = 1 the ray is outside; another hit must be a real surface. When
+        // star-shaped, the ray is outside there, so it crosses an even number of times after it.
         RayTag cont;
         cont.continuation = true;
+        cont.parity = star ? 0 : -1;
         c.add({origin, 1.001f, d, inf}, cont);
     };
     std::vector<bool> used(m.vertex_count(), false);

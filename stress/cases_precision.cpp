@@ -77,6 +77,7 @@ void add_placed(std::vector<StressCase>& out, bool full, const std::string& name
     sphere.mesh.indices.assign(c.mesh.indices.begin(), c.mesh.indices.begin() + std::ptrdiff_t(3 * sphere_tris));
     add_rays_at_vertices_and_edges(sphere, place({0.5f, 0.0f, 0.25f}, scale, offset), false, full ? 2 : 4);
     for (std::size_t i = 0; i < sphere.rays.size(); ++i) c.add(sphere.rays[i], sphere.tags[i]);
+    c.parity_prims = sphere_tris;
     out.push_back(std::move(c));
 }
 

@@ -86,4 +86,34 @@ Tally judge(const StressCase& c, const Oracle& oracle, std::span<const OracleAns
     return out;
 }
 
+bool has_parity(const StressCase& c) {
+    return std::any_of(c.tags.begin(), c.tags.end(), [](const RayTag& t) { return t.parity >= 0; });
+}
+
+void judge_crossings(const StressCase& c, std::span<const std::vector<Hit>> lists, Tally& out) {
+    for (std::size_t i = 0; i < c.rays.size() && i < c.tags.size(); ++i) {
+        const int parity = c.tags[i].parity;
+        if (parity < 0 || !accel::ray_is_traceable(c.rays[i])) continue;
+        std::vector<Hit> l;
+        for (const Hit& h : lists[i])
+            if (h.prim < c.parity_prims) l.push_back(h);
+        if (int(l.size() % 2) == parity) continue;
+        // Two crossings at one point: the lists are sorted by t, so they are neighbours.
+        bool twice = false;
+        for (std::size_t k = 1; k < l.size(); ++k)
+            twice = twice || std::fabs(double(l[k].t) - double(l[k - 1].t)) <= 1e-5 * std::fabs(double(l[k].t));
+        twice ? ++out.double_hit : ++out.false_miss;
+        if (out.examples.size() < max_examples) {
+            const Ray& r = c.rays[i];
+            char buf[512];
+            std::snprintf(buf, sizeof buf,
+                          "%s ray %zu (all hits): %zu crossings, expected an %s count%s; o=(%.9g %.9g %.9g) "
+                          "d=(%.9g %.9g %.9g) t=[%.9g, %.9g]",
+                          c.name.c_str(), i, l.size(), parity ? "odd" : "even", twice ? " (two at one t)" : "", r.org.x,
+                          r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar);
+            out.examples.push_back(buf);
+        }
+    }
+}
+
 }  // namespace arbor::stress

@@ -9,7 +9,9 @@
 ///   exact t than its error bound plus 1e-4 relative;
 /// - double hit: a false hit of one particular kind, the same surface hit twice: a secondary ray
 ///   hitting the triangle it leaves, or a continuation ray (tnear just past a crossing) hitting
-///   where the oracle sees nothing;
+///   where the oracle sees nothing; and, in all-hits lists (judge_crossings), a ray whose
+///   crossings of closed surfaces have the wrong parity with two crossings at one t (an edge or a
+///   vertex counted by two triangles; the wrong parity without one is a false miss);
 /// - accepted, otherwise. Rays in the oracle's band are counted apart; any answer a correct float
 ///   implementation could give is accepted there, nothing else.
 #include "stress/oracle.h"
@@ -41,5 +43,15 @@ struct Tally {
 /// oracle.answers(c.rays). `any` may be empty (closest only).
 Tally judge(const StressCase& c, const Oracle& oracle, std::span<const OracleAnswer> answers,
             std::span<const Hit> closest, std::span<const Hit> any);
+
+/// True when some ray of `c` promises a crossing parity (RayTag::parity).
+bool has_parity(const StressCase& c);
+
+/// Judges the all-hits lists of the rays of `c` (Accel::trace_all, one list per ray; hits on
+/// triangles from c.parity_prims on are not counted) against their parity promises
+/// (RayTag::parity) and adds the failures to `out`; the band does not apply: the
+/// triangle test's tie rule makes a closed surface's crossings exact at edges and vertices too.
+/// The rays' other answers are judged by judge(); `out.rays` is not changed.
+void judge_crossings(const StressCase& c, std::span<const std::vector<Hit>> lists, Tally& out);
 
 }  // namespace arbor::stress

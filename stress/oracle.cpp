@@ -81,7 +81,21 @@ TriVerdict classify_tri(const Frame& f, const Vec3f (&v)[3]) {
                       r * (std::fabs(px[0] * py[2]) + std::fabs(py[0] * px[2]));
     const double eW = dx * (std::fabs(py[0]) + std::fabs(py[1])) + dy * (std::fabs(px[1]) + std::fabs(px[0])) + 2 * dx * dy +
                       r * (std::fabs(px[1] * py[0]) + std::fabs(py[1] * px[0]));
-    const int s[3] = {sign_class(U, eU), sign_class(V, eV), sign_class(W, eW)};
+    int s[3] = {sign_class(U, eU), sign_class(V, eV), sign_class(W, eW)};
+    // An exactly zero edge function: the ray passes exactly through the edge p -> q. On exact
+    // coordinates (the float test's own) it takes the sign the triangle test's tie rule gives it:
+    // that of F(x, y) = (qx - x)(py - y) - (qy - y)(px - x) at the point (e, e*h), e and h
+    // infinitesimal: of dF/dx = qy - py, else of dF/dy = px - qx. Otherwise it is unsure.
+    const int from[3] = {1, 2, 0}, to[3] = {2, 0, 1};  // U: edge b -> c, V: c -> a, W: a -> b
+    for (int k = 0; k < 3; ++k) {
+        if (s[k] != 0) continue;
+        if (!(exact_x && exact_y)) {
+            s[k] = 2;
+            continue;
+        }
+        const double fx = py[to[k]] - py[from[k]], fy = px[from[k]] - px[to[k]];
+        s[k] = fx != 0.0 ? (fx > 0.0 ? 1 : -1) : fy != 0.0 ? (fy > 0.0 ? 1 : -1) : 0;
+    }
     bool pos = false, neg = false, unsure = false;
     for (int c : s) pos |= c == 1, neg |= c == -1, unsure |= c == 2;
     TriVerdict out;

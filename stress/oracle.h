@@ -13,6 +13,8 @@
 /// differences v - o are floats: then those coordinates are exact. The edge functions' errors
 /// follow from the coordinates' errors; their signs are exact for exact coordinates (the float
 /// test refines zeros in double), so integer grids traced along the axes have no band at all.
+/// There an exactly zero edge function (a ray exactly through an edge or vertex) gets the sign the
+/// triangle test's tie rule gives it (simd/ray_triangle.h), worked out here from its definition.
 #include "accel/core/geometry.h"
 
 #include <cstdint>

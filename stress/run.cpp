@@ -118,6 +118,16 @@ std::vector<StressRow> run_case(const PreparedCase& p, accel::AccelKind kind, co
         }
     };
     judge_paths(*structure, true);
+    if (has_parity(c)) {
+        // The all-hits lists (one walk per structure, whatever the path) join its first row.
+        struct Lists final : accel::HitSink {
+            std::vector<std::vector<Hit>> lists;
+            void take(std::size_t i, std::span<Hit> hits) override { lists[i].assign(hits.begin(), hits.end()); }
+        } sink;
+        sink.lists.resize(c.rays.size());
+        structure->trace_all(c.rays, sink);
+        judge_crossings(c, sink.lists, rows.front().tally);
+    }
     if (kind == accel::AccelKind::kdtree && cfg.layouts != accel::Layouts::scalar)
         for (const accel::KdWalk walk : {accel::KdWalk::tight_cells, accel::KdWalk::cells, accel::KdWalk::ropes}) {
             if (walk == cfg.kd_blocks.walk) continue;

@@ -27,6 +27,10 @@ struct RayTag {
     /// Starts just past the ray's crossing of a closed surface: a hit the oracle rejects is a
     /// double hit (the same crossing hit twice at different t).
     bool continuation = false;
+    /// The parity of the closed surfaces' crossings in [tnear, tfar] (Accel::trace_all): 1 odd
+    /// (from inside), 0 even, -1 no promise. A wrong parity is a crossing counted twice (a double
+    /// hit, e.g. an edge or vertex given to two triangles) or lost (a false miss).
+    int parity = -1;
 
     bool must_hit() const { return !std::isnan(surface_t); }
 };
@@ -37,6 +41,9 @@ struct StressCase {
     engine::Mesh mesh;
     std::vector<accel::Ray> rays;
     std::vector<RayTag> tags;  ///< one per ray
+    /// Triangles [0, parity_prims) form the closed surfaces that RayTag::parity counts the
+    /// crossings of; later ones (open scenery around them) are not counted.
+    std::size_t parity_prims = std::numeric_limits<std::size_t>::max();
     /// Triangles every structure must drop as non-finite (-1: not checked).
     std::int64_t expected_dropped = -1;
 

@@ -44,18 +44,29 @@ TEST_CASE("triangle: both facings hit") {
     CHECK(shoot({0.2f, 0.2f, -1.0f}, {0, 0, 1}).hit);
 }
 
-TEST_CASE("triangle: edges and vertices count as hits") {
-    CHECK(shoot({0.5f, 0.0f, 1.0f}, {0, 0, -1}).hit);   // on edge v0-v1
-    CHECK(shoot({0.0f, 0.5f, 1.0f}, {0, 0, -1}).hit);   // on edge v0-v2
-    CHECK(shoot({0.5f, 0.5f, 1.0f}, {0, 0, -1}).hit);   // on the hypotenuse
-    CHECK(shoot({0.0f, 0.0f, 1.0f}, {0, 0, -1}).hit);   // vertex v0
-    CHECK(shoot({1.0f, 0.0f, 1.0f}, {0, 0, -1}).hit);   // vertex v1
-    CHECK(shoot({0.0f, 1.0f, 1.0f}, {0, 0, -1}).hit);   // vertex v2
+TEST_CASE("triangle: a point of an edge is hit by exactly one of the two triangles sharing it, from either side") {
+    // The neighbour across each edge of (v0, v1, v2) uses that edge reversed (consistent winding).
+    const Vec3f n01[3] = {v1, v0, {0.5f, -1, 0}}, n12[3] = {v2, v1, {1, 1, 0}}, n20[3] = {v0, v2, {-1, 0.5f, 0}};
+    struct Case {
+        Vec3f p;
+        const Vec3f* other;
+    };
+    for (const Case& c : {Case{{0.5f, 0, 0}, n01}, Case{{0.25f, 0, 0}, n01}, Case{{0.5f, 0.5f, 0}, n12},
+                          Case{{0.75f, 0.25f, 0}, n12}, Case{{0, 0.5f, 0}, n20}, Case{{0, 0.125f, 0}, n20}})
+        for (const Vec3f d : {Vec3f{0, 0, -1}, Vec3f{0, 0, 1}, Vec3f{0.25f, 0.5f, -1}, Vec3f{-0.5f, 0.25f, 2}}) {
+            const auto s = woop_shear(d);
+            const bool mine = woop_test(c.p - d, s, 0, inf, v0, v1, v2).hit;
+            const bool theirs = woop_test(c.p - d, s, 0, inf, c.other[0], c.other[1], c.other[2]).hit;
+            CAPTURE(c.p.x);
+            CAPTURE(c.p.y);
+            CAPTURE(d.z);
+            CHECK(mine != theirs);
+        }
     CHECK_FALSE(shoot({0.5f, 0.5000001f, 1.0f}, {0, 0, -1}).hit);
     CHECK_FALSE(shoot({-1e-7f, 0.5f, 1.0f}, {0, 0, -1}).hit);
 }
 
-TEST_CASE("triangle: a ray through a shared edge hits exactly one side or both, never neither") {
+TEST_CASE("triangle: a ray through a shared edge hits exactly one side") {
     // Two triangles sharing the diagonal of the unit square, many oblique rays through points of it.
     const Vec3f a{0, 0, 0}, b{1, 0, 0}, c{1, 1, 0}, d{0, 1, 0};
     for (int i = 1; i < 1000; ++i) {
@@ -66,7 +77,7 @@ TEST_CASE("triangle: a ray through a shared edge hits exactly one side or both, 
         const auto sh = woop_shear(dir);
         const bool h1 = woop_test(o, sh, 0, inf, a, b, c).hit;
         const bool h2 = woop_test(o, sh, 0, inf, a, c, d).hit;
-        CHECK((h1 || h2));
+        CHECK(h1 != h2);
     }
 }
 
@@ -104,12 +115,17 @@ TEST_CASE("triangle: NaN in the ray or the triangle gives a miss") {
 }
 
 TEST_CASE("triangle: the double-precision fallback settles a zero edge function exactly") {
-    // Origin exactly above a vertex far from the origin: the float edge function is 0 there.
-    const Vec3f a{1e6f, 1e6f, 0}, b{1e6f + 1, 1e6f, 0}, c{1e6f, 1e6f + 1, 0};
-    const auto s = woop_shear({0, 0, -1});
-    CHECK(woop_test({1e6f, 1e6f, 1}, s, 0, inf, a, b, c).hit);
-    CHECK(woop_test({1e6f + 0.5f, 1e6f, 1}, s, 0, inf, a, b, c).hit);
-    CHECK_FALSE(woop_test({1e6f - 0.0625f, 1e6f, 1}, s, 0, inf, a, b, c).hit);
+    // Origins exactly above a vertex and an edge far from the origin: the float edge functions are
+    // 0 there. Of the four triangles around vertex a exactly one is hit; of the two sharing edge
+    // a-b exactly one; a point just outside misses.
+    const Vec3f a{1e6f, 1e6f, 0}, b{1e6f + 1, 1e6f, 0}, c{1e6f, 1e6f + 1, 0}, w{1e6f - 1, 1e6f, 0}, s{1e6f, 1e6f - 1, 0};
+    const auto down = woop_shear({0, 0, -1});
+    const Vec3f fan[4][3] = {{a, b, c}, {a, c, w}, {a, w, s}, {a, s, b}};
+    int hits = 0;
+    for (const auto& t : fan) hits += woop_test({1e6f, 1e6f, 1}, down, 0, inf, t[0], t[1], t[2]).hit;
+    CHECK(hits == 1);
+    CHECK(woop_test({1e6f + 0.5f, 1e6f, 1}, down, 0, inf, a, b, c).hit != woop_test({1e6f + 0.5f, 1e6f, 1}, down, 0, inf, a, s, b).hit);
+    CHECK_FALSE(woop_test({1e6f - 0.0625f, 1e6f + 0.5f, 1}, down, 0, inf, a, b, c).hit);
 }
 
 using arbor::simd::slab_ray;

@@ -325,7 +325,9 @@ template <class T, bool PerLane> void check_packet_triangles() {
     }
     ARBOR_CHECK_NONE(bad);
     CHECK(hits > rays.size() / 2);
-    CHECK(fallback_hits >= 3);  // vertex, edge, interior of the far triangle
+    // Rays exactly through the far triangle's vertices and edges (zero edge functions settled in
+    // double): the tie rule gives it some of them, the lone triangle's other side the rest.
+    CHECK(fallback_hits >= 2);
 }
 }  // namespace
 

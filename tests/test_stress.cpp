@@ -4,6 +4,7 @@
 #include "accel/structures/brute_accel.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
+#include "simd/ray_triangle.h"
 #include "stress/run.h"
 #include "testing.h"
 
@@ -140,12 +141,19 @@ TEST_CASE("stress oracle: exact verdicts on exact input, the band on inexact inp
     TriVerdict v = o.classify({{0.5f, 0.5f, 3.0f}, 0.0f, {0.0f, -0.0f, -1.0f}, inf}, 0);
     CHECK(v.kind == TriVerdict::hit);
     CHECK(v.t == 3.0);
-    // Exactly through the shared edge, axis-parallel: both triangles certainly hit (exact zero edge).
-    const Ray edge{{1.0f, 1.0f, 3.0f}, 0.0f, {0, 0, -1}, inf};
-    CHECK(o.classify(edge, 0).kind == TriVerdict::hit);
-    CHECK(o.classify(edge, 1).kind == TriVerdict::hit);
-    CHECK(o.answer(edge).certain_hit());
-    CHECK_FALSE(o.answer(edge).band);
+    // Exactly through the shared edge, axis-parallel, from either side: an exact zero edge that
+    // the tie rule gives to exactly one of the two triangles, the one the triangle test hits.
+    for (const float z : {3.0f, -3.0f}) {
+        const Ray edge{{1.0f, 1.0f, z}, 0.0f, {0, 0, -z}, inf};
+        const bool h0 = o.classify(edge, 0).kind == TriVerdict::hit, h1 = o.classify(edge, 1).kind == TriVerdict::hit;
+        CHECK(h0 != h1);
+        CHECK(o.classify(edge, h0 ? 1 : 0).kind == TriVerdict::miss);
+        const auto sh = simd::woop_shear(edge.dir);
+        CHECK(simd::woop_test(edge.org, sh, 0, inf, {0, 0, 0}, {2, 0, 0}, {0, 2, 0}).hit == h0);
+        CHECK(simd::woop_test(edge.org, sh, 0, inf, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}).hit == h1);
+        CHECK(o.answer(edge).certain_hit());
+        CHECK_FALSE(o.answer(edge).band);
+    }
     // Through the shared edge obliquely: within float rounding of it, so in the band.
     const Ray oblique{{0.3f, 0.1f, 3.0f}, 0.0f, Vec3f{1, 1, 0} - Vec3f{0.3f, 0.1f, 3.0f}, inf};
     CHECK(o.classify(oblique, 0).kind == TriVerdict::unsure);

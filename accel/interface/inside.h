@@ -3,9 +3,10 @@
 ///
 /// With the watertight test, a ray from a point crossing a closed mesh is counted exactly: where
 /// two triangles share an edge the ray's side of it is decided once, with the same arithmetic, for
-/// both (Woop, Benthin, Wald 2013). What the parity cannot decide is a ray that meets an edge or a
-/// vertex exactly (an edge function of exactly 0, so every triangle around it is hit) and a point
-/// on the surface itself (a crossing at t ~ 0 may be counted or not). Those rays are "in the band":
+/// both (Woop, Benthin, Wald 2013), and a ray exactly through an edge or a vertex is given to one
+/// triangle there by the test's tie rule (simd/ray_triangle.h). What the parity cannot decide is a
+/// point on the surface itself (a crossing at t ~ 0 may be counted or not), and an edge or vertex
+/// of a mesh that is not closed and consistently oriented. Those rays are "in the band":
 /// a hit with a barycentric within band_bary of 0, or within band_t of the point. Then the next of
 /// a fixed set of directions is tried; when every direction is in the band (a point on the surface),
 /// the majority of their parities answers.

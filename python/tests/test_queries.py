@@ -48,6 +48,29 @@ def test_counts_may_exceed_max_hits_and_ranges_cut_lists(box_scene):
     assert s.intersect_all(o, d, max_hits=0)[0].shape == (1, 0)
 
 
+@pytest.mark.parametrize("structure", ["brute"] + STRUCTURES)
+@pytest.mark.parametrize("lo,hi", [((-1, -1, -1), (1, 1, 1)), ((5.123457, -6.3, 7.77), (6.823457, -5.37, 9.97))])
+def test_intersect_all_crosses_a_box_twice_through_diagonals_edges_and_corners(structure, lo, hi):
+    # The triangle test gives a shared edge or vertex to one triangle there (docs/robustness.md).
+    v, f = box_mesh(lo, hi)
+    s = arbor.Scene(v, f)
+    s.build(structure)
+    lo, hi = v[0], v[6]
+    mid = (lo + hi) / 2
+    points = [lo, hi, np.array([lo[0], mid[1], lo[2]], np.float32), np.array([hi[0], lo[1], mid[2]], np.float32),
+              np.array([mid[0], mid[1], lo[2]], np.float32)]
+    o, d = [], []
+    for p in points:
+        for k in range(3):  # a power-of-two dominant component: the edge or corner lies exactly on the ray
+            step = np.where(mid > p, 1.0, -1.0) * np.roll(np.array([4.0, 1.5, 0.75]), k)
+            o.append(p - step)
+            d.append(step)
+    if lo[0] == -1:  # the face diagonal of z = -1, perpendicular
+        o.append([0.25, 0.25, -5]), d.append([0, 0, 1])
+    _, counts = s.intersect_all(np.array(o, np.float32), np.array(d, np.float32), max_hits=8)
+    assert list(counts) == [2] * len(o)
+
+
 @pytest.mark.parametrize("name", ["spot.obj", "suzanne.obj"])
 def test_every_structure_matches_brute_force(models, name):
     path = next(m for m in models if m.name == name)
