@@ -11,6 +11,7 @@
 #include "arrays.h"
 #include "py_scene.h"
 #include "queries.h"
+#include "update.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -325,4 +326,6 @@ PYBIND11_MODULE(_arbor, m) {
             "into.\n" ARBOR_THREADS_DOC
             "\nReturns:\n"
             "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC);
+
+    arbor::python::bind_update(m);
 }

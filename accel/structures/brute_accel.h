@@ -17,6 +17,9 @@ public:
     void trace_all(std::span<const Ray> rays, HitSink& sink) const override;
     /// Every triangle's exact distance.
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
+    /// Copies the corners again (no tree, so nothing to lose: a refit is a rebuild here).
+    std::string_view refit_unsupported() const override { return {}; }
+    RefitResult refit(const TriangleView& tris) override;
 
 private:
     /// One path (scalar), and the counted mode: one node (the whole list) per traceable ray, every

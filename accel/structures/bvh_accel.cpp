@@ -1,6 +1,7 @@
 #include "accel/structures/bvh_accel.h"
 
 #include "accel/bvh/bvh2_queries.h"
+#include "accel/bvh/bvh2_refit.h"
 #include "accel/bvh/bvh2_traverse.h"
 #include "accel/core/hit_record.h"
 #include "accel/util/timer.h"
@@ -51,6 +52,27 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     offer_.counts = scalar;
     offer_.simd_skipped = !make_wide;
     if (!bvh.nodes.empty()) offer_.scene_diagonal = simd::length(bvh.nodes[0].box.extent());
+    if (scalar) built_sah_ = bvh2_sah_cost(layout_);
+}
+
+std::string_view BvhAccel::refit_unsupported() const {
+    if (kind_ == AccelKind::kdtree) return "a kd-tree's cells cannot be refit: their boxes are the cells' split planes";
+    return {};
+}
+
+double BvhAccel::refit_layouts(const TriangleView& tris) {
+    return layout_.empty() ? 0.0 : refit_bvh2_layout(layout_, tris);
+}
+
+RefitResult BvhAccel::refit(const TriangleView& tris) {
+    if (!refit_unsupported().empty()) return Accel::refit(tris);
+    const Timer timer;
+    RefitResult r;
+    r.sah_cost = refit_layouts(tris);
+    if (!layout_.empty()) offer_.scene_diagonal = simd::length(layout_.root_box.extent());
+    r.built_sah_cost = built_sah_;
+    r.ms = timer.ms();
+    return r;
 }
 
 template <bool AnyHit, bool Count>
