@@ -11,17 +11,62 @@
 #include "accel/util/timer.h"
 #include "api/scene_impl.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+
 namespace arbor {
 
 namespace {
 
 using Kind = Error::Kind;
 
+/// Grain of the passes over vertices and triangles below (each is one streaming pass: in parallel,
+/// they keep a 1M-triangle update's own work small beside the refit).
+constexpr std::size_t grain = 16384;
+
 /// Whether any triangle of [first, end) has a non-finite corner.
 bool any_nonfinite(const accel::TriangleView& view, std::size_t first, std::size_t end) {
-    for (std::size_t t = first; t < end; ++t)
-        if (!view.triangle_is_finite(t)) return true;
-    return false;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(first, end, grain), false,
+        [&](const tbb::blocked_range<std::size_t>& r, bool found) {
+            for (std::size_t t = r.begin(); !found && t != r.end(); ++t) found = !view.triangle_is_finite(t);
+            return found;
+        },
+        [](bool a, bool b) { return a || b; });
+}
+
+/// The first vertex of `count` (x, y, z at `stride` bytes) with a non-finite coordinate, or count.
+std::size_t first_nonfinite(const unsigned char* bytes, std::size_t count, std::size_t stride) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, count, grain), count,
+        [&](const tbb::blocked_range<std::size_t>& r, std::size_t first) {
+            for (std::size_t i = r.begin(); i != r.end() && i < first; ++i) {
+                float p[3];
+                std::memcpy(p, bytes + i * stride, sizeof p);
+                if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) return i;
+            }
+            return first;
+        },
+        [](std::size_t a, std::size_t b) { return std::min(a, b); });
+}
+
+/// The box of the finite triangles (the ones a structure keeps): min and max are exact, so the
+/// parallel reduction gives the same box for any thread count.
+accel::Bounds finite_bounds(const accel::TriangleView& view) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, view.triangle_count(), grain), accel::Bounds{},
+        [&](const tbb::blocked_range<std::size_t>& r, accel::Bounds box) {
+            for (std::size_t t = r.begin(); t != r.end(); ++t)
+                if (view.triangle_is_finite(t)) box.grow(view.triangle_bounds(t));
+            return box;
+        },
+        [](accel::Bounds a, const accel::Bounds& b) {
+            a.grow(b);
+            return a;
+        });
 }
 
 /// Trace time per ray on a fresh tree of `s`'s structure, ns: measured from the answers since the
@@ -71,33 +116,40 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         if (vertex_count != 0 && vertices == nullptr) throw Error(Kind::invalid_argument, "update_vertices: vertices is null");
         if (vertex_count != 0 && stride < 3 * sizeof(float))
             throw Error(Kind::invalid_argument, "update_vertices: stride " + std::to_string(stride) + " is below 12 bytes (x, y, z floats)");
+        // The passes below run on the scene's threads (a scene never built: on the caller's).
+        const auto in_arena = [&](auto&& f) {
+            if (s.arena) s.arena->execute(f);
+            else f();
+        };
         // Every coordinate checked before anything changes: a bad array leaves the scene as it was.
         const auto* bytes = reinterpret_cast<const unsigned char*>(vertices);
-        for (std::size_t i = 0; i < vertex_count; ++i) {
+        std::size_t bad = vertex_count;
+        in_arena([&] { bad = first_nonfinite(bytes, vertex_count, stride); });
+        if (bad != vertex_count) {
             float p[3];
-            std::memcpy(p, bytes + i * stride, sizeof p);
-            for (int k = 0; k < 3; ++k)
-                if (!std::isfinite(p[k]))
-                    throw Error(Kind::invalid_argument, "update_vertices: vertices[" + std::to_string(i) + "] is not finite (" +
-                                                            std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
-                                                            std::to_string(p[2]) + ")");
+            std::memcpy(p, bytes + bad * stride, sizeof p);
+            throw Error(Kind::invalid_argument, "update_vertices: vertices[" + std::to_string(bad) + "] is not finite (" +
+                                                    std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
+                                                    std::to_string(p[2]) + ")");
         }
         const std::size_t first_t = s.first_prim[geom];
         const std::size_t end_t = geom + 1 < meshes ? s.first_prim[geom + 1] : s.mesh.triangle_count();
         const accel::TriangleView view = s.mesh.view();
-        // A triangle left out of the tree for a non-finite corner is finite now: a refit cannot add it.
-        const bool gained = any_nonfinite(view, first_t, end_t);
-        // In place: the spans of `view` (and a brute structure's view) stay valid.
-        for (std::size_t i = 0; i < vertex_count; ++i) {
-            float p[3];
-            std::memcpy(p, bytes + i * stride, sizeof p);
-            s.mesh.x[first_v + i] = p[0], s.mesh.y[first_v + i] = p[1], s.mesh.z[first_v + i] = p[2];
-        }
-        accel::Bounds box;
-        for (std::size_t t = 0; t < view.triangle_count(); ++t)
-            if (view.triangle_is_finite(t)) box.grow(view.triangle_bounds(t));
-        s.bounds = box;
-        s.mesh.bounds = box;
+        bool gained = false;
+        in_arena([&] {
+            // A triangle left out of the tree for a non-finite corner is finite now: a refit cannot add it.
+            gained = any_nonfinite(view, first_t, end_t);
+            // In place: the spans of `view` (and a brute structure's view) stay valid.
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_count, grain), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                    float p[3];
+                    std::memcpy(p, bytes + i * stride, sizeof p);
+                    s.mesh.x[first_v + i] = p[0], s.mesh.y[first_v + i] = p[1], s.mesh.z[first_v + i] = p[2];
+                }
+            });
+            s.bounds = finite_bounds(view);
+        });
+        s.mesh.bounds = s.bounds;
 
         const double rays = options.rays >= 0.0 ? options.rays : double(s.answered.load());
         const std::string rays_source = options.rays >= 0.0 ? "given" : "answered since the last build or update";
