@@ -137,8 +137,9 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         const accel::TriangleView view = s.mesh.view();
         bool gained = false;
         in_arena([&] {
-            // A triangle left out of the tree for a non-finite corner is finite now: a refit cannot add it.
-            gained = any_nonfinite(view, first_t, end_t);
+            // A triangle left out of the tree for a non-finite corner is finite now: a refit cannot
+            // add it (only a tree that left some out needs the look).
+            if (s.ready && s.accel && s.accel->stats().dropped_nonfinite != 0) gained = any_nonfinite(view, first_t, end_t);
             // In place: the spans of `view` (and a brute structure's view) stay valid.
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_count, grain), [&](const tbb::blocked_range<std::size_t>& r) {
                 for (std::size_t i = r.begin(); i != r.end(); ++i) {
@@ -147,13 +148,18 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
                     s.mesh.x[first_v + i] = p[0], s.mesh.y[first_v + i] = p[1], s.mesh.z[first_v + i] = p[2];
                 }
             });
-            s.bounds = finite_bounds(view);
         });
-        s.mesh.bounds = s.bounds;
+        // The scene's box: a refit's root box, else one pass over the triangles.
+        const auto update_bounds = [&](const accel::Bounds* refit_box) {
+            if (refit_box) s.bounds = *refit_box;
+            else in_arena([&] { s.bounds = finite_bounds(view); });
+            s.mesh.bounds = s.bounds;
+        };
 
         const double rays = options.rays >= 0.0 ? options.rays : double(s.answered.load());
         const std::string rays_source = options.rays >= 0.0 ? "given" : "answered since the last build or update";
         if (!s.ready || !s.accel) {
+            update_bounds(nullptr);
             s.update_action = "none";
             s.update_reason = "none: not built yet; the next query builds the structure";
             return;
@@ -182,6 +188,7 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
                 reason = c.reason;
             }
             s.sah_ratio = r.ratio();
+            if (!rebuild) update_bounds(&r.bounds);
         }
         if (rebuild) {
             accel::BuildConfig cfg;
@@ -189,6 +196,7 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
             cfg.layouts = accel::Layouts::simd;  // as build() makes it
             s.ready = false;
             s.accel.reset();
+            update_bounds(nullptr);
             s.arena->execute([&] { s.accel = accel::make_accel(kind, view, cfg); });
             s.build_ms = s.accel->stats().build_ms;
             s.sah_ratio = 1.0;

@@ -1,5 +1,7 @@
 #pragma once
 /// What Accel::refit reports: the tree's quality after the refit against the tree as last built.
+#include "accel/core/geometry.h"
+
 namespace arbor::accel {
 
 struct RefitResult {
@@ -12,6 +14,8 @@ struct RefitResult {
     /// old tree's).
     double built_sah_cost = 0.0;
     double ms = 0.0;  ///< wall time of the refit
+    /// The box of the structure's triangles at their new positions (empty when it holds none).
+    Bounds bounds;
 
     /// sah_cost / built_sah_cost (1 when either is 0: nothing to compare).
     double ratio() const { return sah_cost > 0.0 && built_sah_cost > 0.0 ? sah_cost / built_sah_cost : 1.0; }

@@ -60,16 +60,19 @@ std::string_view BvhAccel::refit_unsupported() const {
     return {};
 }
 
-double BvhAccel::refit_layouts(const TriangleView& tris) {
-    return layout_.empty() ? 0.0 : refit_bvh2_layout(layout_, tris);
+double BvhAccel::refit_layouts(const TriangleView& tris, Bounds& bounds) {
+    if (layout_.empty()) return 0.0;
+    const double cost = refit_bvh2_layout(layout_, tris);
+    bounds = layout_.root_box;
+    return cost;
 }
 
 RefitResult BvhAccel::refit(const TriangleView& tris) {
     if (!refit_unsupported().empty()) return Accel::refit(tris);
     const Timer timer;
     RefitResult r;
-    r.sah_cost = refit_layouts(tris);
-    if (!layout_.empty()) offer_.scene_diagonal = simd::length(layout_.root_box.extent());
+    r.sah_cost = refit_layouts(tris, r.bounds);
+    if (!r.bounds.empty()) offer_.scene_diagonal = simd::length(r.bounds.extent());
     r.built_sah_cost = built_sah_;
     r.ms = timer.ms();
     return r;

@@ -57,8 +57,8 @@ protected:
              TraceCounters* counters) const override;
     void run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query query, TraceCounters* counters) const;
     /// refit()'s work on the layouts: the scalar one here; WideBvhAccel refits its SIMD layout and
-    /// returns that layout's SAH cost (else the scalar layout's).
-    virtual double refit_layouts(const TriangleView& tris);
+    /// returns that layout's SAH cost (else the scalar layout's). `bounds`: the root's box after it.
+    virtual double refit_layouts(const TriangleView& tris, Bounds& bounds);
     /// The SAH cost refit() compares against, of the layout it reports (set after the build).
     double built_sah_ = 0.0;
 

@@ -87,17 +87,16 @@ public:
 
 protected:
     /// The scalar layout (when built) and the SIMD layout; what depends on the boxes is worked out
-    /// again as the build does it: the shared root leaves and the scene's diagonal.
-    double refit_layouts(const TriangleView& tris) override {
-        const double scalar = BvhAccel::refit_layouts(tris);
+    /// again as the build does it: the shared root leaves (and, in refit(), the scene's diagonal).
+    double refit_layouts(const TriangleView& tris, Bounds& bounds) override {
+        const double scalar = BvhAccel::refit_layouts(tris, bounds);
         if (layout_.empty()) return scalar;
         const double cost = refit_wide_layout(layout_, tris);
         if (kind_ != AccelKind::kdtree)
             shared_slots_ = shared_leaf_slots(layout_, shared_leaf_triangles_, simd::WideRaySetup<simd::SetupLane>::size);
-        Bounds root;
+        bounds = Bounds{};
         for (std::size_t c = 0; c < layout_.nodes[0].children; ++c)
-            root.grow(Bounds{layout_.nodes[0].boxes.lo(c), layout_.nodes[0].boxes.hi(c)});
-        offer_.scene_diagonal = simd::length(root.extent());
+            bounds.grow(Bounds{layout_.nodes[0].boxes.lo(c), layout_.nodes[0].boxes.hi(c)});
         return cost;
     }
 
