@@ -1,6 +1,7 @@
 /// arbor::Scene::update_vertices: new positions for a mesh, and the structure refit or rebuilt
 /// (accel/select/refit_select.h decides and says why; docs/refit.md).
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "accel/factory/make_accel.h"
@@ -92,6 +93,12 @@ double fresh_ns_per_ray(const Scene::Impl& s, accel::AccelKind kind, double rays
     return 0.0;
 }
 
+std::string ms_words(double ms) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, ms >= 10.0 ? "%.0f ms" : "%.2f ms", ms);
+    return buf;
+}
+
 }  // namespace
 
 void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size_t vertex_count, std::size_t stride,
@@ -168,6 +175,7 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         std::string why_not(s.accel->refit_unsupported());
         if (why_not.empty() && gained) why_not = "triangles with a non-finite corner, left out of the tree, are finite now";
         bool rebuild = *mode == accel::UpdateMode::rebuild || !why_not.empty();
+        std::string timing;  // what the structure's own work took, for the reason's end
         std::string reason;
         if (!why_not.empty()) reason = accel::unsupported_reason(why_not);
         else if (*mode == accel::UpdateMode::rebuild) reason = accel::forced_reason(*mode, nullptr);
@@ -188,6 +196,7 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
                 reason = c.reason;
             }
             s.sah_ratio = r.ratio();
+            timing = "the refit took " + ms_words(r.ms);
             if (!rebuild) update_bounds(&r.bounds);
         }
         if (rebuild) {
@@ -199,12 +208,13 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
             update_bounds(nullptr);
             s.arena->execute([&] { s.accel = accel::make_accel(kind, view, cfg); });
             s.build_ms = s.accel->stats().build_ms;
+            timing += std::string(timing.empty() ? "the rebuild took " : ", the rebuild ") + ms_words(s.build_ms);
             s.sah_ratio = 1.0;
             s.ready = true;
         }
         s.answered = 0, s.answer_ns = 0;
         s.update_action = rebuild ? "rebuild" : "refit";
-        s.update_reason = reason;
+        s.update_reason = reason + " [" + timing + "]";
     });
 }
 

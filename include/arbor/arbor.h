@@ -213,7 +213,8 @@ public:
     /// The same from a packed vector (x, y, z per vertex).
     void update_vertices(std::uint32_t geom, const std::vector<float>& vertices, const UpdateOptions& options = {});
     /// What the last update_vertices did to the structure: "refit", "rebuild", or "none" (not built
-    /// yet: the next query builds it), empty before any update; and why, one line.
+    /// yet: the next query builds it), empty before any update; and why, one line ending with what
+    /// the structure's own work took ("[the refit took 12 ms]").
     std::string update_action() const;
     std::string update_reason() const;
     /// Lower and upper corners of the scene's box (+inf / -inf for an empty scene).
