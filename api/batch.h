@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <chrono>
 #include <optional>
 #include <span>
 #include <string>
@@ -30,6 +31,12 @@ public:
         threads_ = usable_threads(o.threads);
     }
 
+    /// Counts `n` rays or points answered in `ns` nanoseconds, for update_vertices' decision.
+    void answered(std::size_t n, std::uint64_t ns) const {
+        s_.answered.fetch_add(n, std::memory_order_relaxed);
+        s_.answer_ns.fetch_add(ns, std::memory_order_relaxed);
+    }
+
     /// Runs f() in the arena (a scene never built has no arena yet: then one of the call's own).
     template <class F>
     void execute(F&& f) {
@@ -44,10 +51,13 @@ private:
     std::optional<tbb::task_arena> own_;
 };
 
-/// Calls f(begin, end) for the chunks [k * chunk, (k + 1) * chunk) of [0, n), in parallel in `arena`.
+/// Calls f(begin, end) for the chunks [k * chunk, (k + 1) * chunk) of [0, n), in parallel in `arena`,
+/// and, when `counted` (queries; not hit_normals, which walks no tree), counts the n answers and
+/// their wall time (CallArena::answered).
 template <class F>
-void for_chunks(CallArena& arena, std::size_t n, std::size_t chunk, F&& f) {
+void for_chunks(CallArena& arena, std::size_t n, std::size_t chunk, F&& f, bool counted = true) {
     if (n == 0) return;
+    const auto start = std::chrono::steady_clock::now();
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + chunk - 1) / chunk, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
@@ -55,6 +65,9 @@ void for_chunks(CallArena& arena, std::size_t n, std::size_t chunk, F&& f) {
                                   f(k * chunk, std::min(n, (k + 1) * chunk));
                           });
     });
+    if (counted)
+        arena.answered(n, std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        std::chrono::steady_clock::now() - start).count()));
 }
 
 /// Points per chunk of a point query.

@@ -62,7 +62,7 @@ void Scene::hit_normals(const Hit* hits, std::size_t count, std::size_t hit_stri
                 if (h.prim != invalid_id) unit_normal(s.mesh, s.first_prim[h.geom] + h.prim, n);
                 std::memcpy(out + i * normal_stride, n, sizeof n);
             }
-        });
+        }, /*counted=*/false);
     });
 }
 

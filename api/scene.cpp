@@ -79,6 +79,7 @@ Scene Scene::load(const std::string& path) {
         m.indices = std::move(loaded.indices);
         m.bounds = loaded.bounds;
         s.impl_->first_prim.push_back(0);
+        s.impl_->first_vertex.push_back(0);
         s.impl_->bounds = s.impl_->mesh.bounds;  // the loader refuses non-finite vertices
         s.impl_->load_warnings = std::move(warnings.lines);
         return s;
@@ -120,6 +121,7 @@ std::uint32_t Scene::add_mesh(const float* positions, std::size_t vertex_count, 
             if (view.triangle_is_finite(t)) impl_->bounds.grow(view.triangle_bounds(t));
         m.bounds = impl_->bounds;
         impl_->first_prim.push_back(first);
+        impl_->first_vertex.push_back(base);
         // The structure no longer covers the scene: the next query builds again.
         impl_->drop_derived();
         impl_->ready = false;
@@ -163,6 +165,9 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
         }
         accel = pick.built ? std::move(pick.built) : accel::make_accel(pick.kind, view, cfg);
     });
+    build_ms = accel->stats().build_ms;  // the structure's own build, without auto's decision
+    sah_ratio = 1.0;
+    answered = 0, answer_ns = 0;
     accel_name = std::string(accel::to_string(pick.kind));
     accel_reason = pick.reason;
     path = pick.path;

@@ -24,6 +24,7 @@ class CallArena;  // api/batch.h
 struct Scene::Impl {
     engine::Mesh mesh;
     std::vector<std::uint32_t> first_prim;  ///< per geometry, its first triangle in `mesh`
+    std::vector<std::uint32_t> first_vertex;  ///< per geometry, its first vertex in `mesh`
     accel::Bounds bounds;                   ///< of the finite triangles
     BuildOptions options;                   ///< of the last build (a lazy build uses the defaults)
     std::unique_ptr<accel::Accel> accel;
@@ -34,6 +35,14 @@ struct Scene::Impl {
     std::unique_ptr<tbb::task_arena> arena;
     int threads = 0;  ///< the arena's threads: build's `threads` as usable_threads() takes it (0 = all)
     std::atomic<bool> ready{false};
+    /// For update_vertices (api/update.cpp): the last build's wall time (what a rebuild is expected
+    /// to take), the SAH ratio of the tree in use (1 after a build, RefitResult::ratio after a
+    /// refit), the rays (and points) answered and the nanoseconds spent answering them since the
+    /// last build or update, and what the last update did and why.
+    double build_ms = 0.0;
+    double sah_ratio = 1.0;
+    mutable std::atomic<std::uint64_t> answered{0}, answer_ns{0};
+    std::string update_action, update_reason;
     std::mutex build_mutex;
     /// Made on demand, dropped by add_mesh and build (winding.cpp): the structure's winding-number
     /// tree (it may read the structure's layout), made by the first winding query, and closed()'s

@@ -11,6 +11,7 @@
 #include "arrays.h"
 #include "py_scene.h"
 #include "queries.h"
+#include "update.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -380,4 +381,6 @@ PYBIND11_MODULE(_arbor, m) {
             "bool: every edge is shared by exactly two faces (edges compared by vertex number, so a mesh\n"
             "whose triangles repeat their corners instead of sharing them is open; orientation is not\n"
             "checked). A scene without triangles is closed.");
+
+    arbor::python::bind_update(m);
 }

@@ -44,6 +44,10 @@ void Accel::check_counts() const {
         throw std::logic_error(std::string(to_string(kind_)) + ": the counted mode needs the scalar layout (built without it)");
 }
 
+RefitResult Accel::refit(const TriangleView&) {
+    throw std::logic_error(std::string(to_string(kind_)) + ": cannot be refit (" + std::string(refit_unsupported()) + ")");
+}
+
 std::optional<AccelKind> parse_accel_kind(std::string_view s) {
     for (const auto& [kind, name] : kind_names)
         if (name == s) return kind;

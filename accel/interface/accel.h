@@ -14,6 +14,7 @@
 #include "accel/core/geometry.h"
 #include "accel/core/query.h"
 #include "accel/core/winding_tree.h"
+#include "accel/core/refit.h"
 #include "accel/interface/path_policy.h"
 
 #include <cstdint>
@@ -77,6 +78,18 @@ public:
     /// nothing); this default, for the kd-tree, builds an internal BVH: the kd-tree lists a triangle in
     /// every leaf it crosses, so a sum over its leaves would count it more than once.
     virtual std::unique_ptr<WindingTree> make_winding_tree(const TriangleView& tris) const;
+
+    /// Why this build cannot be refit, in a few words for a reason line ("a kd-tree's split planes
+    /// cannot be refit"); empty when it can (refit()).
+    virtual std::string_view refit_unsupported() const { return "this structure has no refit"; }
+    /// Refits the build to `tris`: the triangles it was built over (the same indices, so the same
+    /// triangle numbers) at new positions. The tree's topology is kept; the leaves' vertex copies
+    /// are rewritten and every box recomputed bottom-up, so every query answers as a fresh build
+    /// over `tris` would (bit for bit: the same triangle test on the same vertices, the same tie
+    /// rule). Preconditions: refit_unsupported() is empty; the triangles finite now are exactly the
+    /// ones finite at the build (a refit can neither add nor drop one). Not thread-safe: nothing
+    /// else may use the structure meanwhile. The default throws std::logic_error.
+    virtual RefitResult refit(const TriangleView& tris);
 
 protected:
     explicit Accel(AccelKind kind) : kind_(kind) {}

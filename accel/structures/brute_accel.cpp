@@ -26,6 +26,18 @@ BruteAccel::BruteAccel(const TriangleView& view) : Accel(AccelKind::brute) {
     offer_.counts = true;
 }
 
+RefitResult BruteAccel::refit(const TriangleView& view) {
+    const Timer timer;
+    RefitResult r;
+    for (Tri& tri : tris_) {
+        tri.v0 = view.corner(tri.prim, 0), tri.v1 = view.corner(tri.prim, 1), tri.v2 = view.corner(tri.prim, 2);
+        r.bounds.grow(tri.v0), r.bounds.grow(tri.v1), r.bounds.grow(tri.v2);
+    }
+    r.sah_cost = r.built_sah_cost = stats_.sah_cost;  // the same work for every ray, wherever the triangles are
+    r.ms = timer.ms();
+    return r;
+}
+
 Hit BruteAccel::trace_one(const Ray& ray, Query query) const {
     return query == Query::any ? trace_impl<true, false>(ray, nullptr) : trace_impl<false, false>(ray, nullptr);
 }

@@ -19,6 +19,9 @@ public:
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override;
     /// The exact sum over `tris` (make_exact_winding): brute force is the oracle.
     std::unique_ptr<WindingTree> make_winding_tree(const TriangleView& tris) const override;
+    /// Copies the corners again (no tree, so nothing to lose: a refit is a rebuild here).
+    std::string_view refit_unsupported() const override { return {}; }
+    RefitResult refit(const TriangleView& tris) override;
 
 private:
     /// One path (scalar), and the counted mode: one node (the whole list) per traceable ray, every

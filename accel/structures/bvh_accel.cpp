@@ -1,6 +1,7 @@
 #include "accel/structures/bvh_accel.h"
 
 #include "accel/bvh/bvh2_queries.h"
+#include "accel/bvh/bvh2_refit.h"
 #include "accel/bvh/bvh2_traverse.h"
 #include "accel/bvh/bvh2_winding.h"
 #include "accel/core/hit_record.h"
@@ -52,6 +53,30 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     offer_.counts = scalar;
     offer_.simd_skipped = !make_wide;
     if (!bvh.nodes.empty()) offer_.scene_diagonal = simd::length(bvh.nodes[0].box.extent());
+    if (scalar) built_sah_ = bvh2_sah_cost(layout_);
+}
+
+std::string_view BvhAccel::refit_unsupported() const {
+    if (kind_ == AccelKind::kdtree) return "a kd-tree's cells cannot be refit: their boxes are the cells' split planes";
+    return {};
+}
+
+double BvhAccel::refit_layouts(const TriangleView& tris, Bounds& bounds) {
+    if (layout_.empty()) return 0.0;
+    const double cost = refit_bvh2_layout(layout_, tris);
+    bounds = layout_.root_box;
+    return cost;
+}
+
+RefitResult BvhAccel::refit(const TriangleView& tris) {
+    if (!refit_unsupported().empty()) return Accel::refit(tris);
+    const Timer timer;
+    RefitResult r;
+    r.sah_cost = refit_layouts(tris, r.bounds);
+    if (!r.bounds.empty()) offer_.scene_diagonal = simd::length(r.bounds.extent());
+    r.built_sah_cost = built_sah_;
+    r.ms = timer.ms();
+    return r;
 }
 
 template <bool AnyHit, bool Count>

@@ -40,6 +40,11 @@ public:
     /// layout (wide/wide_winding.h).
     std::unique_ptr<WindingTree> make_winding_tree(const TriangleView& tris) const override;
     const Bvh2Layout& layout() const { return layout_; }
+
+    /// The binary BVHs refit (bvh/bvh2_refit.h; WideBvhAccel adds its SIMD layout). A BVH made from
+    /// the kd-tree's cells (KdCellAccel) does not: its boxes are the cells'.
+    std::string_view refit_unsupported() const override;
+    RefitResult refit(const TriangleView& tris) override;
     const WideShape& wide_shape() const { return wide_; }
 
 protected:
@@ -54,6 +59,11 @@ protected:
     void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
              TraceCounters* counters) const override;
     void run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query query, TraceCounters* counters) const;
+    /// refit()'s work on the layouts: the scalar one here; WideBvhAccel refits its SIMD layout and
+    /// returns that layout's SAH cost (else the scalar layout's). `bounds`: the root's box after it.
+    virtual double refit_layouts(const TriangleView& tris, Bounds& bounds);
+    /// The SAH cost refit() compares against, of the layout it reports (set after the build).
+    double built_sah_ = 0.0;
 
 private:
     /// The scalar loop over a batch; with Count, what it did is added to *counters.

@@ -29,6 +29,11 @@ public:
     virtual KdWalk walk() const { return KdWalk::ropes; }
     /// With the cell walk: the wide BVH of the cells that the SIMD paths trace (kdtree_cells.h).
     virtual const Accel* cell_paths() const { return nullptr; }
+    /// Never: a refit keeps a tree's splits, and a kd-tree's splits are planes that partition the
+    /// triangles, so once the triangles move, a plane may cut a triangle its cell does not list.
+    std::string_view refit_unsupported() const override {
+        return "a kd-tree's split planes cannot be refit (moved triangles cross them)";
+    }
 
 protected:
     /// Takes over `tree` (built with `cfg`, in `build_ms`) for its scalar path.

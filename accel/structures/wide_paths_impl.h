@@ -10,6 +10,7 @@
 #include "accel/wide/wide_packet.h"
 #include "accel/structures/wide_paths.h"
 #include "accel/wide/wide_queries.h"
+#include "accel/wide/wide_refit.h"
 #include "accel/wide/wide_root.h"
 #include "accel/wide/wide_shared_leaves.h"
 #include "accel/wide/wide_traverse.h"
@@ -38,8 +39,10 @@ public:
         });
         // (Not for the kd-tree's cell layout, KdCellAccel: on its cells the pass lost, builtin:default
         // random and diffuse 0.95-0.97x of it off, 1 thread, in one process.)
+        shared_leaf_triangles_ = cfg.wide.shared_leaf_triangles;
         if (kind != AccelKind::kdtree)
-            shared_slots_ = shared_leaf_slots(layout_, cfg.wide.shared_leaf_triangles, simd::WideRaySetup<simd::SetupLane>::size);
+            shared_slots_ = shared_leaf_slots(layout_, shared_leaf_triangles_, simd::WideRaySetup<simd::SetupLane>::size);
+        if (!layout_.empty()) built_sah_ = wide_sah_cost(layout_);
         offer_.add(TracePath::single);
         offer_.add(TracePath::packet);
         offer_.packets_pay = true;
@@ -86,6 +89,21 @@ public:
     Hit trace_root(simd::WideRay<T>& r, float tfar, const RootTests<N, Rays>& root, std::size_t i, WideStack& stack) const {
         return walk_ray<AnyHit, true>(r, tfar, root.child[i], root.count[i], root.rest[i], root.entry(i), root.bits2[i],
                                       root.t2[i], Hit{}, stack);
+    }
+
+protected:
+    /// The scalar layout (when built) and the SIMD layout; what depends on the boxes is worked out
+    /// again as the build does it: the shared root leaves (and, in refit(), the scene's diagonal).
+    double refit_layouts(const TriangleView& tris, Bounds& bounds) override {
+        const double scalar = BvhAccel::refit_layouts(tris, bounds);
+        if (layout_.empty()) return scalar;
+        const double cost = refit_wide_layout(layout_, tris);
+        if (kind_ != AccelKind::kdtree)
+            shared_slots_ = shared_leaf_slots(layout_, shared_leaf_triangles_, simd::WideRaySetup<simd::SetupLane>::size);
+        bounds = Bounds{};
+        for (std::size_t c = 0; c < layout_.nodes[0].children; ++c)
+            bounds.grow(Bounds{layout_.nodes[0].boxes.lo(c), layout_.nodes[0].boxes.hi(c)});
+        return cost;
     }
 
 private:
@@ -347,6 +365,7 @@ private:
 
     WideLayout<N> layout_;
     std::uint32_t shared_slots_ = 0;  ///< shared_leaf_slots(layout_)
+    std::uint32_t shared_leaf_triangles_ = 0;  ///< WideConfig::shared_leaf_triangles of the build
 };
 
 /// The BVH of width N (defined in wide_paths{N}.cpp).

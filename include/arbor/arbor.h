@@ -9,8 +9,8 @@
 ///
 /// Threads: after build(), every const member of a Scene may be called from any number of threads
 /// at once; each batch call itself runs on the scene's threads (build's `threads`, default: all
-/// cores) or on the threads its QueryOptions ask for. add_mesh() and build() must not run while
-/// another call is using the scene.
+/// cores) or on the threads its QueryOptions ask for. add_mesh(), build() and update_vertices()
+/// must not run while another call is using the scene.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -170,6 +170,17 @@ struct BuildOptions {
     std::uint64_t max_memory = 0;
 };
 
+/// Options of Scene::update_vertices.
+struct UpdateOptions {
+    /// "auto" (refit the structure, or rebuild it when the rays expected before the next update
+    /// would lose more time on the refitted tree than a rebuild costs), "refit" (always refit where
+    /// the structure can be refit) or "rebuild" (always build it again).
+    std::string mode = "auto";
+    /// Rays (or points) the scene is expected to answer before the next update, for "auto";
+    /// negative: as many as it answered since the last build or update. Must be finite.
+    double rays = -1.0;
+};
+
 class ARBOR_API Scene {
 public:
     Scene();
@@ -205,6 +216,25 @@ public:
     std::string accel_reason() const;
     std::size_t triangles() const;
     std::size_t meshes() const;
+
+    /// New positions for mesh `geom`, the same triangles: `vertices` holds vertex_count x, y, z
+    /// float triples (`stride` bytes apart), as many as add_mesh gave the mesh. The next query
+    /// answers for the new positions exactly as a scene built from them would (bit for bit). A
+    /// built structure is refit (boxes recomputed, tree kept) or rebuilt, as options.mode says;
+    /// "auto" decides by the loss of tree quality and the rays expected (update_reason() says
+    /// why). A kd-tree is always rebuilt. Throws Error(invalid_argument) for an unknown geom, a
+    /// null array, a stride below 12, a vertex count other than the mesh's, a NaN or infinite
+    /// coordinate or an unknown mode; the scene is unchanged then. Must not run while another call
+    /// is using the scene.
+    void update_vertices(std::uint32_t geom, const float* vertices, std::size_t vertex_count, std::size_t stride,
+                         const UpdateOptions& options = {});
+    /// The same from a packed vector (x, y, z per vertex).
+    void update_vertices(std::uint32_t geom, const std::vector<float>& vertices, const UpdateOptions& options = {});
+    /// What the last update_vertices did to the structure: "refit", "rebuild", or "none" (not built
+    /// yet: the next query builds it), empty before any update; and why, one line ending with what
+    /// the structure's own work took ("[the refit took 12 ms]").
+    std::string update_action() const;
+    std::string update_reason() const;
     /// Lower and upper corners of the scene's box (+inf / -inf for an empty scene).
     void bounds(float lo[3], float hi[3]) const;
 
