@@ -198,7 +198,7 @@ void Scene::closest_point(const PointArrays& points, const PointValues& max_dist
                 ClosestPoint& c = out[i];
                 c = ClosestPoint{};
                 if (!h.is_hit()) continue;
-                impl_->locate(h.prim, c.geom, c.prim);
+                impl_->locate(h.prim, c.geom, c.prim, c.inst);
                 c.distance = h.distance;
                 c.point[0] = h.point.x, c.point[1] = h.point.y, c.point[2] = h.point.z;
                 c.u = h.u, c.v = h.v;
@@ -212,11 +212,12 @@ void Scene::inside(const PointArrays& points, bool* inside, const QueryOptions& 
         CallArena arena(*impl_, options, "inside");
         check_points(points, inside, "inside");
         const accel::Accel& a = impl_->structure();
+        const accel::Bounds box = impl_->world_bounds();
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_points(points, b, e);
             thread_local std::vector<std::uint8_t> res;
             res.resize(in.size());
-            accel::inside_points(a, impl_->bounds, in, res);
+            accel::inside_points(a, box, in, res);
             for (std::size_t i = b; i < e; ++i) inside[i] = res[i - b] != 0;
         });
     });

@@ -9,6 +9,7 @@
 
 #include "args.h"
 #include "arrays.h"
+#include "instances.h"
 #include "py_scene.h"
 #include "queries.h"
 
@@ -110,7 +111,7 @@ PYBIND11_MODULE(_arbor, m) {
         "    OSError: the file cannot be read. ValueError: it is not a valid ray file.\n"
         "    TypeError: path is not a path.\n");
 
-    py::class_<PyScene>(m, "Scene",
+    auto scene = py::class_<PyScene>(m, "Scene",
                         "Triangle meshes and the acceleration structure built over them.\n\n"
                         "Queries from several Python threads may run at once (each releases the GIL);\n"
                         "add_mesh() and build() wait for the queries running, and queries started\n"
@@ -325,4 +326,5 @@ PYBIND11_MODULE(_arbor, m) {
             "into.\n" ARBOR_THREADS_DOC
             "\nReturns:\n"
             "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC);
+    arbor::python::def_instances(scene);
 }
