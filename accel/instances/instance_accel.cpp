@@ -9,6 +9,13 @@
 
 namespace arbor::accel {
 
+namespace {
+/// Whether a placement whose box the ray enters at `enter` lies wholly behind the ray's best hit
+/// so far (`best`, +inf for none): then it can hold no closer hit, nor a tie. The margin of 1e-6
+/// covers the rounding of the hit's t by the triangle test.
+bool behind(double enter, float best) { return enter - 1e-6 * std::fabs(enter) > double(best); }
+}  // namespace
+
 InstanceAccel::InstanceAccel(AccelKind kind, std::vector<Bottom> bottoms, std::vector<Placement> placements)
     : Accel(kind), bottoms_(std::move(bottoms)), placements_(std::move(placements)) {
     std::uint64_t first = 0;
@@ -110,7 +117,7 @@ void InstanceAccel::trace_seams(std::size_t k, std::span<const Ray> rays, std::s
     world.clear(), which.clear();
     for (std::uint32_t j = g.start[k]; j < g.start[k + 1]; ++j) {
         const std::uint32_t i = g.order[j];
-        if (any && hits[i].is_hit()) continue;
+        if (any ? hits[i].is_hit() : behind(g.enter[j], hits[i].t)) continue;
         Ray r = rays[i];
         r.tfar = std::min(r.tfar, hits[i].t);
         world.push_back(r);
@@ -143,14 +150,19 @@ Ray InstanceAccel::to_object(const Placement& p, const Ray& r) const {
 
 void InstanceAccel::group(std::span<const Ray> rays, Groups& g) const {
     thread_local std::vector<std::uint32_t> pairs_place, pairs_ray;
-    pairs_place.clear(), pairs_ray.clear();
+    thread_local std::vector<double> pairs_t, enter;
+    pairs_place.clear(), pairs_ray.clear(), pairs_t.clear();
+    enter.assign(placements_.size(), 0.0);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const Ray& r = rays[i];
         if (!ray_is_traceable(r)) continue;
         const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
-        top_.ray_items(o, d, r.tnear, r.tfar, [&](std::uint32_t k) {
+        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        top_.ray_items(o, d, r.tnear, r.tfar, [&](std::uint32_t k, double t0) {
             pairs_place.push_back(k);
             pairs_ray.push_back(std::uint32_t(i));
+            pairs_t.push_back(t0);
+            enter[k] += t0 * len;
         });
     }
     // Counting sort by placement; stable, so each group keeps the rays' order (packets stay coherent).
@@ -158,9 +170,23 @@ void InstanceAccel::group(std::span<const Ray> rays, Groups& g) const {
     for (const std::uint32_t k : pairs_place) ++g.start[k + 1];
     for (std::size_t k = 0; k < placements_.size(); ++k) g.start[k + 1] += g.start[k];
     g.order.resize(pairs_place.size());
+    g.enter.resize(pairs_place.size());
     thread_local std::vector<std::uint32_t> fill;
     fill.assign(g.start.begin(), g.start.end() - 1);
-    for (std::size_t j = 0; j < pairs_place.size(); ++j) g.order[fill[pairs_place[j]]++] = pairs_ray[j];
+    for (std::size_t j = 0; j < pairs_place.size(); ++j) {
+        const std::uint32_t at = fill[pairs_place[j]]++;
+        g.order[at] = pairs_ray[j], g.enter[at] = pairs_t[j];
+    }
+    g.visit.clear();
+    for (std::size_t k = 0; k < placements_.size(); ++k)
+        if (g.start[k + 1] > g.start[k]) {
+            g.visit.push_back(std::uint32_t(k));
+            enter[k] /= double(g.start[k + 1] - g.start[k]);
+        }
+    // Ties by placement number: the order, and so the answers, do not depend on anything else.
+    std::sort(g.visit.begin(), g.visit.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return enter[a] < enter[b] || (enter[a] == enter[b] && a < b);
+    });
 }
 
 void InstanceAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
@@ -173,13 +199,12 @@ void InstanceAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query qu
     thread_local std::vector<std::uint32_t> which;
     const bool any = query == Query::any;
     const TraceRequest req{query, path};
-    for (std::size_t k = 0; k < placements_.size(); ++k) {
-        if (g.start[k] == g.start[k + 1]) continue;
+    for (const std::uint32_t k : g.visit) {
         const Placement& p = placements_[k];
         obj.clear(), which.clear();
         for (std::uint32_t j = g.start[k]; j < g.start[k + 1]; ++j) {
             const std::uint32_t i = g.order[j];
-            if (any && hits[i].is_hit()) continue;
+            if (any ? hits[i].is_hit() : behind(g.enter[j], hits[i].t)) continue;
             Ray r = to_object(p, rays[i]);
             // A closest-hit ray looks no farther than its best hit so far (ties at t are still
             // tested and settled by the global numbers below).

@@ -94,9 +94,12 @@ protected:
 
 private:
     /// The (placement, ray) pairs of a batch whose world boxes the rays meet, grouped by placement
-    /// (ray order kept within each group): group k is order[start[k] .. start[k + 1]).
+    /// (ray order kept within each group): group k is order[start[k] .. start[k + 1]). `visit`
+    /// lists the placements met, nearest first by their rays' mean entry distance (closest-hit
+    /// rays then meet near hits first and test less of what lies behind).
     struct Groups {
-        std::vector<std::uint32_t> start, order;
+        std::vector<std::uint32_t> start, order, visit;
+        std::vector<double> enter;  ///< beside `order`: where the ray enters the placement's box
     };
     void group(std::span<const Ray> rays, Groups& g) const;
     Ray to_object(const Placement& p, const Ray& r) const;

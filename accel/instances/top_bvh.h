@@ -17,8 +17,9 @@ public:
     /// Builds over `boxes` (item i = boxes[i]); items with an empty box are left out.
     static TopBvh build(std::span<const Bounds> boxes);
 
-    /// Calls f(item) for every item whose box the segment o + t d, t in [tnear, tfar], meets
-    /// (ray o, d with tnear <= tfar; a zero component of d meets a slab only from inside it).
+    /// Calls f(item, t_enter) for every item whose box the segment o + t d, t in [tnear, tfar],
+    /// meets, t_enter being where the segment enters the box (ray o, d with tnear <= tfar; a zero
+    /// component of d meets a slab only from inside it).
     template <class F>
     void ray_items(const double o[3], const double d[3], double tnear, double tfar, F&& f) const;
 
@@ -57,6 +58,8 @@ void TopBvh::ray_items(const double o[3], const double d[3], double tnear, doubl
     std::uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
+    // 1/d in double: its rounding (~1e-16) is far inside the boxes' outward rounding to float.
+    const double inv[3] = {d[0] != 0.0 ? 1.0 / d[0] : 0.0, d[1] != 0.0 ? 1.0 / d[1] : 0.0, d[2] != 0.0 ? 1.0 / d[2] : 0.0};
     while (top > 0) {
         const Node& n = nodes_[stack[--top]];
         double t0 = tnear, t1 = tfar;
@@ -66,13 +69,13 @@ void TopBvh::ray_items(const double o[3], const double d[3], double tnear, doubl
                 if (o[k] < lo || o[k] > hi) t0 = 1.0, t1 = 0.0;
                 continue;
             }
-            double a = (lo - o[k]) / d[k], b = (hi - o[k]) / d[k];
+            double a = (lo - o[k]) * inv[k], b = (hi - o[k]) * inv[k];
             if (a > b) std::swap(a, b);
             t0 = std::max(t0, a), t1 = std::min(t1, b);
         }
         if (!(t0 <= t1)) continue;
         if (n.count > 0) {
-            for (std::uint32_t i = 0; i < n.count; ++i) f(items_[n.first + i]);
+            for (std::uint32_t i = 0; i < n.count; ++i) f(items_[n.first + i], t0);
         } else {
             stack[top++] = n.right;
             stack[top++] = std::uint32_t(&n - nodes_.data()) + 1;
