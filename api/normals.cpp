@@ -24,6 +24,17 @@ void unit_normal(const engine::Mesh& m, std::size_t t, float n[3]) {
     for (int k = 0; k < 3; ++k) n[k] = len > 0.0 && std::isfinite(len) ? float(c[k] / len) : 0.0f;
 }
 
+/// An object-space unit normal carried to world space by the cofactor matrix of A, det(A) A^-T:
+/// the normal of the placed triangle, (A e1) x (A e2), so a mirroring A turns it over.
+void to_world(const accel::Affine& a, float n[3]) {
+    const accel::Affine inv = a.inverse();
+    const double det = a.det();
+    double w[3];
+    for (int i = 0; i < 3; ++i) w[i] = det * (inv.at(0, i) * n[0] + inv.at(1, i) * n[1] + inv.at(2, i) * n[2]);
+    const double len = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    for (int k = 0; k < 3; ++k) n[k] = len > 0.0 && std::isfinite(len) ? float(w[k] / len) : 0.0f;
+}
+
 }  // namespace
 
 void Scene::hit_normals(const Hit* hits, std::size_t count, std::size_t hit_stride, float* normals,
@@ -54,12 +65,17 @@ void Scene::hit_normals(const Hit* hits, std::size_t count, std::size_t hit_stri
                 throw Error(Kind::invalid_argument, "hit_normals: hit " + std::to_string(i) + " names geom " +
                                                         std::to_string(h.geom) + ", prim " + std::to_string(h.prim) +
                                                         ", which the scene does not hold");
+            if (h.inst != invalid_id && (h.inst >= s.instances.size() || s.instances[h.inst].geom != h.geom))
+                throw Error(Kind::invalid_argument, "hit_normals: hit " + std::to_string(i) + " names instance " +
+                                                        std::to_string(h.inst) + " of geom " + std::to_string(h.geom) +
+                                                        ", which the scene does not hold");
         }
         for_chunks(arena, count, normal_chunk, [&](std::size_t b, std::size_t e) {
             for (std::size_t i = b; i < e; ++i) {
                 const Hit h = hit_at(i);
                 float n[3] = {0.0f, 0.0f, 0.0f};
                 if (h.prim != invalid_id) unit_normal(s.mesh, s.first_prim[h.geom] + h.prim, n);
+                if (h.prim != invalid_id && h.inst != invalid_id) to_world(s.instances[h.inst].transform, n);
                 std::memcpy(out + i * normal_stride, n, sizeof n);
             }
         }, /*counted=*/false);

@@ -179,7 +179,7 @@ void Scene::closest_point(const PointArrays& points, const PointValues& max_dist
                 ClosestPoint& c = out[i];
                 c = ClosestPoint{};
                 if (!h.is_hit()) continue;
-                impl_->locate(h.prim, c.geom, c.prim);
+                impl_->locate(h.prim, c.geom, c.prim, c.inst);
                 c.distance = h.distance;
                 c.point[0] = h.point.x, c.point[1] = h.point.y, c.point[2] = h.point.z;
                 c.u = h.u, c.v = h.v;

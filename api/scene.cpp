@@ -126,6 +126,7 @@ std::uint32_t Scene::add_mesh(const float* positions, std::size_t vertex_count, 
         impl_->drop_derived();
         impl_->ready = false;
         impl_->accel.reset();
+        impl_->placed = nullptr;
         impl_->accel_name.clear(), impl_->accel_reason.clear();
         return std::uint32_t(impl_->first_prim.size() - 1);
     });
@@ -147,11 +148,18 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
     ready = false;
     drop_derived();  // the winding tree may read the structure's layout
     accel.reset();
+    placed = nullptr;
     threads = usable_threads(o.threads);
     arena = std::make_unique<tbb::task_arena>(threads > 0 ? threads : int(tbb::task_arena::automatic));
     accel::BuildConfig cfg;
     cfg.max_memory = o.max_memory;
     cfg.layouts = accel::Layouts::simd;  // the layouts of the SIMD paths, as `arbor trace` builds them
+    if (!instances.empty()) {
+        build_instanced(*kind, cfg);
+        options = o;
+        ready = true;
+        return;
+    }
     const accel::TriangleView view = mesh.view();
     accel::AccelPick pick;
     arena->execute([&] {
@@ -198,7 +206,8 @@ std::size_t Scene::triangles() const { return impl_->mesh.triangle_count(); }
 std::size_t Scene::meshes() const { return impl_->first_prim.size(); }
 
 void Scene::bounds(float lo[3], float hi[3]) const {
-    for (int k = 0; k < 3; ++k) lo[k] = impl_->bounds.lo[k], hi[k] = impl_->bounds.hi[k];
+    const accel::Bounds b = impl_->world_bounds();
+    for (int k = 0; k < 3; ++k) lo[k] = b.lo[k], hi[k] = b.hi[k];
 }
 
 }  // namespace arbor

@@ -14,8 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "accel/instances/affine.h"
 #include "accel/interface/accel.h"
 #include "engine/mesh.h"
+
+namespace arbor::accel {
+class InstanceAccel;
+}
 
 namespace arbor {
 
@@ -51,6 +56,21 @@ struct Scene::Impl {
     std::atomic<bool> winding_ready{false};
     std::atomic<int> closed_state{-1};
     std::mutex lazy_mutex;
+    /// Instances (api/instances.cpp): the mesh each places and its transform, by instance id.
+    struct Instance {
+        std::uint32_t geom;
+        accel::Affine transform;
+    };
+    std::vector<Instance> instances;
+    /// The two-level structure when the scene holds instances (then `accel` is it), else null.
+    const accel::InstanceAccel* placed = nullptr;
+
+    /// Builds the two-level structure (api/instances.cpp): one structure of `kind` per mesh.
+    void build_instanced(accel::AccelKind kind, const accel::BuildConfig& cfg);
+    /// The scene's world box: `bounds`, or with instances the box of their placements.
+    accel::Bounds world_bounds() const;
+    /// Geometry id, triangle number and instance id of a global triangle number of `placed`.
+    void locate_placed(std::uint32_t global, std::uint32_t& geom, std::uint32_t& prim, std::uint32_t& inst) const;
 
     /// The structure, built with the last options first when it is not (thread-safe).
     const accel::Accel& structure();
@@ -66,10 +86,17 @@ struct Scene::Impl {
 
     /// Geometry id and triangle number within it of triangle `global` of `mesh`.
     void locate(std::uint32_t global, std::uint32_t& geom, std::uint32_t& prim) const {
+        std::uint32_t inst;
+        locate(global, geom, prim, inst);
+    }
+    /// The same and the instance that placed it (invalid_id for none).
+    void locate(std::uint32_t global, std::uint32_t& geom, std::uint32_t& prim, std::uint32_t& inst) const {
+        inst = invalid_id;
         if (global == accel::invalid_prim) {
             geom = prim = invalid_id;
             return;
         }
+        if (placed) return locate_placed(global, geom, prim, inst);
         std::size_t g = 0;
         if (first_prim.size() > 1) {
             std::size_t lo = 0, hi = first_prim.size();  // the last g with first_prim[g] <= global
@@ -86,7 +113,7 @@ struct Scene::Impl {
     Hit to_public(const accel::Hit& h) const {
         Hit out;
         if (!h.is_hit()) return out;
-        locate(h.prim, out.geom, out.prim);
+        locate(h.prim, out.geom, out.prim, out.inst);
         out.t = h.t, out.u = h.u, out.v = h.v;
         return out;
     }

@@ -65,7 +65,7 @@ private:
 void inside_chunk(const Scene::Impl& s, const accel::Accel& a, const WindingSource* w, std::span<const accel::Vec3f> in,
                   std::span<std::uint8_t> res) {
     if (!w) {
-        accel::inside_points(a, s.bounds, in, res);
+        accel::inside_points(a, s.world_bounds(), in, res);
         return;
     }
     thread_local std::vector<double> wn;

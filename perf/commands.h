@@ -24,6 +24,8 @@ int load_command(int argc, char** argv);
 int build_once_command(int argc, char** argv);
 /// `trace-once`: one ray file traced once on one thread, for callgrind.
 int trace_once_command(int argc, char** argv);
+/// `instances`: a mesh placed as instances against the same scene flattened (perf/instances_bench.cpp).
+int instances_command(int argc, char** argv);
 /// `kernels`: Google Benchmark microbenchmarks of the simd/ kernels (when libbenchmark-dev was
 /// found; ARBOR_HAVE_GBENCH).
 int kernels_command(int argc, char** argv);

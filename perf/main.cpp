@@ -43,6 +43,8 @@ const std::vector<SubCommand>& sub_commands() {
         {"lbvh", "the LBVH build variants and their step times against bvh-sah, bvh-median and Embree", lbvh_command},
         {"kdtree", "build time, SAH cost, memory and scalar trace speed of the kd-tree, beside Embree's build",
          kdtree_command},
+        {"instances", "a mesh placed as instances against the same scene flattened: build, trace, memory",
+         instances_command},
         {"load", "loading speed per mesh format (OBJ, PLY, GLB), in seconds per million triangles", load_command},
         {"build-once", "one build in a fresh process (Embree or an arbor structure), as a user meets it",
          build_once_command},

@@ -207,34 +207,57 @@ void check_out_array(py::handle out, const char* what, const py::dtype& dtype, c
                                   ")");
 }
 
-py::dtype hit_dtype() {
-    static_assert(sizeof(Hit) == 20 && offsetof(Hit, geom) == 4 && offsetof(Hit, prim) == 8 && offsetof(Hit, u) == 12 &&
-                  offsetof(Hit, v) == 16);
-    py::list fields;
-    for (const char* f : {"t", "geom", "prim", "u", "v"})
-        fields.append(py::make_tuple(f, std::string(f) == "geom" || std::string(f) == "prim" ? "<u4" : "<f4"));
-    return py::dtype::from_args(fields);
+namespace {
+
+/// A record dtype of `fields` (name, format, shape; the shape empty for a scalar) at their C++
+/// offsets, `itemsize` bytes a record: the fields an array shows, laid over arbor's records, which
+/// may hold more (the inst field of a scene without instances is padding).
+py::dtype record_dtype(std::initializer_list<std::tuple<const char*, const char*, int, std::size_t>> fields,
+                       std::size_t itemsize) {
+    py::list names, formats, offsets;
+    for (const auto& [name, format, count, offset] : fields) {
+        names.append(name);
+        formats.append(count > 1 ? py::str(std::to_string(count) + format) : py::str(format));
+        offsets.append(offset);
+    }
+    py::dict spec;
+    spec["names"] = names, spec["formats"] = formats, spec["offsets"] = offsets, spec["itemsize"] = itemsize;
+    return py::dtype::from_args(spec);
 }
 
-py::dtype hit_normal_dtype() {
-    py::list fields;
-    for (const char* f : {"t", "geom", "prim", "u", "v"})
-        fields.append(py::make_tuple(f, std::string(f) == "geom" || std::string(f) == "prim" ? "<u4" : "<f4"));
-    fields.append(py::make_tuple("normal", "<f4", py::make_tuple(3)));
-    return py::dtype::from_args(fields);
+}  // namespace
+
+static_assert(sizeof(Hit) == 24 && offsetof(Hit, geom) == 4 && offsetof(Hit, prim) == 8 && offsetof(Hit, u) == 12 &&
+              offsetof(Hit, v) == 16 && offsetof(Hit, inst) == 20);
+static_assert(sizeof(ClosestPoint) == 36 && offsetof(ClosestPoint, geom) == 4 && offsetof(ClosestPoint, prim) == 8 &&
+              offsetof(ClosestPoint, point) == 12 && offsetof(ClosestPoint, u) == 24 && offsetof(ClosestPoint, v) == 28 &&
+              offsetof(ClosestPoint, inst) == 32);
+
+py::dtype hit_dtype(bool inst) {
+    if (inst)
+        return record_dtype({{"t", "<f4", 1, 0}, {"geom", "<u4", 1, 4}, {"prim", "<u4", 1, 8}, {"inst", "<u4", 1, 20},
+                             {"u", "<f4", 1, 12}, {"v", "<f4", 1, 16}}, sizeof(Hit));
+    return record_dtype({{"t", "<f4", 1, 0}, {"geom", "<u4", 1, 4}, {"prim", "<u4", 1, 8}, {"u", "<f4", 1, 12},
+                         {"v", "<f4", 1, 16}}, sizeof(Hit));
 }
 
-py::dtype point_dtype() {
-    static_assert(sizeof(ClosestPoint) == 32 && offsetof(ClosestPoint, geom) == 4 && offsetof(ClosestPoint, prim) == 8 &&
-                  offsetof(ClosestPoint, point) == 12 && offsetof(ClosestPoint, u) == 24 && offsetof(ClosestPoint, v) == 28);
-    py::list fields;
-    fields.append(py::make_tuple("distance", "<f4"));
-    fields.append(py::make_tuple("geom", "<u4"));
-    fields.append(py::make_tuple("prim", "<u4"));
-    fields.append(py::make_tuple("point", "<f4", py::make_tuple(3)));
-    fields.append(py::make_tuple("u", "<f4"));
-    fields.append(py::make_tuple("v", "<f4"));
-    return py::dtype::from_args(fields);
+py::dtype hit_normal_dtype(bool inst) {
+    constexpr std::size_t n = sizeof(Hit);  // the normal follows the whole hit record
+    if (inst)
+        return record_dtype({{"t", "<f4", 1, 0}, {"geom", "<u4", 1, 4}, {"prim", "<u4", 1, 8}, {"inst", "<u4", 1, 20},
+                             {"u", "<f4", 1, 12}, {"v", "<f4", 1, 16}, {"normal", "<f4", 3, n}}, n + 12);
+    return record_dtype({{"t", "<f4", 1, 0}, {"geom", "<u4", 1, 4}, {"prim", "<u4", 1, 8}, {"u", "<f4", 1, 12},
+                         {"v", "<f4", 1, 16}, {"normal", "<f4", 3, n}}, n + 12);
+}
+
+py::dtype point_dtype(bool inst) {
+    if (inst)
+        return record_dtype({{"distance", "<f4", 1, 0}, {"geom", "<u4", 1, 4}, {"prim", "<u4", 1, 8},
+                             {"inst", "<u4", 1, 32}, {"point", "<f4", 3, 12}, {"u", "<f4", 1, 24}, {"v", "<f4", 1, 28}},
+                            sizeof(ClosestPoint));
+    return record_dtype({{"distance", "<f4", 1, 0}, {"geom", "<u4", 1, 4}, {"prim", "<u4", 1, 8},
+                         {"point", "<f4", 3, 12}, {"u", "<f4", 1, 24}, {"v", "<f4", 1, 28}},
+                        sizeof(ClosestPoint));
 }
 
 }  // namespace arbor::python

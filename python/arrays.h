@@ -68,9 +68,11 @@ std::vector<std::uint32_t> faces(py::handle obj, std::size_t vertices);
 void check_out_array(py::handle out, const char* what, const py::dtype& dtype, const char* dtype_name,
                      std::size_t alignment, const Shape& shape, std::initializer_list<py::handle> inputs);
 
-/// The numpy dtypes of the results (python.md): hits, hits with normals, closest points.
-py::dtype hit_dtype();
-py::dtype hit_normal_dtype();
-py::dtype point_dtype();
+/// The numpy dtypes of the results (python.md): hits, hits with normals, closest points; with
+/// `inst`, the same with the field inst (scenes that hold instances). Each lies over arbor's
+/// record (24 bytes a hit, 36 a closest point), so arbor writes them in place.
+py::dtype hit_dtype(bool inst = false);
+py::dtype hit_normal_dtype(bool inst = false);
+py::dtype point_dtype(bool inst = false);
 
 }  // namespace arbor::python

@@ -9,6 +9,7 @@
 
 #include "args.h"
 #include "arrays.h"
+#include "instances.h"
 #include "py_scene.h"
 #include "queries.h"
 #include "update.h"
@@ -118,7 +119,7 @@ PYBIND11_MODULE(_arbor, m) {
         "    OSError: the file cannot be read. ValueError: it is not a valid ray file.\n"
         "    TypeError: path is not a path.\n");
 
-    py::class_<PyScene>(m, "Scene",
+    auto scene = py::class_<PyScene>(m, "Scene",
                         "Triangle meshes and the acceleration structure built over them.\n\n"
                         "Queries from several Python threads may run at once (each releases the GIL);\n"
                         "add_mesh() and build() wait for the queries running, and queries started\n"
@@ -336,6 +337,7 @@ PYBIND11_MODULE(_arbor, m) {
             "    out: None, or a C-contiguous bool array of the points' leading shape to write "
             "into.\n" ARBOR_THREADS_DOC ARBOR_WINDING_DOC
             "\nReturns:\n"
+<<<<<<< HEAD
             "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC)
         .def(
             "winding_number",
@@ -383,4 +385,8 @@ PYBIND11_MODULE(_arbor, m) {
             "checked). A scene without triangles is closed.");
 
     arbor::python::bind_update(m);
+=======
+            "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC);
+    arbor::python::def_instances(scene);
+>>>>>>> inst
 }

@@ -51,8 +51,8 @@ arbor::PointArrays points_of(const Rows3& p) { return {p.count, p.data, p.stride
 
 arbor::QueryOptions options(py::handle threads) { return {threads_arg(threads, "the scene's threads")}; }
 
-/// Records with a normal: 20-byte hits then 12 bytes of normal (hit_normal_dtype).
-constexpr std::size_t normal_record = 32;
+/// Records with a normal: 24-byte hits then 12 bytes of normal (hit_normal_dtype).
+constexpr std::size_t normal_record = 36;
 static_assert(sizeof(arbor::Hit) + 3 * sizeof(float) == normal_record);
 
 /// Turns `n` packed hits at the start of `records` (as arbor wrote them) into records with their
@@ -66,8 +66,18 @@ void add_normals(const arbor::Scene& scene, unsigned char* records, std::size_t 
                       reinterpret_cast<float*>(records + sizeof(arbor::Hit)), normal_record, o);
 }
 
-py::dtype hits_dtype(bool normals) { return normals ? hit_normal_dtype() : hit_dtype(); }
-const char* hits_dtype_name(bool normals) { return normals ? "arbor.hit_normal_dtype" : "arbor.hit_dtype"; }
+/// Whether the scene holds instances (then its records show the field inst).
+bool has_instances(const PyScene& s) {
+    std::size_t n = 0;
+    run<false>(s, [&] { n = s.scene.instances(); });
+    return n > 0;
+}
+
+py::dtype hits_dtype(bool normals, bool inst) { return normals ? hit_normal_dtype(inst) : hit_dtype(inst); }
+const char* hits_dtype_name(bool normals, bool inst) {
+    if (inst) return normals ? "arbor.hit_inst_normal_dtype" : "arbor.hit_inst_dtype";
+    return normals ? "arbor.hit_normal_dtype" : "arbor.hit_dtype";
+}
 
 /// Points as coordinates of shape (..., 3) and the leading shape of the results.
 struct Points {
@@ -124,7 +134,8 @@ py::object intersect(const PyScene& s, py::handle origins, py::handle directions
     const arbor::QueryOptions o = options(threads);
     const bool with_normals = bool_arg(normals, "normals");
     const Rays r = rays(origins, directions, tnear, tfar);
-    py::array res = result(out, hits_dtype(with_normals), hits_dtype_name(with_normals), alignof(arbor::Hit), r.shape,
+    const bool inst = has_instances(s);
+    py::array res = result(out, hits_dtype(with_normals, inst), hits_dtype_name(with_normals, inst), alignof(arbor::Hit), r.shape,
                            {origins, directions, tnear, tfar});
     auto* records = static_cast<unsigned char*>(res.mutable_data());
     run<false>(s, [&] {
@@ -153,9 +164,10 @@ py::tuple intersect_all(const PyScene& s, py::handle origins, py::handle directi
     const Rays r = rays(origins, directions, tnear, tfar);
     Shape rows = r.shape;
     rows.push_back(k);
+    const bool inst = has_instances(s);
     py::array hits, counts;
     if (out.is_none()) {
-        hits = py::array(hits_dtype(with_normals), rows);
+        hits = py::array(hits_dtype(with_normals, inst), rows);
         counts = py::array(py::dtype::of<std::int32_t>(), r.shape);
     } else {
         if (!py::isinstance<py::tuple>(out) && !py::isinstance<py::list>(out))
@@ -165,7 +177,7 @@ py::tuple intersect_all(const PyScene& s, py::handle origins, py::handle directi
             throw py::value_error("out: expected a tuple (hits, counts) of two numpy arrays, got " +
                                   std::to_string(py::len(out)) + " items");
         const py::object h = out[py::int_(0)], c = out[py::int_(1)];
-        check_out_array(h, "out[0]", hits_dtype(with_normals), hits_dtype_name(with_normals), alignof(arbor::Hit), rows,
+        check_out_array(h, "out[0]", hits_dtype(with_normals, inst), hits_dtype_name(with_normals, inst), alignof(arbor::Hit), rows,
                         {origins, directions, tnear, tfar});
         check_out_array(c, "out[1]", py::dtype::of<std::int32_t>(), "int32", alignof(std::int32_t), r.shape,
                         {origins, directions, tnear, tfar, h});
@@ -194,7 +206,9 @@ py::object closest_point(const PyScene& s, py::handle points_obj, py::handle max
                 throw py::value_error("max_distance: expected numbers >= 0 (inf: no limit), got " +
                                       py::repr(py::float_(value_at(reach, i))).cast<std::string>() + " at flat index " +
                                       std::to_string(i));
-    py::array res = result(out, point_dtype(), "arbor.point_dtype", alignof(arbor::ClosestPoint), p.shape,
+    const bool inst = has_instances(s);
+    py::array res = result(out, point_dtype(inst), inst ? "arbor.point_inst_dtype" : "arbor.point_dtype",
+                           alignof(arbor::ClosestPoint), p.shape,
                            {points_obj, max_distance});
     auto* near = static_cast<arbor::ClosestPoint*>(res.mutable_data());
     const arbor::PointValues pv{reach.data, reach.stride, reach.value};

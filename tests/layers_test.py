@@ -41,7 +41,7 @@ ACCEL_LAYERS = {
     "structures": 6,
     "dispatch": 7,
     "factory": 8,
-    "select": 9,
+    "select": 9, "instances": 9,
 }
 SOURCE = re.compile(r"\.(h|hpp|cpp|cc|in)$")
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]')

@@ -102,12 +102,12 @@ TEST_CASE("api: hit_normals are the unit (v1-v0) x (v2-v0) of each hit's triangl
     Scene scene;
     m.add_to(scene);
     const std::vector<Hit> hits = scene.intersect(rays);
-    // Normals interleaved with the hits, as the Python module stores them: a 32-byte record each.
+    // Normals interleaved with the hits, as the Python module stores them: a 36-byte record each.
     struct Record {
         Hit hit;
         float normal[3];
     };
-    static_assert(sizeof(Record) == 32);
+    static_assert(sizeof(Record) == 36);
     std::vector<Record> rec(hits.size());
     for (std::size_t i = 0; i < hits.size(); ++i) rec[i].hit = hits[i], rec[i].normal[0] = NAN;
     scene.hit_normals(&rec[0].hit, rec.size(), sizeof(Record), rec[0].normal, sizeof(Record));

@@ -62,27 +62,32 @@ struct Ray {
     float tfar = std::numeric_limits<float>::infinity();
 };
 
-/// A ray's answer (20 bytes): the hit at distance t on triangle `prim` (numbered from 0 within its
-/// mesh, in face order) of mesh `geom`, at barycentrics (u, v): point = (1-u-v) v0 + u v1 + v v2.
-/// A miss is t = +inf, geom = prim = invalid_id, u = v = 0.
+/// A ray's answer (24 bytes): the hit at distance t on triangle `prim` (numbered from 0 within its
+/// mesh, in face order) of mesh `geom`, at barycentrics (u, v): point = (1-u-v) v0 + u v1 + v v2
+/// (in the mesh's own coordinates; for an instance, the instance's transform carries it to the
+/// world). `inst` is the instance that placed the mesh (Scene::add_instance), invalid_id for a
+/// mesh placed without one. A miss is t = +inf, geom = prim = inst = invalid_id, u = v = 0.
 struct Hit {
     float t = std::numeric_limits<float>::infinity();
     std::uint32_t geom = invalid_id;
     std::uint32_t prim = invalid_id;
     float u = 0.0f, v = 0.0f;
+    std::uint32_t inst = invalid_id;
 
     bool hit() const { return prim != invalid_id; }
 };
 
-/// A closest-point answer (36 bytes): the nearest point of the scene, its distance, triangle and
-/// barycentrics. Nothing within max_distance (or a non-finite query point): distance = +inf,
-/// geom = prim = invalid_id, the rest 0.
+/// A closest-point answer (36 bytes): the nearest point of the scene (in world space), its
+/// distance, triangle and barycentrics, and the instance that placed its mesh (invalid_id for a
+/// mesh placed without one). Nothing within max_distance (or a non-finite query point):
+/// distance = +inf, geom = prim = inst = invalid_id, the rest 0.
 struct ClosestPoint {
     float distance = std::numeric_limits<float>::infinity();
     std::uint32_t geom = invalid_id;
     std::uint32_t prim = invalid_id;
     float point[3] = {0.0f, 0.0f, 0.0f};
     float u = 0.0f, v = 0.0f;
+    std::uint32_t inst = invalid_id;
 
     bool found() const { return prim != invalid_id; }
 };
@@ -206,6 +211,22 @@ public:
                            const std::uint32_t* indices, std::size_t triangle_count);
     /// The same from packed vectors (x, y, z per vertex; 3 indices per triangle).
     std::uint32_t add_mesh(const std::vector<float>& positions, const std::vector<std::uint32_t>& indices);
+
+    /// Places mesh `geom` once more, by `transform`, and returns the instance id (0, 1, 2, ... in
+    /// the order added). `transform` is 12 numbers, a 3x4 matrix in row-major order [A | t]
+    /// mapping the mesh's (object) coordinates p to world coordinates A p + t; any invertible A
+    /// (rotations, mirrors, non-uniform scales, shears). A mesh with instances is placed only by
+    /// them; a mesh without is placed once as it is (inst = invalid_id in its hits). Every query
+    /// answers in world space: t along the caller's ray, closest points and distances in world
+    /// units, hit_normals of the placed triangle (a mirroring A flips them). The mesh's structure
+    /// is built once however often it is placed. Throws Error(invalid_argument) for an unknown
+    /// geom, a null transform, a NaN or infinite entry, or a singular A.
+    std::uint32_t add_instance(std::uint32_t geom, const double transform[12]);
+    std::uint32_t add_instance(std::uint32_t geom, const float transform[12]);
+    /// Moves instance `instance` (the next query sees it). Errors as add_instance, or an unknown id.
+    void set_transform(std::uint32_t instance, const double transform[12]);
+    /// Instances added.
+    std::size_t instances() const;
 
     /// Builds the acceleration structure (again, after add_mesh). Queries on a scene never built
     /// build it first with the default options.

@@ -12,6 +12,10 @@ from ._arbor import read_rays as read_rays
 hit_dtype: Final[np.dtype[np.void]]
 hit_normal_dtype: Final[np.dtype[np.void]]
 point_dtype: Final[np.dtype[np.void]]
+hit_inst_dtype: Final[np.dtype[np.void]]
+hit_inst_normal_dtype: Final[np.dtype[np.void]]
+point_inst_dtype: Final[np.dtype[np.void]]
 MISS: Final[int]
 
-__all__ = ["Scene", "read_rays", "kernel_set", "hit_dtype", "hit_normal_dtype", "point_dtype", "MISS", "__version__"]
+__all__ = ["Scene", "read_rays", "kernel_set", "hit_dtype", "hit_normal_dtype", "point_dtype", "hit_inst_dtype",
+           "hit_inst_normal_dtype", "point_inst_dtype", "MISS", "__version__"]

@@ -69,7 +69,7 @@ def test_intersect_all_normals_and_out():
     flat = rows.reshape(-1)
     np.testing.assert_allclose(flat["normal"], numpy_normals(meshes, flat), atol=2e-7)
     # out= of the normal dtype, written in place (whatever it held) and returned.
-    out = np.frombuffer(np.random.default_rng(2).bytes(500 * 32), arbor.hit_normal_dtype).copy()
+    out = np.frombuffer(np.random.default_rng(2).bytes(500 * arbor.hit_normal_dtype.itemsize), arbor.hit_normal_dtype).copy()
     assert s.intersect(o, d, out=out, normals=True) is out
     assert out.tobytes() == s.intersect(o, d, normals=True).tobytes()
     with pytest.raises(TypeError, match="out: expected a numpy array of dtype arbor.hit_normal_dtype"):

@@ -111,7 +111,7 @@ def test_out_on_intersect_all(spot):
     o, d = random_rays(s, 300, seed=42)
     ref_rows, ref_counts = s.intersect_all(o, d, max_hits=4)
     assert np.count_nonzero(ref_counts >= 2) > 20
-    rows = np.frombuffer(np.random.default_rng(3).bytes(300 * 4 * 20), arbor.hit_dtype).reshape(300, 4).copy()
+    rows = np.frombuffer(np.random.default_rng(3).bytes(300 * 4 * arbor.hit_dtype.itemsize), arbor.hit_dtype).reshape(300, 4).copy()
     counts = np.full(300, -7, np.int32)
     res = s.intersect_all(o, d, max_hits=4, out=(rows, counts))
     assert res[0] is rows and res[1] is counts
