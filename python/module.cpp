@@ -337,7 +337,6 @@ PYBIND11_MODULE(_arbor, m) {
             "    out: None, or a C-contiguous bool array of the points' leading shape to write "
             "into.\n" ARBOR_THREADS_DOC ARBOR_WINDING_DOC
             "\nReturns:\n"
-<<<<<<< HEAD
             "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC)
         .def(
             "winding_number",
@@ -385,8 +384,5 @@ PYBIND11_MODULE(_arbor, m) {
             "checked). A scene without triangles is closed.");
 
     arbor::python::bind_update(m);
-=======
-            "    numpy.ndarray: bool, of the points' leading shape (...,) (0-d for one point).\n" ARBOR_RAISES_DOC);
     arbor::python::def_instances(scene);
->>>>>>> inst
 }
