@@ -115,6 +115,10 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
             throw Error(Kind::invalid_argument, "update_vertices: mode '" + options.mode + "' (expected auto, refit or rebuild)");
         if (!(options.rays == options.rays) || std::isinf(options.rays))
             throw Error(Kind::invalid_argument, "update_vertices: rays must be a finite number (negative: the rays answered since the last build or update)");
+        if (!s.instances.empty())
+            throw Error(Kind::invalid_argument,
+                        "update_vertices: the scene has instances; moving a mesh under instances is not offered yet "
+                        "(set_transform moves an instance)");
         const std::size_t first_v = s.first_vertex[geom];
         const std::size_t end_v = geom + 1 < meshes ? s.first_vertex[geom + 1] : s.mesh.vertex_count();
         if (vertex_count != end_v - first_v)
@@ -163,6 +167,9 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
             s.mesh.bounds = s.bounds;
         };
 
+        // The winding-number tree holds the old positions: made again by the next winding query.
+        s.winding.reset();
+        s.winding_ready = false;
         const double rays = options.rays >= 0.0 ? options.rays : double(s.answered.load());
         const std::string rays_source = options.rays >= 0.0 ? "given" : "answered since the last build or update";
         if (!s.ready || !s.accel) {

@@ -42,7 +42,12 @@ void check_method(InsideMethod m, const char* fn) {
 /// Winding numbers of points [begin, end) into out[0 ..): the exact sum, or the structure's tree.
 class WindingSource {
 public:
-    WindingSource(Scene::Impl& s, CallArena& call, const WindingOptions& o) : beta_(o.beta) {
+    WindingSource(Scene::Impl& s, CallArena& call, const WindingOptions& o, const char* fn) : beta_(o.beta) {
+        // The tree is made over the meshes as added; placed copies would need a tree of their own.
+        if (!s.instances.empty())
+            throw Error(Error::Kind::invalid_argument,
+                        std::string(fn) + ": winding numbers are not offered on a scene with instances yet "
+                                          "(inside and signed_distance by parity are)");
         if (o.exact) {
             s.structure();  // a query builds a scene never built, whatever it asks
             exact_ = accel::make_exact_winding(s.mesh.view());
@@ -82,7 +87,7 @@ void Scene::winding_number(const PointArrays& points, double* out, const Winding
         CallArena arena(*impl_, options, "winding_number");
         check_points(points, out, "winding_number");
         check_winding(winding, "winding_number");
-        const WindingSource w(*impl_, arena, winding);
+        const WindingSource w(*impl_, arena, winding, "winding_number");
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             w.run(load_points(points, b, e), std::span<double>(out + b, e - b));
         });
@@ -102,7 +107,7 @@ void Scene::inside(const PointArrays& points, bool* inside, InsideMethod method,
         if (method == InsideMethod::winding) check_winding(winding, "inside");
         const accel::Accel& a = impl_->structure();
         std::unique_ptr<WindingSource> w;
-        if (method == InsideMethod::winding) w = std::make_unique<WindingSource>(*impl_, arena, winding);
+        if (method == InsideMethod::winding) w = std::make_unique<WindingSource>(*impl_, arena, winding, "inside");
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_points(points, b, e);
             thread_local std::vector<std::uint8_t> res;
@@ -122,7 +127,7 @@ void Scene::signed_distance(const PointArrays& points, float* out, InsideMethod 
         if (method == InsideMethod::winding) check_winding(winding, "signed_distance");
         const accel::Accel& a = impl_->structure();
         std::unique_ptr<WindingSource> w;
-        if (method == InsideMethod::winding) w = std::make_unique<WindingSource>(*impl_, arena, winding);
+        if (method == InsideMethod::winding) w = std::make_unique<WindingSource>(*impl_, arena, winding, "signed_distance");
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_points(points, b, e);
             thread_local std::vector<accel::PointHit> near;
