@@ -140,7 +140,7 @@ TEST_CASE("refit: a deforming bunny, every BVH layout, width and path, bit for b
     }
 }
 
-TEST_CASE("refit: positions unchanged keep the tree's SAH cost; a deformation raises it") {
+TEST_CASE("refit: positions unchanged keep the tree's SAH cost, a deformation raises it") {
     const engine::Mesh rest = load_bunny();
     engine::Mesh mesh;
     for (const accel::AccelKind kind : {accel::AccelKind::bvh_sah, accel::AccelKind::lbvh}) {

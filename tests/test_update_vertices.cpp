@@ -135,7 +135,7 @@ TEST_CASE("update_vertices: a deforming bunny, every structure and mode, bit for
     }
 }
 
-TEST_CASE("update_vertices: one mesh of two moves; the other keeps its ids and answers") {
+TEST_CASE("update_vertices: one mesh of two moves, the other keeps its ids and answers") {
     const engine::Mesh sphere = engine::make_icosphere({0, 0, 0}, 1.0f, 3, 0.05f, 2);
     engine::Mesh torus = engine::make_torus({2.5f, 0, 0}, 1.0f, 0.3f, 24, 12);
     const engine::Mesh torus_rest = torus;
