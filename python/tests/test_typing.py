@@ -16,20 +16,26 @@ from test_readme import readme_example
 HERE = pathlib.Path(__file__).resolve().parent
 
 
-def mypy(tmp_path, *files):
+@pytest.fixture(scope="module")
+def mypy_cache(tmp_path_factory):
+    """One mypy cache for the module's runs: numpy's stubs are read once, not once per run."""
+    return tmp_path_factory.mktemp("mypy_cache")
+
+
+def mypy(cache, *files):
     env = dict(os.environ)
     env.pop("PYTHONPATH", None)  # mypy finds numpy where python3 has it
     where = pathlib.Path(arbor.__file__).resolve().parents[1]
     if where.name not in ("site-packages", "dist-packages"):
         env["MYPYPATH"] = str(where)  # a build tree's package; an installed one mypy finds itself
     return subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-color-output", "--cache-dir",
-                           str(tmp_path / "cache"), *map(str, files)], capture_output=True, text=True, env=env)
+                           str(cache), *map(str, files)], capture_output=True, text=True, env=env)
 
 
-def test_mypy_strict_passes_on_the_readme_example_and_the_typed_usage(tmp_path):
+def test_mypy_strict_passes_on_the_readme_example_and_the_typed_usage(tmp_path, mypy_cache):
     example = tmp_path / "readme_example.py"
     example.write_text(readme_example())
-    run = mypy(tmp_path, example, HERE / "typed_usage.py")
+    run = mypy(mypy_cache, example, HERE / "typed_usage.py")
     assert run.returncode == 0, run.stdout + run.stderr
     assert "Success" in run.stdout
 
@@ -44,11 +50,11 @@ MISUSES = [
 
 
 @pytest.mark.parametrize("line, word", MISUSES)
-def test_mypy_strict_fails_on_a_misuse(tmp_path, line, word):
+def test_mypy_strict_fails_on_a_misuse(tmp_path, mypy_cache, line, word):
     bad = tmp_path / "bad.py"
     bad.write_text("import numpy as np\nimport arbor\n\nscene = arbor.Scene()\n"
                    "o = np.zeros((2, 3), np.float32)\nd = np.ones((2, 3), np.float32)\n" + line + "\n")
-    run = mypy(tmp_path, bad)
+    run = mypy(mypy_cache, bad)
     assert run.returncode == 1 and "bad.py:7: error" in run.stdout and word in run.stdout, run.stdout + run.stderr
 
 
@@ -61,12 +67,12 @@ WINDING_MISUSES = [
 ]
 
 
-def test_mypy_strict_fails_on_each_winding_misuse(tmp_path):
+def test_mypy_strict_fails_on_each_winding_misuse(tmp_path, mypy_cache):
     bad = tmp_path / "bad.py"
     head = ("import numpy as np\nimport arbor\n\nscene = arbor.Scene()\n"
             "o = np.zeros((2, 3), np.float32)\nd = np.ones((2, 3), np.float32)\n")
     bad.write_text(head + "".join(line + "\n" for line, _ in WINDING_MISUSES))
-    run = mypy(tmp_path, bad)
+    run = mypy(mypy_cache, bad)
     assert run.returncode == 1, run.stdout + run.stderr
     errors = run.stdout.splitlines()
     for n, (line, word) in enumerate(WINDING_MISUSES, start=7):
