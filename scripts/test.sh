@@ -44,7 +44,7 @@ phase "release: build" bash -c "cmake --preset release >/dev/null && cmake --bui
 phase "release: tests" ctest --preset release -j "$jobs"
 
 phase "asan+ubsan+fuzz: build" bash -c "cmake --preset fuzz >/dev/null && cmake --build --preset fuzz -j $jobs \
-  --target arbor_tests arbor arbor-bench arbor_fuzz_obj arbor_fuzz_mesh arbor_fuzz_rays arbor_fuzz_view"
+  --target arbor_tests arbor_instance_tests arbor arbor-bench arbor_fuzz_obj arbor_fuzz_mesh arbor_fuzz_rays arbor_fuzz_view"
 phase "asan+ubsan: tests" ctest --preset fuzz -j "$jobs"
 phase "fuzz: ${fuzz_seconds} s on 2 cores" scripts/fuzz.sh "$fuzz_seconds"
 

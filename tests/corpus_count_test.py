@@ -110,6 +110,8 @@ def count_ply(data):
         tokens = data[body:].split()
         pos = 0
         for name, count, props in elements:
+            if not props:
+                continue  # records of no values, however many
             for _ in range(count):
                 for count_type, item_type, pname in props:
                     if count_type is None:
