@@ -62,7 +62,10 @@ TEST_CASE("winding: the exact sum matches the long-double oracle to 1e-9 on stif
     // denominator both cancel (0/0 in the limit), beyond what long double recovers, so the library
     // (exact numerator, long-double denominator) and the oracle (long double throughout) agree to
     // 1e-7 only; an 80-digit evaluation (mpmath) differed from both by up to 3e-7 at such points.
-    for (const auto& [name, mesh] : stiff_meshes()) {
+    for (const auto& named : stiff_meshes()) {
+        // (Not a structured binding: clang 14 cannot capture one, and CAPTURE makes a lambda.)
+        const std::string& name = named.first;
+        const engine::Mesh& mesh = named.second;
         CAPTURE(name);
         std::vector<Vec3f> points = testing::query_points(mesh, per_kind, 11);
         const auto exact = accel::make_exact_winding(mesh.view());
@@ -87,7 +90,10 @@ TEST_CASE("winding: the exact sum matches the long-double oracle to 1e-9 on stif
 }
 
 TEST_CASE("winding: every structure's tree stays within its error bound, and beta = inf is exact") {
-    for (const auto& [name, mesh] : stiff_meshes()) {
+    for (const auto& named : stiff_meshes()) {
+        // (Not a structured binding: clang 14 cannot capture one, and CAPTURE makes a lambda.)
+        const std::string& name = named.first;
+        const engine::Mesh& mesh = named.second;
         CAPTURE(name);
         const auto points = testing::query_points(mesh, per_kind, 13);
         const auto structures = testing::query_structures(mesh.view(), true);
