@@ -106,6 +106,7 @@ bool exactly_coplanar(const long double q[3][3]) {
     BigInt v[3][3];
     for (int r = 0; r < 3; ++r)
         for (int k = 0; k < 3; ++k) {
+            if (q[r][k] == 0.0L) continue;  // zero (BigInt's default); its exponent would give a negative shift
             int ex = 0;
             const long double m = std::frexp(q[r][k], &ex);  // |m| in [1/2, 1): 64 mantissa bits
             const auto bits = static_cast<std::uint64_t>(std::fabs(std::ldexp(m, 64)));
