@@ -131,7 +131,6 @@ void Scene::Impl::build_instanced(accel::AccelKind kind, const accel::BuildConfi
     accel_name = std::string(accel::to_string(shown));
     accel_reason = "instances: " + std::to_string(instances.size()) + " instances of " + std::to_string(n_geom) +
                    " meshes under a top BVH; per mesh: " + picks;
-    path = accel::TracePath::best;
 }
 
 void Scene::Impl::locate_placed(std::uint32_t global, std::uint32_t& geom, std::uint32_t& prim, std::uint32_t& inst) const {

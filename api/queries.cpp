@@ -48,13 +48,15 @@ std::span<const accel::Ray> load_rays(const RayArrays& r, std::size_t begin, std
     return buf;
 }
 
-/// The request for a whole batch: one path decision, as `arbor trace` makes it for a ray file
-/// (accel/interface/path_policy.h: the path auto calibrated, else what the structure offers and the
-/// rays' coherence say), read from the few rays the policy looks at. Every chunk then runs on
+/// The request for a whole batch: one path decision from the batch's own rays, as `arbor trace`
+/// makes it for a ray file without --accel auto (accel/interface/path_policy.h: what the structure
+/// offers and the rays' coherence say), read from the few rays the policy looks at. No path is
+/// pinned: a scene's auto pick saw no rays, and a path it guessed would send camera and shadow
+/// batches down the single-ray path at half the packet path's speed. Every chunk then runs on
 /// that path: the chunks do not each ask the policy, and the answer does not depend on where the
 /// chunk boundaries fall relative to the policy's sample.
-accel::TraceRequest batch_request(const Scene::Impl& s, const accel::Accel& a, const RayArrays& r, accel::Query q) {
-    accel::TraceRequest req{q, accel::TracePath::best, accel::RayHint::unknown, s.path};
+accel::TraceRequest batch_request(const accel::Accel& a, const RayArrays& r, accel::Query q) {
+    accel::TraceRequest req{q, accel::TracePath::best, accel::RayHint::unknown, accel::TracePath::best};
     std::vector<accel::Ray> sample;
     for (const std::size_t i : accel::policy_sample(a.offer(), r.count)) sample.push_back(ray_at(r, i));
     req.path = accel::choose_path(a.offer(), sample, req).path;
@@ -94,7 +96,7 @@ private:
 template <class Store>
 void trace_batch(Scene::Impl& s, CallArena& arena, const RayArrays& rays, accel::Query q, Store&& store) {
     const accel::Accel& a = s.structure();
-    const accel::TraceRequest req = batch_request(s, a, rays, q);
+    const accel::TraceRequest req = batch_request(a, rays, q);
     for_chunks(arena, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
         const auto in = load_rays(rays, b, e);
         thread_local std::vector<accel::Hit> out;

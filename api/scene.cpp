@@ -178,7 +178,8 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
     answered = 0, answer_ns = 0;
     accel_name = std::string(accel::to_string(pick.kind));
     accel_reason = pick.reason;
-    path = pick.path;
+    // pick.path is not kept: auto weighed its paths on a job it imagined (closest hits of rays it
+    // had not seen), so each batch's own rays choose the path (api/queries.cpp, batch_request).
     options = o;
     ready = true;
 }

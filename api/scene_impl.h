@@ -35,8 +35,6 @@ struct Scene::Impl {
     std::unique_ptr<accel::Accel> accel;
     std::string accel_name, accel_reason;
     std::vector<std::string> load_warnings;  ///< from Scene::load
-    /// auto's calibrated path (TraceRequest::calibrated), else `best`: the path policy decides per batch.
-    accel::TracePath path = accel::TracePath::best;
     std::unique_ptr<tbb::task_arena> arena;
     int threads = 0;  ///< the arena's threads: build's `threads` as usable_threads() takes it (0 = all)
     std::atomic<bool> ready{false};
