@@ -6,6 +6,7 @@
 #include "accel/util/splitmix64.h"
 #include "engine/error.h"
 #include "engine/hit_geometry.h"
+#include "engine/sampling.h"
 
 #include <algorithm>
 #include <array>
@@ -37,7 +38,40 @@ float u01(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) {
 }
 
 // Streams: one per purpose, pass and dimension.
-constexpr std::uint64_t stream_jitter = 0x100, stream_diffuse = 0x200, stream_random = 0x300;
+constexpr std::uint64_t stream_jitter = 0x100, stream_diffuse = 0x200, stream_random = 0x300, stream_light = 0x400;
+
+/// The light of cfg.shadow: a point, or a square whose ray i aims at its own point.
+class ShadowLight {
+public:
+    ShadowLight(const RayGenScene& scene, const ShadowRecipe& recipe, std::uint64_t seed) : seed_(seed) {
+        const Sphere s = bounding_sphere(scene.bounds);
+        centre_ = scene.light;
+        if (recipe.light_distance > 0.0f) {
+            const Vec3f away = scene.light - s.center;
+            const float len = simd::length(away);
+            const Vec3f unit = len > 0.0f ? away * (1.0f / len) : Vec3f{0.0f, 1.0f, 0.0f};
+            centre_ = s.center + unit * (recipe.light_distance * s.radius);
+        }
+        if (recipe.light_size > 0.0f) {
+            const Vec3f ext = scene.bounds.extent();
+            side_ = recipe.light_size * std::max(ext.x, std::max(ext.y, ext.z));
+            Vec3f facing = s.center - centre_;
+            const float len = simd::length(facing);
+            facing = len > 0.0f ? facing * (1.0f / len) : Vec3f{0.0f, -1.0f, 0.0f};
+            orthonormal_basis(facing, t_, b_);
+        }
+    }
+    Vec3f point(std::uint64_t id) const {
+        if (side_ == 0.0f) return centre_;
+        const float a = u01(seed_, stream_light, id) - 0.5f, c = u01(seed_, stream_light + 1, id) - 0.5f;
+        return centre_ + t_ * (a * side_) + b_ * (c * side_);
+    }
+
+private:
+    std::uint64_t seed_;
+    Vec3f centre_, t_{0.0f}, b_{0.0f};
+    float side_ = 0.0f;
+};
 
 /// Pixels of a width x height image in the requested order, keeping the first `count` in row-major
 /// numbering (the same set of pixels for both orders).
@@ -184,6 +218,7 @@ std::vector<Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg
     if (cfg.kind == RayKind::primary) return primary_pass(cam, width, px, cfg.seed, 0);
 
     if (!tracer) throw std::invalid_argument("generate_rays: shadow and diffuse rays need a tracer");
+    const ShadowLight light(scene, cfg.shadow, cfg.seed);
     constexpr std::uint64_t max_passes = 256;
     std::vector<Ray> out;
     out.reserve(cfg.count);
@@ -196,14 +231,21 @@ std::vector<Ray> generate_rays(const RayGenScene& scene, const RayGenConfig& cfg
             if (!hits[i].is_hit()) continue;
             const HitGeometry g = hit_geometry(scene.tris, prim[i], hits[i]);
             if (!g.valid) continue;
-            const Vec3f n = g.normal;
+            Vec3f n = g.normal;
             Ray r;
-            r.org = accel::offset_ray_origin(g.position, n, g.scale);
             if (cfg.kind == RayKind::shadow) {
-                r.dir = scene.light - r.org;
-                if (!(simd::dot(r.dir, n) > 0.0f)) continue;  // the light is behind the surface
-                r.tfar = 0.9999f;                              // t = 1 is the light itself
+                const Vec3f target = light.point(pass * cfg.count + i);
+                r.org = accel::offset_ray_origin(g.position, n, g.scale);
+                r.dir = target - r.org;
+                if (!(simd::dot(r.dir, n) > 0.0f)) {
+                    if (!cfg.shadow.from_all) continue;  // the light is behind the surface
+                    n = n * -1.0f;                        // start on the far side: the ray crosses the model
+                    r.org = accel::offset_ray_origin(g.position, n, g.scale);
+                    r.dir = target - r.org;
+                }
+                r.tfar = 0.9999f;  // t = 1 is the light itself
             } else {
+                r.org = accel::offset_ray_origin(g.position, n, g.scale);
                 const std::uint64_t id = pass * cfg.count + i;
                 r.dir = cosine_direction(n, u01(cfg.seed, stream_diffuse, id), u01(cfg.seed, stream_diffuse + 1, id));
             }

@@ -27,6 +27,23 @@ std::string_view to_string(RayKind k);
 std::optional<RayKind> parse_ray_kind(std::string_view s);
 std::optional<PixelOrder> parse_pixel_order(std::string_view s);
 
+/// How shadow rays are made, so that held-out sets are not one recipe (the defaults are the
+/// benchmark's: a point light, only surface points facing it).
+struct ShadowRecipe {
+    /// 0: a point light. Above 0: a square area light of this side (times the scene's largest
+    /// extent), centred on the light and facing the bounds' centre; each ray aims at its own point
+    /// of it (drawn from the seed), as a renderer sampling an area light.
+    float light_size = 0.0f;
+    /// 0: the light where the scene or view puts it. Above 0: moved along the line from the bounds'
+    /// centre through it to this many bounding radii (below 1: inside the bounding sphere, among
+    /// the geometry: segments of all lengths).
+    float light_distance = 0.0f;
+    /// false: only points whose surface faces the light (a renderer's shadow rays; mostly
+    /// unoccluded on a convex-ish model). true: every point, those facing away starting on the far
+    /// side of their own surface, so that their rays cross the model (mostly occluded sets).
+    bool from_all = false;
+};
+
 struct RayGenConfig {
     RayKind kind = RayKind::primary;
     std::size_t count = 1u << 20;          ///< exact number of rays returned
@@ -34,6 +51,7 @@ struct RayGenConfig {
     PixelOrder order = PixelOrder::tiles;
     int tile_size = 8;                     ///< pixels per tile side in tile order
     float aspect = 4.0f / 3.0f;            ///< width / height of the primary image
+    ShadowRecipe shadow;                   ///< shadow rays only
 };
 
 /// What the generator needs of a scene. The view must outlive the call.

@@ -325,7 +325,8 @@ void run_scene(const Options& o, const std::string& scene, std::vector<perf::Pat
         const std::string file = o.rays_dir + "/" + file_stem + (view.empty() ? "" : "-" + view) + "-" + kind + ".rays";
         const std::string cell = view.empty() ? scene : scene + "/" + view;
         const std::vector<accel::Ray> rays = engine::read_rays(file);
-        const bool any = kind == "shadow", coherent = kind == "primary" || kind == "shadow";
+        // Kinds named shadow* (shadow-area, shadow-near, ...: scripts/bench_heldout.sh) are any-hit.
+        const bool any = kind.rfind("shadow", 0) == 0, coherent = kind == "primary" || any;
         const accel::Query q = any ? accel::Query::any : accel::Query::closest;
         std::vector<Config> configs = trace_configs(o, st, peer.get(), q, coherent);
         validate(o, st, peer.get(), tris, rays, q, configs);

@@ -26,7 +26,7 @@ engine::Scene box_scene() {
 }
 
 std::vector<accel::Ray> gen(const engine::Scene& s, RayKind kind, std::size_t count, std::uint64_t seed = 1,
-                            engine::PixelOrder order = engine::PixelOrder::tiles) {
+                            engine::PixelOrder order = engine::PixelOrder::tiles, engine::ShadowRecipe shadow = {}) {
     const auto g = engine::ray_gen_scene(s);
     accel::BruteAccel brute(g.tris);
     engine::RayGenConfig cfg;
@@ -34,6 +34,7 @@ std::vector<accel::Ray> gen(const engine::Scene& s, RayKind kind, std::size_t co
     cfg.count = count;
     cfg.seed = seed;
     cfg.order = order;
+    cfg.shadow = shadow;
     return engine::generate_rays(g, cfg, &brute);
 }
 
@@ -108,6 +109,74 @@ TEST_CASE("ray_gen: shadow rays leave the surface towards the light and end befo
     std::size_t blocked = 0;
     for (const auto& r : rays) blocked += brute.trace_one(r, accel::Query::any).is_hit();
     CHECK(blocked == 0);
+}
+
+TEST_CASE("ray_gen: shadow recipes: an area light's points, a light moved among the geometry, rays through the model") {
+    const auto s = box_scene();
+    const auto g = engine::ray_gen_scene(s);
+    const engine::Sphere sphere = engine::bounding_sphere(g.bounds);
+    accel::BruteAccel brute(g.tris);
+    auto blocked = [&](const std::vector<accel::Ray>& rays) {
+        std::size_t n = 0;
+        for (const auto& r : rays) n += brute.trace_one(r, accel::Query::any).is_hit();
+        return n;
+    };
+    const auto point = gen(s, RayKind::shadow, 2000);
+    CHECK(same_bytes(point, gen(s, RayKind::shadow, 2000, 1, engine::PixelOrder::tiles, engine::ShadowRecipe{})));
+
+    SUBCASE("area light: every ray ends on the square, at many points, half the box's side wide") {
+        engine::ShadowRecipe area;
+        area.light_size = 0.5f;  // the box is 2 wide: a square of side 1 around the light
+        const auto rays = gen(s, RayKind::shadow, 2000, 1, engine::PixelOrder::tiles, area);
+        REQUIRE(rays.size() == 2000);
+        const accel::Vec3f facing = simd::normalize(sphere.center - g.light);
+        std::set<std::tuple<float, float, float>> ends;
+        float widest = 0.0f;
+        for (const auto& r : rays) {
+            const accel::Vec3f end = r.org + r.dir;
+            ends.insert({end.x, end.y, end.z});
+            // On the square's plane (through the light, facing the centre), within half a side of the light.
+            CHECK(std::fabs(simd::dot(end - g.light, facing)) <= 1e-4f * simd::length(g.light));
+            const float off = simd::length(end - g.light);
+            CHECK(off <= 0.5f * std::sqrt(2.0f) + 1e-4f);
+            widest = std::max(widest, off);
+        }
+        CHECK(ends.size() > 1900);
+        CHECK(widest > 0.6f);
+        CHECK(blocked(rays) == 0);  // a convex box blocks no lit point's ray
+    }
+    SUBCASE("light moved to 0.5 bounding radii, inside the box: no face is lit; from every point, rays inside") {
+        engine::ShadowRecipe near;
+        near.light_distance = 0.5f;
+        CHECK_THROWS_AS(gen(s, RayKind::shadow, 100, 1, engine::PixelOrder::tiles, near), engine::InputError);
+        near.from_all = true;
+        const auto rays = gen(s, RayKind::shadow, 2000, 1, engine::PixelOrder::tiles, near);
+        REQUIRE(rays.size() == 2000);
+        const accel::Vec3f light = rays[0].org + rays[0].dir;
+        CHECK(simd::length(light - sphere.center) == doctest::Approx(0.5f * sphere.radius).epsilon(1e-4));
+        CHECK(simd::dot(light - sphere.center, g.light - sphere.center) > 0.0f);  // towards where it was
+        for (const auto& r : rays) {
+            const float m = std::max(std::fabs(r.org.x), std::max(std::fabs(r.org.y), std::fabs(r.org.z)));
+            CHECK(m < 1.0f);  // on the inner side of its face
+        }
+        CHECK(blocked(rays) == 0);
+    }
+    SUBCASE("from every point: the points facing away shoot through the box and are blocked") {
+        engine::ShadowRecipe all;
+        all.from_all = true;
+        const auto rays = gen(s, RayKind::shadow, 2000, 1, engine::PixelOrder::tiles, all);
+        REQUIRE(rays.size() == 2000);
+        const std::size_t n = blocked(rays);
+        CHECK(n > 0);
+        CHECK(n < rays.size());
+        // A point facing away starts just inside the box (the far side of its face) and is blocked;
+        // a point facing the light starts just outside and is not.
+        for (const auto& r : rays) {
+            const float m = std::max(std::fabs(r.org.x), std::max(std::fabs(r.org.y), std::fabs(r.org.z)));
+            CHECK(m == doctest::Approx(1.0f).epsilon(1e-4));
+            CHECK(brute.trace_one(r, accel::Query::any).is_hit() == (m < 1.0f));
+        }
+    }
 }
 
 TEST_CASE("ray_gen: diffuse rays lie in the upper hemisphere of the normal, cosine-distributed") {

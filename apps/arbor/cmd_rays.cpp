@@ -1,5 +1,6 @@
 /// `arbor rays --scene MODEL.obj|builtin:NAME --kind primary|shadow|diffuse|random --count N -o OUT.rays
-///  [--seed S] [--view-seed V] [--order tiles|rows] [--accel NAME] [--threads N] [--json]`: writes the
+///  [--seed S] [--view-seed V] [--order tiles|rows] [--light-size F] [--light-distance R] [--from lit|all]
+///  [--accel NAME] [--threads N] [--json]`: writes the
 /// rays of engine/ray_gen.h to a .rays file (spec/rayfile.md), so any tracer can be fed the same
 /// rays. --view-seed moves the camera and the light (engine/ray_views.h: held-out rays).
 #include "accel/factory/make_accel.h"
@@ -20,7 +21,8 @@ namespace arbor::app {
 namespace {
 
 struct RaysOptions {
-    std::string scene, kind = "primary", out, order = "tiles", accel;
+    std::string scene, kind = "primary", out, order = "tiles", accel, from = "lit";
+    float light_size = 0.0f, light_distance = 0.0f;
     std::size_t count = 0;
     std::uint64_t seed = 1, view_seed = 0;
     int threads = 0;
@@ -42,6 +44,9 @@ int run_rays(const RaysOptions& o) {
     cfg.order = *engine::parse_pixel_order(o.order);
     cfg.count = o.count;
     cfg.seed = o.seed;
+    cfg.shadow.light_size = o.light_size;
+    cfg.shadow.light_distance = o.light_distance;
+    cfg.shadow.from_all = o.from == "all";
     // A builtin scene is seen through its own camera (the Cornell box from inside), a model framed.
     engine::RayGenScene gen = engine::ray_gen_scene(scene, builtin);
     if (o.view_seed != 0) engine::place_seeded_view(gen, scene, o.view_seed, builtin);
@@ -71,6 +76,11 @@ int run_rays(const RaysOptions& o) {
             j["vfov"] = gen.camera->vfov_degrees;
         }
         j["light"] = {gen.light.x, gen.light.y, gen.light.z};
+        if (cfg.kind == engine::RayKind::shadow) {
+            j["light_size"] = o.light_size;
+            j["light_distance"] = o.light_distance;
+            j["from"] = o.from;
+        }
         j["triangles"] = scene.mesh.triangle_count();
         if (tracer) j["tracer"] = accel::to_string(tracer->kind());
         j["ms"] = timer.ms();
@@ -105,6 +115,21 @@ Run add_rays(CLI::App& cmd) {
         ->check([](const std::string& v) -> std::string {
             return engine::parse_pixel_order(v) ? std::string() : "unknown order '" + v + "' (expected tiles or rows)";
         })
+        ->capture_default_str();
+    cmd.add_option("--light-size", o->light_size,
+                   "shadow rays: 0 = a point light; above 0 = a square area light of this side (times the scene's "
+                   "largest extent) facing the scene, one point of it per ray")
+        ->check(CLI::Range(0.0f, 100.0f))
+        ->capture_default_str();
+    cmd.add_option("--light-distance", o->light_distance,
+                   "shadow rays: 0 = the light where the view puts it; above 0 = moved to this many bounding radii "
+                   "from the scene's centre (below 1: among the geometry, segments of all lengths)")
+        ->check(CLI::Range(0.0f, 1000.0f))
+        ->capture_default_str();
+    cmd.add_option("--from", o->from,
+                   "shadow rays: lit = only points facing the light (a renderer's rays); all = every point, those "
+                   "facing away through their own surface (mostly occluded sets)")
+        ->check(CLI::IsMember({"lit", "all"}))
         ->capture_default_str();
     add_accel_option(cmd, o->accel)->description("structure that traces the primary rays of shadow/diffuse rays");
     add_threads_option(cmd, o->threads);
