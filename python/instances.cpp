@@ -91,11 +91,7 @@ void def_instances(py::class_<PyScene>& cls) {
                 .c_str())
         .def_property_readonly(
             "instances",
-            [](const PyScene& s) {
-                std::size_t n = 0;
-                run<false>(s, [&] { n = s.scene.instances(); });
-                return n;
-            },
+            [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.instances(); }); },
             "int: the number of instances (instance ids are 0 .. instances-1).");
 }
 

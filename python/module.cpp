@@ -185,17 +185,12 @@ PYBIND11_MODULE(_arbor, m) {
             "    TypeError, ValueError: an argument of the wrong type or value; the message names it.\n")
         .def_property_readonly(
             "triangles",
-            [](const PyScene& s) {
-                std::size_t n = 0;
-                run<false>(s, [&] { n = s.scene.triangles(); });
-                return n;
-            },
+            [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.triangles(); }); },
             "int: the number of triangles in the scene, over all meshes.")
         .def_property_readonly(
             "load_warnings",
             [](const PyScene& s) {
-                std::vector<std::string> w;
-                run<false>(s, [&] { w = s.scene.load_warnings(); });
+                const std::vector<std::string> w = read(s, [](const arbor::Scene& sc) { return sc.load_warnings(); });
                 py::list out;
                 for (const std::string& line : w) out.append(py::str(line));
                 return out;
@@ -204,27 +199,15 @@ PYBIND11_MODULE(_arbor, m) {
             "edge element); empty for a scene made from arrays.")
         .def_property_readonly(
             "meshes",
-            [](const PyScene& s) {
-                std::size_t n = 0;
-                run<false>(s, [&] { n = s.scene.meshes(); });
-                return n;
-            },
+            [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.meshes(); }); },
             "int: the number of meshes (geometry ids are 0 .. meshes-1).")
         .def_property_readonly(
             "accel",
-            [](const PyScene& s) {
-                std::string a;
-                run<false>(s, [&] { a = s.scene.accel(); });
-                return a;
-            },
+            [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.accel(); }); },
             "str: the structure built (\"bvh-sah\", ...), \"\" before the first build.")
         .def_property_readonly(
             "accel_reason",
-            [](const PyScene& s) {
-                std::string a;
-                run<false>(s, [&] { a = s.scene.accel_reason(); });
-                return a;
-            },
+            [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.accel_reason(); }); },
             "str: with accel=\"auto\", why arbor picked the structure it built.")
         .def_property_readonly(
             "bounds",
@@ -374,11 +357,7 @@ PYBIND11_MODULE(_arbor, m) {
             ARBOR_RAISES_DOC)
         .def_property_readonly(
             "closed",
-            [](const PyScene& s) {
-                bool c = false;
-                run<false>(s, [&] { c = s.scene.closed(); });
-                return c;
-            },
+            [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.closed(); }); },
             "bool: every edge is shared by exactly two faces (edges compared by vertex number, so a mesh\n"
             "whose triangles repeat their corners instead of sharing them is open; orientation is not\n"
             "checked). A scene without triangles is closed.");

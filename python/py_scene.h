@@ -31,4 +31,12 @@ void run(const PyScene& s, F&& f) {
     }
 }
 
+/// What `get(scene)` returns, read under the shared lock (the body of a read-only property).
+template <class Get>
+auto read(const PyScene& s, Get&& get) {
+    decltype(get(s.scene)) value{};
+    run<false>(s, [&] { value = get(s.scene); });
+    return value;
+}
+
 }  // namespace arbor::python

@@ -68,9 +68,7 @@ void add_normals(const arbor::Scene& scene, unsigned char* records, std::size_t 
 
 /// Whether the scene holds instances (then its records show the field inst).
 bool has_instances(const PyScene& s) {
-    std::size_t n = 0;
-    run<false>(s, [&] { n = s.scene.instances(); });
-    return n > 0;
+    return read(s, [](const arbor::Scene& sc) { return sc.instances(); }) > 0;
 }
 
 py::dtype hits_dtype(bool normals, bool inst) { return normals ? hit_normal_dtype(inst) : hit_dtype(inst); }

@@ -51,20 +51,12 @@ void bind_update(py::module_& m) {
         "        it, and the scene is unchanged.\n");
     scene.def_property_readonly(
         "update_action",
-        [](const PyScene& s) {
-            std::string a;
-            run<false>(s, [&] { a = s.scene.update_action(); });
-            return a;
-        },
+        [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.update_action(); }); },
         "str: what the last update_vertices did to the structure: \"refit\", \"rebuild\", or \"none\"\n"
         "(not built yet); \"\" before any update.");
     scene.def_property_readonly(
         "update_reason",
-        [](const PyScene& s) {
-            std::string a;
-            run<false>(s, [&] { a = s.scene.update_reason(); });
-            return a;
-        },
+        [](const PyScene& s) { return read(s, [](const arbor::Scene& sc) { return sc.update_reason(); }); },
         "str: why the last update_vertices refit or rebuilt, with the figures that decided.");
 }
 
