@@ -9,7 +9,7 @@
 #include "accel/interface/trace.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
-#include "engine/ray_gen.h"
+#include "ray_kinds.h"
 #include "kd_simd_check.h"
 #include "kdtree_checks.h"
 #include "wide_check.h"
@@ -31,30 +31,6 @@ constexpr std::size_t rays_per_kind = 96;
 constexpr std::size_t rays_per_kind = 1024;
 #endif
 
-/// Rays of the four kinds of engine/ray_gen.h over `mesh`, `n` of each, concatenated.
-std::vector<Ray> four_kinds(const engine::Mesh& mesh, std::size_t n, const accel::Accel& tracer) {
-    engine::Scene scene;
-    scene.mesh = mesh;
-    const engine::RayGenScene gs = engine::ray_gen_scene(scene);
-    std::vector<Ray> rays;
-    for (const auto kind : {engine::RayKind::primary, engine::RayKind::shadow, engine::RayKind::diffuse, engine::RayKind::random}) {
-        engine::RayGenConfig cfg;
-        cfg.kind = kind;
-        cfg.count = n;
-        cfg.seed = 11;
-        const auto r = engine::generate_rays(gs, cfg, &tracer);
-        rays.insert(rays.end(), r.begin(), r.end());
-    }
-    return rays;
-}
-
-/// `s` indices spread over [0, n).
-std::vector<std::size_t> spread(std::size_t n, std::size_t s) {
-    std::vector<std::size_t> idx;
-    for (std::size_t i = 0; i < std::min(n, s); ++i) idx.push_back(i * n / std::min(n, s));
-    return idx;
-}
-
 /// SIMD paths vs scalar (bitwise) and vs brute (on `brute_rays` of the rays) on `mesh`.
 void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::size_t brute_rays,
                 std::vector<std::size_t> chunks = {1024}, accel::BuildConfig cfg = {}) {
@@ -62,7 +38,7 @@ void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::siz
     const accel::KdTreeAccel& kd = *kd_built;
     CHECK(testing::check_kd_simd(kd, rays, chunks) > 0);
     const accel::BruteAccel brute(mesh.view());
-    const auto sample = spread(rays.size(), brute_rays);
+    const auto sample = testing::spread(rays.size(), brute_rays);
     std::vector<Ray> sub;
     for (std::size_t i : sample) sub.push_back(rays[i]);
     const auto ref = testing::brute_answers(brute, sub);
@@ -71,14 +47,14 @@ void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::siz
 
 }  // namespace
 
-TEST_CASE("kdtree simd: every shared model, primary/shadow/diffuse/random rays, all paths") {
+TEST_CASE("kdtree simd: every shared model, primary/shadow/diffuse/random rays (three shadow recipes), all paths") {
     for (const auto& path : testing::model_paths()) {
         CAPTURE(path);
         engine::Warnings w;
         const engine::Mesh mesh = engine::load_obj(path, w);
         const auto tracer = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view());
         const std::size_t n = mesh.triangle_count() > 30000 ? rays_per_kind / 2 : rays_per_kind;
-        const auto rays = four_kinds(mesh, n, *tracer);
+        const auto rays = testing::ray_kinds(mesh, n, *tracer, 11);
         check_mesh(mesh, rays, testing::oracle_ray_count(mesh.triangle_count(), 32, 1024));
     }
 }

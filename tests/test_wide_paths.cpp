@@ -7,7 +7,7 @@
 #include "accel/interface/coherence.h"
 #include "engine/obj_loader.h"
 #include "engine/procedural.h"
-#include "engine/ray_gen.h"
+#include "ray_kinds.h"
 #include "wide_check.h"
 
 #include <tbb/global_control.h>
@@ -30,34 +30,10 @@ constexpr std::size_t rays_per_kind = 160;
 constexpr std::size_t rays_per_kind = 1024;
 #endif
 
-/// Rays of the four kinds of engine/ray_gen.h over `mesh`, `n` of each, concatenated.
-std::vector<Ray> four_kinds(const engine::Mesh& mesh, std::size_t n, const accel::Accel& tracer) {
-    engine::Scene scene;  // no lights: ray_gen_scene puts the light where `arbor rays` does
-    scene.mesh = mesh;
-    const engine::RayGenScene gs = engine::ray_gen_scene(scene);
-    std::vector<Ray> rays;
-    for (const auto kind : {engine::RayKind::primary, engine::RayKind::shadow, engine::RayKind::diffuse, engine::RayKind::random}) {
-        engine::RayGenConfig cfg;
-        cfg.kind = kind;
-        cfg.count = n;
-        cfg.seed = 7;
-        const auto r = engine::generate_rays(gs, cfg, &tracer);
-        rays.insert(rays.end(), r.begin(), r.end());
-    }
-    return rays;
-}
-
-/// Indices spread over [0, n): `s` of them.
-std::vector<std::size_t> spread(std::size_t n, std::size_t s) {
-    std::vector<std::size_t> idx;
-    for (std::size_t i = 0; i < std::min(n, s); ++i) idx.push_back(i * n / std::min(n, s));
-    return idx;
-}
-
 void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::size_t brute_rays, accel::BuildConfig cfg = {},
                 std::size_t chunk = 1024) {
     const accel::BruteAccel brute(mesh.view());
-    const auto sample = spread(rays.size(), brute_rays);
+    const auto sample = testing::spread(rays.size(), brute_rays);
     std::vector<Ray> sub;
     for (std::size_t i : sample) sub.push_back(rays[i]);
     const auto ref = testing::brute_answers(brute, sub);
@@ -69,7 +45,7 @@ void check_mesh(const engine::Mesh& mesh, const std::vector<Ray>& rays, std::siz
 
 }  // namespace
 
-TEST_CASE("wide paths: every shared model, primary/shadow/diffuse/random rays, all structures and widths") {
+TEST_CASE("wide paths: every shared model, primary/shadow/diffuse/random rays (three shadow recipes), all structures and widths") {
     for (const auto& path : testing::model_paths()) {
         CAPTURE(path);
         engine::Warnings w;
@@ -77,7 +53,7 @@ TEST_CASE("wide paths: every shared model, primary/shadow/diffuse/random rays, a
         const auto tracer = accel::make_accel(accel::AccelKind::bvh_sah, mesh.view());
         // Big models get fewer rays (the sanitizer build is ~10x slower); brute sees a subset.
         const std::size_t n = mesh.triangle_count() > 30000 ? rays_per_kind / 2 : rays_per_kind;
-        const auto rays = four_kinds(mesh, n, *tracer);
+        const auto rays = testing::ray_kinds(mesh, n, *tracer, 7);
         check_mesh(mesh, rays, testing::oracle_ray_count(mesh.triangle_count(), 32, 1024));
     }
 }
