@@ -103,34 +103,29 @@ Counts shoot(const Transform& g, double w, double h, int n, int per_edge, bool f
 
 const Transform identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 
-}  // namespace
-
-TEST_CASE("instance edges: tilings by exact placements (quarter turns, mirrors, power-of-two scales)") {
-    // Also in the plane x = 3 (a signed permutation of the axes), cells of 0.5 x 0.25.
-    const Transform g = {0, 0, -1, 3, 1, 0, 0, -1, 0, 1, 0, 2};
-    for (const bool mirrors : {false, true})
-        for (const Transform& t : {identity, g}) {
-            CAPTURE(mirrors);
-            const Counts flat = shoot(t, 0.5, 0.25, 6, 40, true, mirrors, 3);
-            const Counts inst = shoot(t, 0.5, 0.25, 6, 40, false, mirrors, 3);
-            MESSAGE("exact tiling, mirrors ", mirrors, ", ", inst.rays, " rays: flattened ", flat.leaks, " leaks, ", flat.doubles,
-                    " double counts; instanced ", inst.leaks, " leaks, ", inst.doubles, " double counts");
-            CHECK(flat.leaks == 0);
-            CHECK(inst.leaks == 0);
-            CHECK(inst.doubles <= flat.doubles);
-        }
-}
-
-TEST_CASE("instance edges: tilings by rotated, non-uniformly scaled placements") {
-    const Transform g = testing::make_transform(0.7, {1, 2, 3}, {1, 1, 1}, {0.3, -0.2, 0.1});
+/// The tiling placed by `t` in cells of w x h, flattened and instanced, with and without mirrored
+/// cells: 0 leaks either way, and the instanced scene double-counts no more than the flattened one.
+void check_tiling(const char* what, const Transform& t, double w, double h, std::uint32_t seed) {
     for (const bool mirrors : {false, true}) {
         CAPTURE(mirrors);
-        const Counts flat = shoot(g, 0.37, 0.61, 6, 40, true, mirrors, 4);
-        const Counts inst = shoot(g, 0.37, 0.61, 6, 40, false, mirrors, 4);
-        MESSAGE("general tiling, mirrors ", mirrors, ", ", inst.rays, " rays: flattened ", flat.leaks, " leaks, ", flat.doubles,
+        const Counts flat = shoot(t, w, h, 6, 40, true, mirrors, seed);
+        const Counts inst = shoot(t, w, h, 6, 40, false, mirrors, seed);
+        MESSAGE(what, " tiling, mirrors ", mirrors, ", ", inst.rays, " rays: flattened ", flat.leaks, " leaks, ", flat.doubles,
                 " double counts; instanced ", inst.leaks, " leaks, ", inst.doubles, " double counts");
         CHECK(flat.leaks == 0);
         CHECK(inst.leaks == 0);
         CHECK(inst.doubles <= flat.doubles);
     }
+}
+
+}  // namespace
+
+TEST_CASE("instance edges: tilings by exact placements (quarter turns, mirrors, power-of-two scales)") {
+    // Also in the plane x = 3 (a signed permutation of the axes), cells of 0.5 x 0.25.
+    const Transform g = {0, 0, -1, 3, 1, 0, 0, -1, 0, 1, 0, 2};
+    for (const Transform& t : {identity, g}) check_tiling("exact", t, 0.5, 0.25, 3);
+}
+
+TEST_CASE("instance edges: tilings by rotated, non-uniformly scaled placements") {
+    check_tiling("general", testing::make_transform(0.7, {1, 2, 3}, {1, 1, 1}, {0.3, -0.2, 0.1}), 0.37, 0.61, 4);
 }
