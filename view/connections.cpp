@@ -1,3 +1,5 @@
+/// ConnectionLoop (view/connections.h): listening, accepting, queueing output and the loop itself;
+/// reading is in connection_input.cpp, writing out, closing and deadlines in connection_closing.cpp.
 #include "view/connections.h"
 
 #include <arpa/inet.h>
@@ -16,6 +18,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "view/connection_state.h"
 #include "view/log.h"
 #include "view/websocket.h"
 
@@ -39,28 +42,6 @@ std::string peer_address(const sockaddr_storage& a) {
 }
 
 }  // namespace
-
-enum class ConnState { head, websocket, closing };
-
-struct ConnectionLoop::Conn {
-    explicit Conn(std::size_t max_message) : reader(max_message) {}
-    // Loop thread only.
-    int fd = -1;
-    std::string peer;
-    ConnState state = ConnState::head;
-    double opened = 0, last_input = 0, linger_end = 0;
-    bool ping_sent = false, write_shut = false;
-    std::string in;  ///< bytes read and not yet used: at most max_head_bytes or one frame
-    ws::MessageReader reader;
-    // Under mutex_.
-    std::string out;  ///< queued output; out_sent bytes of it are written
-    std::size_t out_sent = 0;
-    double out_since = 0;   ///< when the output last moved or was queued onto an empty queue
-    bool accepting = true;  ///< send() may queue (false once an answer or a close frame is queued)
-    bool abort = false;     ///< drop at once instead of closing gracefully (too much output unread)
-    std::optional<CloseReason> close_request;
-    std::size_t pending() const { return out.size() - out_sent; }
-};
 
 ConnectionLoop::ConnectionLoop(const ConnectionLimits& limits, ConnectionHandler& handler)
     : limits_(limits), handler_(handler), max_connections_(limits.max_connections) {}
@@ -309,213 +290,6 @@ bool ConnectionLoop::drop_oldest_idle() {
         }
     }
     return false;
-}
-
-void ConnectionLoop::on_readable(ConnId id, Conn& c, double now) {
-    char buf[16384];
-    std::size_t room = sizeof buf;
-    if (c.state == ConnState::head) room = std::min(room, max_head_bytes - c.in.size());
-    if (c.state == ConnState::websocket) room = std::min(room, c.reader.buffer_bytes() - c.in.size());
-    if (room == 0) return;  // not polled for input while full; a hang-up is read once there is room
-    const ssize_t n = ::recv(c.fd, buf, room, 0);
-    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
-    if (n <= 0) {  // the peer closed (or reset) its side
-        drop(id, {0, n == 0 ? "the connection ended" : std::strerror(errno), false});
-        return;
-    }
-    if (c.state == ConnState::closing) return;  // lingering: input is thrown away
-    c.in.append(buf, std::size_t(n));
-    c.last_input = now;
-    c.ping_sent = false;
-    if (c.state == ConnState::head)
-        on_head(id, c, now);
-    else
-        on_frames(id, c);
-}
-
-void ConnectionLoop::on_head(ConnId id, Conn& c, double now) {
-    const std::size_t len = head_length(c.in);
-    if (len == 0) {
-        if (c.in.size() >= max_head_bytes) {
-            queue(c, http_error(431, "request head longer than " + std::to_string(max_head_bytes) + " bytes"), true);
-            c.state = ConnState::closing;
-        }
-        return;
-    }
-    int status = 400;
-    std::string why;
-    const auto request = parse_request_head(std::string_view(c.in).substr(0, len), &status, &why);
-    if (!request) {
-        queue(c, http_error(status, why), true);
-        c.state = ConnState::closing;
-        return;
-    }
-    c.in.erase(0, len);
-    const ConnectionHandler::Answer answer = handler_.on_request(id, *request, c.peer);
-    queue(c, answer.bytes, !answer.upgrade);
-    if (!answer.upgrade) {
-        c.state = ConnState::closing;
-        return;
-    }
-    c.state = ConnState::websocket;
-    c.last_input = now;
-    handler_.on_open(id);
-    on_frames(id, c);  // frames that came right behind the head
-}
-
-void ConnectionLoop::on_frames(ConnId id, Conn& c) {
-    while (c.state == ConnState::websocket) {
-        {
-            const std::lock_guard lock(mutex_);
-            if (!c.accepting) return;  // closing (close() was called): take_close_requests finishes it
-        }
-        ws::Event e = c.reader.next(c.in);
-        switch (e.kind) {
-            case ws::Event::need_more:
-                return;
-            case ws::Event::error: {
-                std::string frame;
-                ws::append_close(frame, e.code, e.why);
-                queue(c, frame, true);
-                begin_closing(id, c, {e.code, e.why, true});
-                return;
-            }
-            case ws::Event::control:
-                if (e.opcode == ws::ping) {
-                    std::string frame;
-                    ws::append_frame(frame, ws::pong, e.payload);
-                    queue(c, frame, false);
-                } else if (e.opcode == ws::close) {
-                    // Echo the page's code (RFC 6455 5.5.1); 1005 means it sent none, and is never sent.
-                    std::string frame;
-                    ws::append_close(frame, e.code == 1005 ? ws::normal : e.code, "");
-                    queue(c, frame, true);
-                    begin_closing(id, c, {e.code, e.why, false});
-                    return;
-                }
-                break;
-            case ws::Event::message:
-                handler_.on_message(id, e.opcode, std::move(e.payload));
-                break;
-        }
-    }
-}
-
-void ConnectionLoop::begin_closing(ConnId id, Conn& c, const CloseReason& reason) {
-    c.state = ConnState::closing;
-    c.in.clear();
-    handler_.on_closed(id, reason);
-}
-
-void ConnectionLoop::on_writable(ConnId id, Conn& c, double now) {
-    int failed = 0;
-    {
-        const std::lock_guard lock(mutex_);
-        if (c.pending() == 0) return;
-        const ssize_t n = ::send(c.fd, c.out.data() + c.out_sent, c.pending(), MSG_NOSIGNAL | MSG_DONTWAIT);
-        if (n > 0) {
-            c.out_sent += std::size_t(n);
-            c.out_since = now;
-            if (c.pending() == 0)
-                c.out.clear(), c.out_sent = 0;
-            else if (c.out_sent > (std::size_t(1) << 20))
-                c.out.erase(0, c.out_sent), c.out_sent = 0;
-        } else if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
-            failed = errno;
-        }
-    }
-    if (failed) drop(id, {0, std::strerror(failed), false});
-}
-
-void ConnectionLoop::take_close_requests() {
-    std::vector<ConnId> ids;
-    {
-        const std::lock_guard lock(mutex_);
-        ids.swap(close_requests_);
-    }
-    for (const ConnId id : ids) {
-        const auto it = conns_.find(id);
-        if (it == conns_.end()) continue;
-        Conn& c = *it->second;
-        std::optional<CloseReason> reason;
-        bool abort = false;
-        {
-            const std::lock_guard lock(mutex_);
-            reason.swap(c.close_request);
-            abort = c.abort;
-        }
-        if (!reason) continue;
-        if (abort)
-            drop(id, *reason);
-        else if (c.state == ConnState::websocket)
-            begin_closing(id, c, *reason);
-    }
-}
-
-void ConnectionLoop::check_deadlines(double now) {
-    std::vector<std::pair<ConnId, CloseReason>> drops;
-    std::vector<ConnId> timed_out;
-    for (auto& [id, cp] : conns_) {
-        Conn& c = *cp;
-        std::size_t pending = 0;
-        double out_since = 0;
-        {
-            const std::lock_guard lock(mutex_);
-            pending = c.pending();
-            out_since = c.out_since;
-        }
-        const bool stuck = pending > 0 && now - out_since > limits_.write_timeout_s;
-        switch (c.state) {
-            case ConnState::head:
-                if (now - c.opened > limits_.head_timeout_s) timed_out.push_back(id);
-                break;
-            case ConnState::websocket:
-                if (stuck) {
-                    drops.push_back(
-                        {id,
-                         {ws::going_away,
-                          "its output did not move for " + std::to_string(int(limits_.write_timeout_s)) + " s", true}});
-                } else if (now - c.last_input > limits_.idle_timeout_s) {
-                    drops.push_back(
-                        {id,
-                         {ws::going_away, "nothing received for " + std::to_string(int(limits_.idle_timeout_s)) + " s",
-                          true}});
-                } else if (now - c.last_input > limits_.ping_after_s && !c.ping_sent) {
-                    std::string ping;
-                    ws::append_frame(ping, ws::ping, "");
-                    queue(c, ping, false);
-                    c.ping_sent = true;
-                }
-                break;
-            case ConnState::closing:
-                if (!c.write_shut && pending == 0) {
-                    ::shutdown(c.fd, SHUT_WR);
-                    c.write_shut = true;
-                    c.linger_end = now + limits_.linger_s;
-                } else if ((c.write_shut && now > c.linger_end) || stuck) {
-                    drops.push_back({id, {}});
-                }
-                break;
-        }
-    }
-    if (!timed_out.empty()) {
-        const std::lock_guard lock(mutex_);
-        stats_.head_timeouts += timed_out.size();
-    }
-    for (const ConnId id : timed_out) drop(id, {});
-    for (const auto& [id, reason] : drops) drop(id, reason);
-}
-
-void ConnectionLoop::drop(ConnId id, const CloseReason& reason) {
-    const auto it = conns_.find(id);
-    if (it == conns_.end()) return;
-    const bool page = it->second->state == ConnState::websocket;
-    {
-        const std::lock_guard lock(mutex_);
-        ::close(it->second->fd);
-        conns_.erase(it);
-    }
-    if (page) handler_.on_closed(id, reason);
 }
 
 }  // namespace arbor::view
