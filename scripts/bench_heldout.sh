@@ -66,7 +66,7 @@ kind_list=$(echo $kinds | tr ' ' ',')
   echo "# arbor vs Embree on held-out rays ($(date +%Y-%m-%d))"
   echo
   echo "- machine: $(lscpu | sed -n 's/^Model name:\s*//p'), $(nproc) hardware threads; $(c++ --version | head -1); git $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
-  echo "- rays: $rays per file: \`arbor rays --scene SCENE --kind KIND --count $rays --view-seed V --seed 100+V\` for V in $views (8x8 tile order); scenes: $SCENES"
+  echo "- rays: $rays per file: \`arbor rays --scene SCENE --kind KIND --count $rays --view-seed V --seed 100+V\` for V in $views (8x8 tile order; shadow-area = --kind shadow --light-size 0.5, shadow-near = --kind shadow --light-distance 0.6, shadow-all = --kind shadow --from all); scenes: $SCENES"
   ARBOR_SHARED_SCENES=$(dirname "$models") build/release/perf/arbor-bench paths --rays "$dir" --models "$models" --scenes "$scene_list" \
     --views "$view_list" --kinds "$kind_list" --structures "$structures" --paths single,packet,best --threads 2 \
     --repeats "${REPEATS:-5}" --min-ms "${MIN_MS:-40}" "$@"
