@@ -1,13 +1,16 @@
 #!/usr/bin/python3
 """arbor beside the libraries people cast rays with from Python, on the same meshes and queries:
 Open3D's RaycastingScene (Debian python3-open3d), Embree 3 called directly (Debian libembree3,
-through ctypes) and arbor's Python module. docs/benchmarks.md ("arbor beside its Python peers")
+through ctypes), fcpw when a checkout of it is given (--fcpw DIR or ARBOR_FCPW: a C++ shim of ours,
+scripts/peers/fcpw_shim.cpp, is compiled against its headers and called through ctypes; without
+one its column is left out and the report says why) and arbor's Python module. docs/benchmarks.md ("arbor beside its Python peers")
 shows the current table and how to read it.
 
   /usr/bin/python3 scripts/bench_peers.py [--arbor build/release/apps/arbor/arbor]
       [--python-path build/release/python] [--models ../shared/scenes/models]
       [--scenes stanford-bunny,beast,rocker-arm,cheburashka] [--rays 262144] [--points 65536]
-      [--rounds 5] [--threads 2] [--sample 300] [-o build/results/peers.md]
+      [--rounds 5] [--threads 2] [--sample 300] [--fcpw FCPW_CHECKOUT] [--note TEXT]
+      [-o build/results/peers.md]
 
 Per model, every library builds its structure (timed apart, once per round) and answers, with the
 same thread count, the queries of scripts/peers/queries.py: closest hit on camera, random and
@@ -54,6 +57,9 @@ def main():
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--sample", type=int, default=300)
+    ap.add_argument("--fcpw", default=os.environ.get("ARBOR_FCPW", ""),
+                    help="an fcpw checkout (github.com/rohan-sawhney/fcpw); default $ARBOR_FCPW; none: no fcpw column")
+    ap.add_argument("--note", default="", help="a line for the report's head, e.g. how loaded the machine was")
     ap.add_argument("-o", "--out", default=str(ROOT / "build/results/peers.md"))
     o = ap.parse_args()
     for path, what in ((o.arbor, "--arbor"), (o.models, "--models")):
@@ -67,6 +73,17 @@ def main():
         sys.exit("bench_peers: Open3D is missing: apt-get install python3-open3d, and run with /usr/bin/python3")
     preload_mask_shim()
     from peers.compare import run_model
+    from peers.fcpw_peer import compile_shim
+    o.fcpw_shim, o.fcpw_missing = None, ""
+    if not o.fcpw:
+        o.fcpw_missing = "no fcpw checkout given (--fcpw DIR or ARBOR_FCPW)"
+    else:
+        try:
+            o.fcpw_shim = compile_shim(o.fcpw)
+        except RuntimeError as e:
+            sys.exit(f"bench_peers: {e}")
+    if o.fcpw_missing:
+        print(f"bench_peers: fcpw left out: {o.fcpw_missing}", flush=True)
     from peers.report import write_report
 
     results = []

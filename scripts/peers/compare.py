@@ -8,6 +8,7 @@ import numpy as np
 from . import meshes, queries
 from .arbor_peer import ArborPeer
 from .embree_peer import EmbreePeer
+from .fcpw_peer import FcpwPeer
 from .open3d_peer import Open3dPeer
 from .referee import Referee
 
@@ -51,6 +52,8 @@ def run_model(path, name, o):
     diag = meshes.diagonal(verts)
     closed = meshes.is_closed(faces)
     peers = [ArborPeer(o.threads), Open3dPeer(o.threads), EmbreePeer(o.threads, False), EmbreePeer(o.threads, True)]
+    if o.fcpw_shim:
+        peers += [FcpwPeer(o.threads, o.fcpw, o.fcpw_shim), FcpwPeer(o.threads, o.fcpw, o.fcpw_shim, True)]
     builds = {p.name: [] for p in peers}
     for r in range(o.rounds):
         for p in peers[r % len(peers):] + peers[:r % len(peers)]:

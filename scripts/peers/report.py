@@ -3,7 +3,7 @@ import os
 import platform
 import statistics
 
-LABEL = {"arbor": "arbor", "open3d": "Open3D", "embree": "Embree", "embree-robust": "Embree robust"}
+LABEL = {"arbor": "arbor", "open3d": "Open3D", "embree": "Embree", "embree-robust": "Embree robust", "fcpw": "fcpw", "fcpw-robust": "fcpw robust"}
 
 
 def cpu_name():
@@ -26,6 +26,10 @@ def write_report(results, o):
              f"interleaved rounds; {cpu_name()}.", ""]
     for name, text in results[0]["describe"].items():
         lines.append(f"- {name}: {text}")
+    if o.fcpw_missing:
+        lines.append(f"- fcpw: left out: {o.fcpw_missing}")
+    if o.note:
+        lines += ["", o.note]
     lines.append("")
     PEERS = [p for p in results[0]["describe"] if p != "arbor"]
     summary = {}
