@@ -1,7 +1,9 @@
 """The Markdown report of bench_peers.py: one table per model and a summary of ratios."""
 import os
 import platform
+import shlex
 import statistics
+import sys
 
 LABEL = {"arbor": "arbor", "open3d": "Open3D", "embree": "Embree", "embree-robust": "Embree robust", "fcpw": "fcpw", "fcpw-robust": "fcpw robust"}
 
@@ -16,6 +18,11 @@ def cpu_name():
     return platform.processor()
 
 
+def command_line():
+    """The command that made the report, as typed (paths as given)."""
+    return " ".join(shlex.quote(a) for a in ["/usr/bin/python3", "scripts/bench_peers.py"] + sys.argv[1:])
+
+
 def fmt_ms(ms):
     return f"{ms:.2f}" if ms < 100 else f"{ms:.0f}"
 
@@ -23,7 +30,7 @@ def fmt_ms(ms):
 def write_report(results, o):
     lines = [f"# arbor beside its Python peers", "",
              f"{o.threads} threads, {o.rays} rays and {o.points} points per query, median of {o.rounds} "
-             f"interleaved rounds; {cpu_name()}.", ""]
+             f"interleaved rounds; {cpu_name()}.", "", "```sh", command_line(), "```", ""]
     for name, text in results[0]["describe"].items():
         lines.append(f"- {name}: {text}")
     if o.fcpw_missing:
