@@ -9,6 +9,7 @@
 #include "accel/interface/inside.h"
 #include "accel/interface/path_policy.h"
 #include "api/batch.h"
+#include "api/point_order.h"
 #include "api/scene_impl.h"
 
 namespace arbor {
@@ -163,22 +164,27 @@ void Scene::closest_point(const PointArrays& points, const PointValues& max_dist
                                 (max_distance.values ? "[" + std::to_string(i) + "]" : std::string()) +
                                 " must be >= 0 (+inf: no limit), got " + std::to_string(reach(i)));
         const accel::Accel& a = impl_->structure();
+        // Visited along a curve (api/point_order.h): the k-th point answered is point at(k).
+        const std::vector<std::uint32_t> order = spatial_order(points, arena);
+        const auto at = [&](std::size_t k) { return order.empty() ? k : std::size_t(order[k]); };
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
-            const auto in = load_points(points, b, e);
+            thread_local std::vector<accel::Vec3f> in;
             thread_local std::vector<accel::PointHit> res;
-            res.resize(in.size());
+            in.resize(e - b);
+            res.resize(e - b);
+            for (std::size_t k = b; k < e; ++k) in[k - b] = read_vec3(points.xyz, points.stride, at(k));
             // One call of the structure per run of points with the same reach (the whole chunk
             // when one distance is given for all).
             for (std::size_t i = b; i < e;) {
-                const float r = reach(i);
+                const float r = reach(at(i));
                 std::size_t j = i + 1;
-                while (j < e && reach(j) == r) ++j;
-                a.closest_points(in.subspan(i - b, j - i), r, std::span(res).subspan(i - b, j - i));
+                while (j < e && reach(at(j)) == r) ++j;
+                a.closest_points(std::span(in).subspan(i - b, j - i), r, std::span(res).subspan(i - b, j - i));
                 i = j;
             }
-            for (std::size_t i = b; i < e; ++i) {
-                const accel::PointHit& h = res[i - b];
-                ClosestPoint& c = out[i];
+            for (std::size_t k = b; k < e; ++k) {
+                const accel::PointHit& h = res[k - b];
+                ClosestPoint& c = out[at(k)];
                 c = ClosestPoint{};
                 if (!h.is_hit()) continue;
                 impl_->locate(h.prim, c.geom, c.prim, c.inst);

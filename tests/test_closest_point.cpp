@@ -3,6 +3,7 @@
 // for record, on the procedural shapes, every shared model and stiff inputs.
 #include "accel/core/closest_point.h"
 #include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
 #include "engine/procedural.h"
 #include "query_check.h"
 
@@ -174,5 +175,46 @@ TEST_CASE("closest point: stiff inputs (non-finite points, reach, empty, far and
         std::vector<PointHit> out(1);
         a->closest_points(std::vector<Vec3f>{{0, 0, 0}}, INFINITY, out);
         CHECK(!out[0].is_hit());
+    }
+}
+
+TEST_CASE("closest point: searches started from the last point's answer keep brute force's record (chains of near points)") {
+    // The fast structures start each search at the distance to the previous point's answer
+    // (accel::warm_reach); chains of points a step apart, some on that answer itself, at scales
+    // and offsets where the answer's float rounding matters, must still give brute's records.
+    const engine::Mesh base = testing::procedural_shapes();
+    std::mt19937 rng(5);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    for (const std::pair<float, float> so : {std::pair{1.0f, 0.0f}, {1e-5f, 0.0f}, {1e3f, 0.0f}, {1.0f, 1e5f}}) {
+        const float scale = so.first, offset = so.second;  // no structured binding: CAPTURE's lambda takes it
+        CAPTURE(scale);
+        CAPTURE(offset);
+        engine::Mesh mesh = base;
+        for (auto* c : {&mesh.x, &mesh.y, &mesh.z})
+            for (float& v : *c) v = v * scale + offset;
+        mesh.bounds = {};
+        for (std::size_t i = 0; i < mesh.x.size(); ++i) mesh.bounds.grow({mesh.x[i], mesh.y[i], mesh.z[i]});
+        const float diag = simd::length(mesh.bounds.extent());
+        const auto starts = testing::query_points(mesh, 8, 17);
+        const accel::BruteAccel brute(mesh.view());
+        std::vector<Vec3f> points;
+        for (const Vec3f& s : starts) {
+            Vec3f p = s;
+            for (int k = 0; k < 24; ++k) {
+                points.push_back(p);
+                switch (k % 4) {
+                case 0: break;  // the same point again
+                case 1: p = p + Vec3f{g(rng), g(rng), g(rng)} * (1e-7f * diag); break;
+                case 2: p = p + Vec3f{g(rng), g(rng), g(rng)} * (1e-3f * diag); break;
+                default: {  // the answer of the point before: a point on the surface
+                    std::vector<PointHit> h(1);
+                    brute.closest_points(std::span(&p, 1), INFINITY, h);
+                    p = h[0].point;
+                }
+                }
+            }
+        }
+        check_against_brute(mesh, points, true, INFINITY);
+        check_against_brute(mesh, points, true, 0.01f * diag);
     }
 }

@@ -10,6 +10,7 @@
 /// PointSearch::prune_bound.
 #include "accel/core/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -200,6 +201,22 @@ private:
         bound = double(f) >= grown ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
     }
 };
+
+/// A reach for the search at `p` that keeps its answer and prunes from the start: the distance
+/// from p to `near`, a point of the surface as another search found it (PointHit::point, the exact
+/// closest point rounded to float), grown past that rounding (at most 2^-24 of its largest
+/// coordinate per axis) and the double sum's; at most `max_distance`. The surface has a point
+/// strictly within it, so the search finds the same record as from `max_distance` (offer()'s rule
+/// does not depend on what was offered first): a query next to the last one starts nearly done.
+inline float warm_reach(const Vec3f& p, const PointHit& near, float max_distance) {
+    if (!near.is_hit()) return max_distance;
+    const Vec3d q = to_double(near.point), d = to_double(p) - q;
+    const double m = std::max(std::fabs(q.x), std::max(std::fabs(q.y), std::fabs(q.z)));
+    const double r = std::sqrt(simd::dot(d, d)) * (1.0 + 1e-6) + m * 0x1p-21 + 1e-30;
+    if (!(r < double(max_distance))) return max_distance;
+    const float f = float(r);
+    return double(f) >= r ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
+}
 
 /// Squared distance from p to box [lo, hi] per the rule of PointSearch::prune_bound, for T = float
 /// or a batch (an empty box, lo = +inf and hi = -inf, is infinitely far).

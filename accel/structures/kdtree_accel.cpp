@@ -88,7 +88,7 @@ void KdTreeAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
 
 void KdTreeAccel::closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const {
     for (std::size_t i = 0; i < points.size(); ++i) {
-        PointSearch s(points[i], max_distance);
+        PointSearch s(points[i], i == 0 ? max_distance : warm_reach(points[i], out[i - 1], max_distance));
         closest_point_kdtree(tree_, s);
         out[i] = s.result();
     }

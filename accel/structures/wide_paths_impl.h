@@ -71,7 +71,7 @@ public:
     void closest_points(std::span<const Vec3f> points, float max_distance, std::span<PointHit> out) const override {
         std::vector<PointStackEntry> stack;
         for (std::size_t i = 0; i < points.size(); ++i) {
-            PointSearch s(points[i], max_distance);
+            PointSearch s(points[i], i == 0 ? max_distance : warm_reach(points[i], out[i - 1], max_distance));
             closest_point_wide<N>(layout_, s, stack);
             out[i] = s.result();
         }
