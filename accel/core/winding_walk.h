@@ -182,8 +182,8 @@ B inv_length_cubed(const B& r2) {
     if constexpr (std::is_same_v<typename B::value_type, double> && B::size == 8) {
         B y(_mm512_rsqrt14_pd(r2));
         const B half = r2 * B(0.5);
-        y = y * (B(1.5) - half * (y * y));
-        y = y * (B(1.5) - half * (y * y));
+        y = y * xsimd::fnma(half, y * y, B(1.5));
+        y = y * xsimd::fnma(half, y * y, B(1.5));
         return y * y * y;
     }
 #endif
