@@ -182,8 +182,9 @@ B inv_length_cubed(const B& r2) {
     if constexpr (std::is_same_v<typename B::value_type, double> && B::size == 8) {
         B y(_mm512_rsqrt14_pd(r2));
         const B half = r2 * B(0.5);
-        y = y * xsimd::fnma(half, y * y, B(1.5));
-        y = y * xsimd::fnma(half, y * y, B(1.5));
+        const __m512d three_halves = _mm512_set1_pd(1.5);
+        y = y * B(_mm512_fnmadd_pd(half, y * y, three_halves));  // xsimd 8.1 has no AVX-512 fnma
+        y = y * B(_mm512_fnmadd_pd(half, y * y, three_halves));
         return y * y * y;
     }
 #endif
@@ -214,6 +215,7 @@ double leaf_winding(const L& t, Slots s, const Vec3f& p) {
 template <bool Bound, class L>
 double winding_at(const L& t, std::span<const DipoleSlots<L::width>> dip, const Vec3f& p, double beta, double& bound,
                   std::vector<std::uint32_t>& stack) {
+    static_assert(L::width <= 32, "a node's near children are bits of a 32-bit mask");
     using Slots_ = DipoleSlots<L::width>;
     using B = typename Slots_::Batch;
     constexpr std::size_t lanes = Slots_::lanes;
@@ -234,6 +236,10 @@ double winding_at(const L& t, std::span<const DipoleSlots<L::width>> dip, const 
         stack.pop_back();
         const Slots_& d = dip[n];
         const std::size_t kids = t.children(n);
+        // All the node's dipoles first, into one sum added to far_sum once (far_sum lives in
+        // memory across the leaf calls below: one round trip per node, not per batch) ...
+        B node_far(0.0), node_bound(0.0);
+        std::uint32_t near_bits = 0;  // bit c: child c is near
         for (std::size_t g = 0; g < kids; g += lanes) {
             const B rx = B::load_aligned(d.cx + g) - qx, ry = B::load_aligned(d.cy + g) - qy,
                     rz = B::load_aligned(d.cz + g) - qz;
@@ -243,18 +249,21 @@ double winding_at(const L& t, std::span<const DipoleSlots<L::width>> dip, const 
             const auto far = used && r2 > beta2 * (rad * rad);
             if (xsimd::any(far)) {
                 const B dot = B::load_aligned(d.nx + g) * rx + B::load_aligned(d.ny + g) * ry + B::load_aligned(d.nz + g) * rz;
-                far_sum += xsimd::select(far, dot * detail::inv_length_cubed(r2), B(0.0));
+                node_far += xsimd::select(far, dot * detail::inv_length_cubed(r2), B(0.0));
                 if constexpr (Bound) {
                     const B gap = xsimd::sqrt(r2) - rad;
-                    bound_sum += xsimd::select(far, B::load_aligned(d.area + g) * rad / (gap * gap * gap), B(0.0));
+                    node_bound += xsimd::select(far, B::load_aligned(d.area + g) * rad / (gap * gap * gap), B(0.0));
                 }
             }
-            // The near children, in slot order (the mask's bits): leaves summed exactly, nodes opened.
-            for (std::uint32_t near = simd::to_bits(used && !far); near != 0; near &= near - 1) {
-                const std::size_t c = g + std::size_t(std::countr_zero(near));
-                if (t.is_leaf(n, c)) near_sum += detail::leaf_winding(t, t.slots(n, c), p);
-                else stack.push_back(t.node(n, c));
-            }
+            near_bits |= simd::to_bits(used && !far) << g;
+        }
+        far_sum += node_far;
+        if constexpr (Bound) bound_sum += node_bound;
+        // ... then the near children, in slot order: leaves summed exactly, nodes opened.
+        for (; near_bits != 0; near_bits &= near_bits - 1) {
+            const std::size_t c = std::size_t(std::countr_zero(near_bits));
+            if (t.is_leaf(n, c)) near_sum += detail::leaf_winding(t, t.slots(n, c), p);
+            else stack.push_back(t.node(n, c));
         }
     }
     if constexpr (Bound) bound = xsimd::hadd(bound_sum) / (2.0 * std::numbers::pi);
