@@ -137,8 +137,10 @@ std::vector<DipoleSlots<L::width>> make_dipoles(const L& t) {
     // value, the farthest triangle corner under it from its center, is smaller and lets more points
     // take the dipole at the same beta (the bound stays a bound: a triangle lies in its corners'
     // hull). Each child's leaves are visited once per level above them; the maximum does not
-    // depend on the order, so neither on the threads.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.nodes(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    // depend on the order, so neither on the threads. Wide layouts only: on them the measured
+    // error stays at or below libigl's at the same beta; on the deep binary layout it rose above
+    // it (spot, 150 points: max 0.048 -> 0.063, libigl 0.033; docs/robustness.md).
+    if constexpr (w > 2) tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.nodes(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<std::uint32_t> todo;
         for (std::size_t n = r.begin(); n != r.end(); ++n)
             for (std::size_t c = 0; c < t.children(std::uint32_t(n)); ++c) {
