@@ -113,6 +113,35 @@ struct alignas(64) DipoleSlots {
     }
 };
 
+namespace detail {
+
+/// The farthest triangle corner under interior node `m` from `center` (every leaf below m
+/// visited; `todo` is scratch).
+template <class L>
+double farthest_corner(const L& t, std::uint32_t m, const Vec3d& center, std::vector<std::uint32_t>& todo) {
+    double r2 = 0.0;
+    todo.assign(1, m);
+    while (!todo.empty()) {
+        const std::uint32_t k = todo.back();
+        todo.pop_back();
+        for (std::size_t c = 0; c < t.children(k); ++c) {
+            if (!t.is_leaf(k, c)) {
+                todo.push_back(t.node(k, c));
+                continue;
+            }
+            const Slots s = t.slots(k, c);
+            for (std::uint32_t i = s.first; i < s.first + s.count; ++i)
+                for (int v = 0; v < 3; ++v) {
+                    const Vec3d e = to_double(t.vertex(i, v)) - center;
+                    r2 = std::max(r2, simd::dot(e, e));
+                }
+        }
+    }
+    return std::sqrt(r2);
+}
+
+}  // namespace detail
+
 /// One DipoleSlots per interior node, dipoles[n] for node n (child slot c: lane c). Leaves in
 /// parallel, then the interior bottom-up; the result does not depend on the number of threads.
 template <class L>
@@ -140,33 +169,18 @@ std::vector<DipoleSlots<L::width>> make_dipoles(const L& t) {
     // depend on the order, so neither on the threads. Wide layouts only: on them the measured
     // error stays at or below libigl's at the same beta; on the deep binary layout it rose above
     // it (spot, 150 points: max 0.048 -> 0.063, libigl 0.033; docs/robustness.md).
-    if constexpr (w > 2) tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.nodes(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::vector<std::uint32_t> todo;
-        for (std::size_t n = r.begin(); n != r.end(); ++n)
-            for (std::size_t c = 0; c < t.children(std::uint32_t(n)); ++c) {
-                if (t.is_leaf(std::uint32_t(n), c)) continue;
-                Dipole& d = dip[n * w + c];
-                double r2 = 0.0;
-                todo.assign(1, t.node(std::uint32_t(n), c));
-                while (!todo.empty()) {
-                    const std::uint32_t m = todo.back();
-                    todo.pop_back();
-                    for (std::size_t k = 0; k < t.children(m); ++k) {
-                        if (!t.is_leaf(m, k)) {
-                            todo.push_back(t.node(m, k));
-                            continue;
-                        }
-                        const Slots s = t.slots(m, k);
-                        for (std::uint32_t i = s.first; i < s.first + s.count; ++i)
-                            for (int v = 0; v < 3; ++v) {
-                                const Vec3d e = to_double(t.vertex(i, v)) - d.center;
-                                r2 = std::max(r2, simd::dot(e, e));
-                            }
-                    }
-                }
-                d.radius = std::min(d.radius, std::sqrt(r2));
-            }
-    });
+    if constexpr (w > 2)
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.nodes(), 16),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              std::vector<std::uint32_t> todo;
+                              for (std::size_t n = r.begin(); n != r.end(); ++n)
+                                  for (std::size_t c = 0; c < t.children(std::uint32_t(n)); ++c) {
+                                      if (t.is_leaf(std::uint32_t(n), c)) continue;
+                                      Dipole& d = dip[n * w + c];
+                                      const std::uint32_t m = t.node(std::uint32_t(n), c);
+                                      d.radius = std::min(d.radius, detail::farthest_corner(t, m, d.center, todo));
+                                  }
+                          });
     std::vector<DipoleSlots<w>> soa(t.nodes(), DipoleSlots<w>{});
     for (std::size_t n = 0; n < t.nodes(); ++n)
         for (std::size_t c = 0; c < t.children(std::uint32_t(n)); ++c) soa[n].set(c, dip[n * w + c]);
@@ -264,8 +278,10 @@ double winding_at(const L& t, std::span<const DipoleSlots<L::width>> dip, const 
         // ... then the near children, in slot order: leaves summed exactly, nodes opened.
         for (; near_bits != 0; near_bits &= near_bits - 1) {
             const std::size_t c = std::size_t(std::countr_zero(near_bits));
-            if (t.is_leaf(n, c)) near_sum += detail::leaf_winding(t, t.slots(n, c), p);
-            else stack.push_back(t.node(n, c));
+            if (t.is_leaf(n, c))
+                near_sum += detail::leaf_winding(t, t.slots(n, c), p);
+            else
+                stack.push_back(t.node(n, c));
         }
     }
     if constexpr (Bound) bound = xsimd::hadd(bound_sum) / (2.0 * std::numbers::pi);
