@@ -66,6 +66,17 @@ private:
     const accel::WindingTree* tree_ = nullptr;
 };
 
+/// What inside and signed_distance do first: check `method` (and `winding` for the winding
+/// method), build the scene if it never was, and make the winding source (null for the parity).
+std::unique_ptr<WindingSource> method_source(Scene::Impl& s, CallArena& call, InsideMethod method,
+                                             const WindingOptions& winding, const char* fn) {
+    check_method(method, fn);
+    if (method == InsideMethod::winding) check_winding(winding, fn);
+    s.structure();
+    if (method != InsideMethod::winding) return nullptr;
+    return std::make_unique<WindingSource>(s, call, winding, fn);
+}
+
 /// inside[i] for points [b, e) by `method` into `res` (one byte per point).
 void inside_chunk(const Scene::Impl& s, const accel::Accel& a, const WindingSource* w, std::span<const accel::Vec3f> in,
                   std::span<std::uint8_t> res) {
@@ -103,11 +114,8 @@ void Scene::inside(const PointArrays& points, bool* inside, InsideMethod method,
     guarded([&] {
         CallArena arena(*impl_, options, "inside");
         check_points(points, inside, "inside");
-        check_method(method, "inside");
-        if (method == InsideMethod::winding) check_winding(winding, "inside");
+        const std::unique_ptr<WindingSource> w = method_source(*impl_, arena, method, winding, "inside");
         const accel::Accel& a = impl_->structure();
-        std::unique_ptr<WindingSource> w;
-        if (method == InsideMethod::winding) w = std::make_unique<WindingSource>(*impl_, arena, winding, "inside");
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_points(points, b, e);
             thread_local std::vector<std::uint8_t> res;
@@ -123,11 +131,8 @@ void Scene::signed_distance(const PointArrays& points, float* out, InsideMethod 
     guarded([&] {
         CallArena arena(*impl_, options, "signed_distance");
         check_points(points, out, "signed_distance");
-        check_method(method, "signed_distance");
-        if (method == InsideMethod::winding) check_winding(winding, "signed_distance");
+        const std::unique_ptr<WindingSource> w = method_source(*impl_, arena, method, winding, "signed_distance");
         const accel::Accel& a = impl_->structure();
-        std::unique_ptr<WindingSource> w;
-        if (method == InsideMethod::winding) w = std::make_unique<WindingSource>(*impl_, arena, winding, "signed_distance");
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
             const auto in = load_points(points, b, e);
             thread_local std::vector<accel::PointHit> near;

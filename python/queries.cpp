@@ -214,15 +214,25 @@ py::object closest_point(const PyScene& s, py::handle points_obj, py::handle max
     return std::move(res);
 }
 
+/// The arguments inside and signed_distance share, read (and checked) in this order.
+struct MethodArgs {
+    arbor::QueryOptions o;
+    arbor::InsideMethod m;
+    arbor::WindingOptions w;
+    Points p;
+};
+
+MethodArgs method_args(py::handle points_obj, py::handle method, py::handle threads, py::handle exact,
+                       py::handle beta) {
+    return {options(threads), inside_method(method), winding_options(exact, beta), points(points_obj)};
+}
+
 py::object inside(const PyScene& s, py::handle points_obj, py::handle method, py::handle out, py::handle threads,
                   py::handle exact, py::handle beta) {
-    const arbor::QueryOptions o = options(threads);
-    const arbor::InsideMethod m = inside_method(method);
-    const arbor::WindingOptions w = winding_options(exact, beta);
-    const Points p = points(points_obj);
-    py::array res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), p.shape, {points_obj});
+    const MethodArgs a = method_args(points_obj, method, threads, exact, beta);
+    py::array res = result(out, py::dtype::of<bool>(), "bool", alignof(bool), a.p.shape, {points_obj});
     bool* in = static_cast<bool*>(res.mutable_data());
-    run<false>(s, [&] { s.scene.inside(points_of(p.rows), in, m, w, o); });
+    run<false>(s, [&] { s.scene.inside(points_of(a.p.rows), in, a.m, a.w, a.o); });
     return std::move(res);
 }
 
@@ -239,13 +249,10 @@ py::object winding_number(const PyScene& s, py::handle points_obj, py::handle ou
 
 py::object signed_distance(const PyScene& s, py::handle points_obj, py::handle method, py::handle out,
                            py::handle threads, py::handle exact, py::handle beta) {
-    const arbor::QueryOptions o = options(threads);
-    const arbor::InsideMethod m = inside_method(method);
-    const arbor::WindingOptions w = winding_options(exact, beta);
-    const Points p = points(points_obj);
-    py::array res = result(out, py::dtype::of<float>(), "float32", alignof(float), p.shape, {points_obj});
+    const MethodArgs a = method_args(points_obj, method, threads, exact, beta);
+    py::array res = result(out, py::dtype::of<float>(), "float32", alignof(float), a.p.shape, {points_obj});
     auto* d = static_cast<float*>(res.mutable_data());
-    run<false>(s, [&] { s.scene.signed_distance(points_of(p.rows), d, m, w, o); });
+    run<false>(s, [&] { s.scene.signed_distance(points_of(a.p.rows), d, a.m, a.w, a.o); });
     return std::move(res);
 }
 

@@ -26,24 +26,9 @@ says who is right; "wrong" counts a library's answers that differ from the refer
 import argparse
 import os
 import pathlib
-import statistics
-import subprocess
 import sys
-import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-
-
-def preload_mask_shim():
-    """Re-runs this script with scripts/peers/mask_shim.c preloaded (see peers/open3d_peer.py)."""
-    if os.environ.get("ARBOR_PEERS_SHIM"):
-        return
-    tmp = tempfile.mkdtemp(prefix="arbor-peers-")
-    so = os.path.join(tmp, "mask_shim.so")
-    subprocess.run(["cc", "-shared", "-fPIC", "-O2", "-o", so, str(ROOT / "scripts/peers/mask_shim.c"), "-ldl"],
-                   check=True)
-    env = dict(os.environ, LD_PRELOAD=so, ARBOR_PEERS_SHIM=so)
-    os.execve(sys.executable, [sys.executable] + sys.argv, env)
 
 
 def main():
@@ -71,6 +56,7 @@ def main():
         import open3d  # noqa: F401
     except ImportError:
         sys.exit("bench_peers: Open3D is missing: apt-get install python3-open3d, and run with /usr/bin/python3")
+    from peers.shim import preload_mask_shim
     preload_mask_shim()
     from peers.compare import run_model
     from peers.fcpw_peer import compile_shim

@@ -19,18 +19,7 @@ import time
 import numpy as np
 
 import arbor
-
-
-def load_obj(path):
-    v, f = [], []
-    for line in open(path):
-        parts = line.split()
-        if parts and parts[0] == "v":
-            v.append([float(x) for x in parts[1:4]])
-        elif parts and parts[0] == "f":
-            idx = [int(x.split("/")[0]) - 1 for x in parts[1:]]
-            f += [[idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1)]
-    return np.array(v, np.float64), np.array(f, np.int64)
+from peers.meshes import read_obj
 
 
 def subdivide(v, f):
@@ -62,7 +51,8 @@ def main():
                     "here (raw little-endian arrays, for scripts/libigl_winding.sh)")
     args = ap.parse_args()
 
-    v, f = load_obj(args.model)
+    v, f = read_obj(args.model, np.float64)  # subdivided in double, rounded to float once
+    f = f.astype(np.int64)
     for _ in range(args.levels):
         v, f = subdivide(v, f)
     scene = arbor.Scene(v.astype(np.float32), f)

@@ -69,6 +69,19 @@ template <class A> inline std::uint32_t to_bits(const xsimd::batch_bool<float, A
         return static_cast<std::uint32_t>(_mm_movemask_ps(static_cast<__m128>(m)));
 }
 
+/// Bit i set when lane i of the double mask is true.
+template <class A> inline std::uint32_t to_bits(const xsimd::batch_bool<double, A>& m) {
+#if XSIMD_WITH_AVX512F
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return static_cast<std::uint32_t>(static_cast<__mmask8>(m));
+    else
+#endif
+#if XSIMD_WITH_AVX
+    if constexpr (std::is_base_of_v<xsimd::avx, A>) return static_cast<std::uint32_t>(_mm256_movemask_pd(static_cast<__m256d>(m)));
+    else
+#endif
+        return static_cast<std::uint32_t>(_mm_movemask_pd(static_cast<__m128d>(m)));
+}
+
 /// max/min that ignore a NaN in the first operand: `rmax(a, b) = a > b ? a : b`. This is the
 /// semantics of the x86 max/min instructions, so scalar and SIMD agree bit for bit. The slab test
 /// folds its slab distances into a finite accumulator passed as `b`, so a NaN slab (0 * inf, a ray

@@ -13,6 +13,21 @@
 
 namespace arbor::accel {
 
+namespace detail {
+
+/// B::size floats from p (any alignment), each made a double (exactly).
+template <class B>
+B widen(const float* p) {
+#if XSIMD_WITH_AVX512F
+    if constexpr (B::size == 8) return B(_mm512_cvtps_pd(_mm256_loadu_ps(p)));
+#endif
+    alignas(64) double d[B::size];
+    for (std::size_t i = 0; i < B::size; ++i) d[i] = double(p[i]);
+    return B::load_aligned(d);
+}
+
+}  // namespace detail
+
 /// The sum over lanes 0 .. count - 1 of the block's triangles' winding numbers around q.
 template <std::size_t N>
 double soa_triangles_winding(const Vec3f& q, const float (&v)[3][3][N], std::size_t count) {
@@ -24,20 +39,17 @@ double soa_triangles_winding(const Vec3f& q, const float (&v)[3][3][N], std::siz
         for (std::size_t i = 0; i < count; ++i) sum += triangle_winding(q, corner(i, 0), corner(i, 1), corner(i, 2));
         return sum;
     } else {
-        // Corners minus q in double, lane by lane (a float difference is exact in double unless
-        // the exponents are far apart, as in triangle_winding).
-        alignas(64) double d[3][3][N];
-        const double qd[3] = {q.x, q.y, q.z};
-        for (int k = 0; k < 3; ++k)
-            for (int a = 0; a < 3; ++a)
-                for (std::size_t i = 0; i < N; ++i) d[k][a][i] = double(v[k][a][i]) - qd[a];
+        // Corners minus q in double, a batch of lanes at a time and only the batches in use (a
+        // float difference is exact in double unless the exponents are far apart, as in
+        // triangle_winding).
+        const B qd[3] = {B(double(q.x)), B(double(q.y)), B(double(q.z))};
         alignas(64) double lane_ids[lanes];
         for (std::size_t i = 0; i < lanes; ++i) lane_ids[i] = double(i);
         const B ids = B::load_aligned(lane_ids);
         B angle(0.0);
         double exact_sum = 0.0;
         for (std::size_t g = 0; g < count; g += lanes) {
-            const auto at = [&](int k, int a) { return B::load_aligned(&d[k][a][g]); };
+            const auto at = [&](int k, int a) { return detail::widen<B>(&v[k][a][g]) - qd[a]; };
             const B ax = at(0, 0), ay = at(0, 1), az = at(0, 2);
             const B bx = at(1, 0), by = at(1, 1), bz = at(1, 2);
             const B cx = at(2, 0), cy = at(2, 1), cz = at(2, 2);

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import arbor
-from conftest import box_mesh
+from conftest import box_mesh, read_obj
 
 
 def solid_angle_winding(v, f, points):
@@ -17,19 +17,6 @@ def solid_angle_winding(v, f, points):
         den = la * lb * lc + np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", a, c) * lb + np.einsum("ij,ij->i", b, c) * la
         out[i] = np.sum(np.arctan2(det, den)) / (2 * np.pi)
     return out
-
-
-def obj_mesh(path):
-    """Vertices and triangles (fans) of an OBJ file, for the numpy oracle."""
-    v, f = [], []
-    for line in open(path):
-        parts = line.split()
-        if parts and parts[0] == "v":
-            v.append([float(x) for x in parts[1:4]])
-        elif parts and parts[0] == "f":
-            idx = [int(x.split("/")[0]) - 1 for x in parts[1:]]
-            f += [[idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1)]
-    return np.array(v, np.float32), np.array(f, np.int64)
 
 
 def points_in_box(scene, n, seed):
@@ -56,7 +43,7 @@ def test_results_follow_the_contract(box_scene):
 
 
 def test_exact_matches_numpy_and_fast_stays_close(spot):
-    v, f = obj_mesh(spot)
+    v, f = read_obj(spot)
     s = arbor.Scene(v, f)
     pts = points_in_box(s, 150, seed=4)
     oracle = solid_angle_winding(v, f, pts)

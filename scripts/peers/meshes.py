@@ -4,8 +4,8 @@ facts the queries need (interior edges, whether the mesh is closed)."""
 import numpy as np
 
 
-def read_obj(path):
-    """(V, 3) float32 vertices and (F, 3) uint32 faces of an OBJ file (v and f lines only)."""
+def read_obj(path, dtype=np.float32):
+    """(V, 3) vertices (float32 unless `dtype`) and (F, 3) uint32 faces of an OBJ file (v and f lines only)."""
     verts, faces = [], []
     with open(path) as f:
         for line in f:
@@ -16,7 +16,7 @@ def read_obj(path):
                 idx = [i - 1 if i > 0 else len(verts) + i for i in idx]
                 for k in range(1, len(idx) - 1):
                     faces.append([idx[0], idx[k], idx[k + 1]])
-    return np.asarray(verts, np.float32), np.asarray(faces, np.uint32)
+    return np.asarray(verts, dtype), np.asarray(faces, np.uint32)
 
 
 def edges(faces):
