@@ -3,6 +3,9 @@
 // the same rays. A benchmark, not a test: the answers are compared first (rays whose hit differs,
 // by the rayfile.md rule or by triangle), then build and trace are timed. Usage:
 //   arbor-bench instances [--model OBJ] [--copies N] [--accel NAME] [--rays N] [--repeat K] [--threads T]
+//                         [--save-hits FILE]
+// --save-hits writes the instanced scene's raw hit records (closest and any hit, on the scalar,
+// single and packet paths, in that order) to FILE, so that two builds can be compared bit for bit.
 // Copies sit on a square grid, each turned about a random axis and scaled (every third one
 // mirrored, every fourth non-uniformly scaled). Rays: a camera grid over the scene and random rays
 // inside its box (N of each). Times are medians of K runs, instanced and flattened interleaved.
@@ -33,6 +36,7 @@ struct Options {
     std::string accel = "bvh-sah";
     int copies = 64, repeat = 5, threads = 2;
     std::size_t rays = 1u << 18;
+    std::string save_hits;  ///< where to write the instanced scene's answers (for comparing builds)
 };
 
 double median(std::vector<double> v) {
@@ -100,7 +104,7 @@ std::vector<accel::Ray> camera_and_random(const accel::Bounds& b, std::size_t n)
 
 int usage(const char* msg) {
     std::fprintf(stderr, "arbor-bench instances: %s\nUsage: arbor-bench instances [--model OBJ] [--copies N] "
-                         "[--accel NAME] [--rays N] [--repeat K] [--threads T]\n", msg);
+                         "[--accel NAME] [--rays N] [--repeat K] [--threads T] [--save-hits FILE]\n", msg);
     return 2;
 }
 
@@ -120,6 +124,7 @@ int instances_command(int argc, char** argv) {
         else if (a == "--rays") o.rays = std::size_t(std::max(64, std::atoi(v)));
         else if (a == "--repeat") o.repeat = std::max(1, std::atoi(v));
         else if (a == "--threads") o.threads = std::max(1, std::atoi(v));
+        else if (a == "--save-hits") o.save_hits = v;
         else return usage(("unknown option " + a).c_str());
     }
     const auto kind = accel::parse_accel_kind(o.accel);
@@ -170,6 +175,17 @@ int instances_command(int argc, char** argv) {
     std::size_t differ = 0, hits = 0;
     for (std::size_t i = 0; i < rays.size(); ++i)
         differ += !accel::hits_agree(a[i], b[i]) || a[i].prim != b[i].prim, hits += a[i].is_hit();
+    if (!o.save_hits.empty()) {
+        std::FILE* out = std::fopen(o.save_hits.c_str(), "wb");
+        if (!out) return usage(("--save-hits: cannot write " + o.save_hits).c_str());
+        std::vector<accel::Hit> h(rays.size());
+        for (const accel::Query q : {accel::Query::closest, accel::Query::any})
+            for (const accel::TracePath p : {accel::TracePath::scalar, accel::TracePath::single, accel::TracePath::packet}) {
+                accel::trace_parallel(*inst, rays, h, q, p);
+                std::fwrite(h.data(), sizeof(accel::Hit), h.size(), out);
+            }
+        std::fclose(out);
+    }
     std::vector<double> trace_i, trace_f;
     for (int r = 0; r < o.repeat; ++r) {
         const accel::Timer tf;
