@@ -9,13 +9,6 @@
 // Copies sit on a square grid, each turned about a random axis and scaled (every third one
 // mirrored, every fourth non-uniformly scaled). Rays: a camera grid over the scene and random rays
 // inside its box (N of each). Times are medians of K runs, instanced and flattened interleaved.
-#include "accel/factory/make_accel.h"
-#include "accel/instances/instance_accel.h"
-#include "accel/interface/trace.h"
-#include "accel/util/timer.h"
-#include "engine/mesh_loader.h"
-#include "perf/commands.h"
-
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -25,6 +18,13 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include "accel/factory/make_accel.h"
+#include "accel/instances/instance_accel.h"
+#include "accel/interface/trace.h"
+#include "accel/util/timer.h"
+#include "engine/mesh_loader.h"
+#include "perf/commands.h"
 
 using namespace arbor;
 using accel::Vec3f;
@@ -64,7 +64,7 @@ std::vector<accel::Affine> placements(const accel::Bounds& b, int copies) {
                                 {z * x * C - y * si, z * y * C + x * si, co + z * z * C}};
         const double s = 0.6 + 0.4 * u(rng);
         double sc[3] = {s, s, s};
-        if (k % 3 == 1) sc[0] = -s;                     // mirrored
+        if (k % 3 == 1) sc[0] = -s;                        // mirrored
         if (k % 4 == 2) sc[1] = s * 0.5, sc[2] = s * 1.2;  // non-uniform
         const double move[3] = {(k % side) * spacing, 0.0, (k / side) * spacing};
         accel::Affine a;
@@ -103,8 +103,10 @@ std::vector<accel::Ray> camera_and_random(const accel::Bounds& b, std::size_t n)
 }
 
 int usage(const char* msg) {
-    std::fprintf(stderr, "arbor-bench instances: %s\nUsage: arbor-bench instances [--model OBJ] [--copies N] "
-                         "[--accel NAME] [--rays N] [--repeat K] [--threads T] [--save-hits FILE]\n", msg);
+    std::fprintf(stderr,
+                 "arbor-bench instances: %s\nUsage: arbor-bench instances [--model OBJ] [--copies N] "
+                 "[--accel NAME] [--rays N] [--repeat K] [--threads T] [--save-hits FILE]\n",
+                 msg);
     return 2;
 }
 
@@ -118,14 +120,22 @@ int instances_command(int argc, char** argv) {
         const std::string a = argv[i];
         if (i + 1 >= argc) return usage((a + ": needs a value").c_str());
         const char* v = argv[++i];
-        if (a == "--model") o.model = v;
-        else if (a == "--accel") o.accel = v;
-        else if (a == "--copies") o.copies = std::max(1, std::atoi(v));
-        else if (a == "--rays") o.rays = std::size_t(std::max(64, std::atoi(v)));
-        else if (a == "--repeat") o.repeat = std::max(1, std::atoi(v));
-        else if (a == "--threads") o.threads = std::max(1, std::atoi(v));
-        else if (a == "--save-hits") o.save_hits = v;
-        else return usage(("unknown option " + a).c_str());
+        if (a == "--model")
+            o.model = v;
+        else if (a == "--accel")
+            o.accel = v;
+        else if (a == "--copies")
+            o.copies = std::max(1, std::atoi(v));
+        else if (a == "--rays")
+            o.rays = std::size_t(std::max(64, std::atoi(v)));
+        else if (a == "--repeat")
+            o.repeat = std::max(1, std::atoi(v));
+        else if (a == "--threads")
+            o.threads = std::max(1, std::atoi(v));
+        else if (a == "--save-hits")
+            o.save_hits = v;
+        else
+            return usage(("unknown option " + a).c_str());
     }
     const auto kind = accel::parse_accel_kind(o.accel);
     if (!kind || *kind == accel::AccelKind::automatic) return usage("--accel: a structure name (bvh-sah, lbvh, ...)");
@@ -180,7 +190,8 @@ int instances_command(int argc, char** argv) {
         if (!out) return usage(("--save-hits: cannot write " + o.save_hits).c_str());
         std::vector<accel::Hit> h(rays.size());
         for (const accel::Query q : {accel::Query::closest, accel::Query::any})
-            for (const accel::TracePath p : {accel::TracePath::scalar, accel::TracePath::single, accel::TracePath::packet}) {
+            for (const accel::TracePath p :
+                 {accel::TracePath::scalar, accel::TracePath::single, accel::TracePath::packet}) {
                 accel::trace_parallel(*inst, rays, h, q, p);
                 std::fwrite(h.data(), sizeof(accel::Hit), h.size(), out);
             }
@@ -198,16 +209,17 @@ int instances_command(int argc, char** argv) {
     const double eff = double(n) * double(ts.size());
     const double mem_i = double(inst->stats().memory_bytes), mem_f = double(ref->stats().memory_bytes);
     const double mi = median(trace_i), mf = median(trace_f);
-    std::printf("model %s: %zu triangles x %zu copies = %.0f effective; %s; %zu rays (%zu camera + %zu random), "
-                "%zu threads; %zu hits, %zu rays differ (by the rayfile.md rule or triangle)\n\n",
-                o.model.c_str(), n, ts.size(), eff, o.accel.c_str(), rays.size(), rays.size() - o.rays, o.rays,
-                std::size_t(o.threads), hits, differ);
+    std::printf(
+        "model %s: %zu triangles x %zu copies = %.0f effective; %s; %zu rays (%zu camera + %zu random), "
+        "%zu threads; %zu hits, %zu rays differ (by the rayfile.md rule or triangle)\n\n",
+        o.model.c_str(), n, ts.size(), eff, o.accel.c_str(), rays.size(), rays.size() - o.rays, o.rays,
+        std::size_t(o.threads), hits, differ);
     std::printf("| scene | build ms | trace ms | Mrays/s | bytes / unique tri | bytes / effective tri |\n");
     std::printf("|---|---:|---:|---:|---:|---:|\n");
     std::printf("| instanced (%zu copies) | %.1f | %.1f | %.2f | %.1f | %.2f |\n", ts.size(), median(build_i), mi,
                 double(rays.size()) / mi * 1e-3, mem_i / double(n), mem_i / eff);
-    std::printf("| flattened | %.1f | %.1f | %.2f | %.1f | %.2f |\n", median(build_f), mf, double(rays.size()) / mf * 1e-3,
-                mem_f / double(n), mem_f / eff);
+    std::printf("| flattened | %.1f | %.1f | %.2f | %.1f | %.2f |\n", median(build_f), mf,
+                double(rays.size()) / mf * 1e-3, mem_f / double(n), mem_f / eff);
     std::printf("\ninstanced trace throughput = %.2f x flattened; top level %zu bytes, bottom %zu bytes\n", mf / mi,
                 inst->top_bytes(), inst->bottom_bytes());
     return differ * 1000 > rays.size() ? 1 : 0;

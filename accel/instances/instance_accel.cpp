@@ -1,11 +1,11 @@
 #include "accel/instances/instance_accel.h"
 
-#include "accel/factory/make_accel.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "accel/factory/make_accel.h"
 
 namespace arbor::accel {
 
@@ -27,8 +27,8 @@ InstanceAccel::InstanceAccel(AccelKind kind, std::vector<Bottom> bottoms, std::v
         p.first = std::uint32_t(first);
         first += b.mesh->indices.size() / 3;
         if (first >= invalid_prim)
-            throw std::length_error("instances: the placed triangles number 2^32 - 1 or more (" + std::to_string(first) +
-                                    " by instance " + std::to_string(p.id) + ")");
+            throw std::length_error("instances: the placed triangles number 2^32 - 1 or more (" +
+                                    std::to_string(first) + " by instance " + std::to_string(p.id) + ")");
         boxes[k] = p.identity ? b.mesh->bounds : transform_bounds(p.to_world, b.mesh->bounds);
         bounds_.grow(boxes[k]);
         scale_[k] = p.identity ? 1.0 : p.to_world.similarity_scale().value_or(0.0);
@@ -100,7 +100,8 @@ InstanceAccel::WorldSeams InstanceAccel::world_seams(const Placement& p) const {
 std::size_t InstanceAccel::seam_bytes() const {
     std::size_t s = 0;
     for (const WorldSeams& w : placed_seams_)
-        if (w.accel) s += w.accel->stats().memory_bytes + w.mesh->x.size() * 3 * sizeof(float) + w.mesh->indices.size() * 4;
+        if (w.accel)
+            s += w.accel->stats().memory_bytes + w.mesh->x.size() * 3 * sizeof(float) + w.mesh->indices.size() * 4;
     return s;
 }
 
@@ -156,9 +157,8 @@ void InstanceAccel::group(std::span<const Ray> rays, Groups& g) const {
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const Ray& r = rays[i];
         if (!ray_is_traceable(r)) continue;
-        const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
-        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        top_.ray_items(o, d, r.tnear, r.tfar, [&](std::uint32_t k, double t0) {
+        const double len = std::sqrt(double(r.dir.x) * r.dir.x + double(r.dir.y) * r.dir.y + double(r.dir.z) * r.dir.z);
+        top_.ray_items(simd::slab_ray(r.org, r.dir), r.tnear, r.tfar, [&](std::uint32_t k, double t0) {
             pairs_place.push_back(k);
             pairs_ray.push_back(std::uint32_t(i));
             pairs_t.push_back(t0);
@@ -184,9 +184,8 @@ void InstanceAccel::group(std::span<const Ray> rays, Groups& g) const {
             enter[k] /= double(g.start[k + 1] - g.start[k]);
         }
     // Ties by placement number: the order, and so the answers, do not depend on anything else.
-    std::sort(g.visit.begin(), g.visit.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return enter[a] < enter[b] || (enter[a] == enter[b] && a < b);
-    });
+    std::sort(g.visit.begin(), g.visit.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return enter[a] < enter[b] || (enter[a] == enter[b] && a < b); });
 }
 
 void InstanceAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
@@ -232,8 +231,8 @@ class Collect final : public HitSink {
 public:
     /// `skip`: per triangle of the mesh, 1 for those answered elsewhere (null: none); `map`: the
     /// mesh's triangle number of each prim the structure reports (null: the same).
-    Collect(std::vector<std::pair<std::uint32_t, Hit>>& out, const std::vector<std::uint32_t>& which, std::uint32_t first,
-            const std::uint8_t* skip, const std::uint32_t* map)
+    Collect(std::vector<std::pair<std::uint32_t, Hit>>& out, const std::vector<std::uint32_t>& which,
+            std::uint32_t first, const std::uint8_t* skip, const std::uint32_t* map)
         : out_(out), which_(which), first_(first), skip_(skip), map_(map) {}
     void take(std::size_t j, std::span<Hit> list) override {
         for (const Hit& h : list) {
@@ -280,8 +279,9 @@ void InstanceAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
     // Ray by ray, in (t, global number) order: each placement's triangles once (each bottom drops
     // its own repeats; placements have disjoint numbers).
     std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-        return a.first < b.first || (a.first == b.first && (a.second.t < b.second.t ||
-                                                            (a.second.t == b.second.t && a.second.prim < b.second.prim)));
+        return a.first < b.first ||
+               (a.first == b.first &&
+                (a.second.t < b.second.t || (a.second.t == b.second.t && a.second.prim < b.second.prim)));
     });
     thread_local std::vector<Hit> list;
     std::size_t j = 0;
