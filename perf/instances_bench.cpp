@@ -9,6 +9,9 @@
 // Copies sit on a square grid, each turned about a random axis and scaled (every third one
 // mirrored, every fourth non-uniformly scaled). Rays: a camera grid over the scene and random rays
 // inside its box (N of each). Times are medians of K runs, instanced and flattened interleaved.
+// With the Embree peer built in (perf/embree_peer.h), Embree's instanced scene (its instances of
+// one mesh scene, RTC_GEOMETRY_TYPE_INSTANCE) and its flattened scene are built and traced beside
+// them, interleaved the same way, with Embree's fastest call on the instanced scene.
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -25,6 +28,9 @@
 #include "accel/util/timer.h"
 #include "engine/mesh_loader.h"
 #include "perf/commands.h"
+#ifdef ARBOR_HAVE_EMBREE
+#include "perf/embree_peer.h"
+#endif
 
 using namespace arbor;
 using accel::Vec3f;
@@ -197,6 +203,33 @@ int instances_command(int argc, char** argv) {
             }
         std::fclose(out);
     }
+#ifdef ARBOR_HAVE_EMBREE
+    // Embree's two-level scene of the same copies (one mesh scene, an instance per transform) and
+    // its flattened scene, on the same rays, with its fastest call of 1, 16 and 1M on the
+    // instanced scene (one timed pass each).
+    std::unique_ptr<perf::EmbreePeer> e_inst, e_flat;
+    std::vector<double> ebuild_i, ebuild_f;
+    for (int r = 0; r < o.repeat; ++r) {
+        e_inst = std::make_unique<perf::EmbreePeer>(mesh.view(), ts);
+        ebuild_i.push_back(e_inst->build_ms());
+        e_flat = std::make_unique<perf::EmbreePeer>(flat.view());
+        ebuild_f.push_back(e_flat->build_ms());
+    }
+    std::vector<accel::Hit> e(rays.size());
+    perf::EmbreeCall call = perf::EmbreeCall::single;
+    double fastest = INFINITY;
+    for (const perf::EmbreeCall c : {perf::EmbreeCall::single, perf::EmbreeCall::packet16, perf::EmbreeCall::stream}) {
+        const accel::Timer t;
+        e_inst->trace_parallel(rays, e, accel::Query::closest, c, false);
+        if (t.ms() < fastest) fastest = t.ms(), call = c;
+    }
+    std::size_t e_differ = 0, ef_differ = 0;
+    e_inst->trace_parallel(rays, e, accel::Query::closest, call, false);
+    for (std::size_t i = 0; i < rays.size(); ++i) e_differ += !accel::hits_agree(a[i], e[i]) || a[i].prim != e[i].prim;
+    e_flat->trace_parallel(rays, e, accel::Query::closest, call, false);
+    for (std::size_t i = 0; i < rays.size(); ++i) ef_differ += !accel::hits_agree(a[i], e[i]) || a[i].prim != e[i].prim;
+    std::vector<double> etrace_i, etrace_f;
+#endif
     std::vector<double> trace_i, trace_f;
     for (int r = 0; r < o.repeat; ++r) {
         const accel::Timer tf;
@@ -205,6 +238,14 @@ int instances_command(int argc, char** argv) {
         const accel::Timer ti;
         accel::trace_parallel(*inst, rays, b, accel::Query::closest);
         trace_i.push_back(ti.ms());
+#ifdef ARBOR_HAVE_EMBREE
+        const accel::Timer ei;
+        e_inst->trace_parallel(rays, e, accel::Query::closest, call, false);
+        etrace_i.push_back(ei.ms());
+        const accel::Timer ef;
+        e_flat->trace_parallel(rays, e, accel::Query::closest, call, false);
+        etrace_f.push_back(ef.ms());
+#endif
     }
     const double eff = double(n) * double(ts.size());
     const double mem_i = double(inst->stats().memory_bytes), mem_f = double(ref->stats().memory_bytes);
@@ -220,8 +261,24 @@ int instances_command(int argc, char** argv) {
                 double(rays.size()) / mi * 1e-3, mem_i / double(n), mem_i / eff);
     std::printf("| flattened | %.1f | %.1f | %.2f | %.1f | %.2f |\n", median(build_f), mf,
                 double(rays.size()) / mf * 1e-3, mem_f / double(n), mem_f / eff);
+#ifdef ARBOR_HAVE_EMBREE
+    const double ei = median(etrace_i), ef = median(etrace_f);
+    const double emem_i = double(e_inst->memory_bytes()), emem_f = double(e_flat->memory_bytes());
+    std::printf("| Embree instanced (call %s) | %.1f | %.1f | %.2f | %.1f | %.2f |\n",
+                std::string(to_string(call)).c_str(), median(ebuild_i), ei, double(rays.size()) / ei * 1e-3,
+                emem_i / double(n), emem_i / eff);
+    std::printf("| Embree flattened (call %s) | %.1f | %.1f | %.2f | %.1f | %.2f |\n",
+                std::string(to_string(call)).c_str(), median(ebuild_f), ef, double(rays.size()) / ef * 1e-3,
+                emem_f / double(n), emem_f / eff);
+#endif
     std::printf("\ninstanced trace throughput = %.2f x flattened; top level %zu bytes, bottom %zu bytes\n", mf / mi,
                 inst->top_bytes(), inst->bottom_bytes());
+#ifdef ARBOR_HAVE_EMBREE
+    std::printf(
+        "arbor / Embree trace throughput: instanced %.2f x, flattened %.2f x; Embree instanced = %.2f x its "
+        "flattened; Embree's answers differ from arbor's flattened on %zu rays (instanced) and %zu (flattened)\n",
+        ei / mi, ef / mf, ef / ei, e_differ, ef_differ);
+#endif
     return differ * 1000 > rays.size() ? 1 : 0;
 }
 
