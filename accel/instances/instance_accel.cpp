@@ -1,6 +1,7 @@
 #include "accel/instances/instance_accel.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -154,16 +155,42 @@ void InstanceAccel::group(std::span<const Ray> rays, Groups& g) const {
     thread_local std::vector<double> pairs_t, enter;
     pairs_place.clear(), pairs_ray.clear(), pairs_t.clear();
     enter.assign(placements_.size(), 0.0);
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        const Ray& r = rays[i];
-        if (!ray_is_traceable(r)) continue;
-        const double len = std::sqrt(double(r.dir.x) * r.dir.x + double(r.dir.y) * r.dir.y + double(r.dir.z) * r.dir.z);
-        top_.ray_items(simd::slab_ray(r.org, r.dir), r.tnear, r.tfar, [&](std::uint32_t k, double t0) {
-            pairs_place.push_back(k);
-            pairs_ray.push_back(std::uint32_t(i));
-            pairs_t.push_back(t0);
-            enter[k] += t0 * len;
-        });
+    // The rays' slab constants (simd/ray_box.h) worked out a packet at a time (bit for bit those of
+    // simd::slab_ray: the packet code's are tested lane by lane against it), then each ray walks
+    // the top level on its own, in ray order.
+    using P = simd::FloatV;
+    constexpr std::size_t width = P::size;
+    for (std::size_t base = 0; base < rays.size(); base += width) {
+        const simd::RayPacket<P> pk =
+            simd::load_packet_boxes<P, Ray>(rays.subspan(base, std::min(width, rays.size() - base)));
+        alignas(64) float f[9][width];
+        std::uint32_t near_is_hi[3];
+        for (int k = 0; k < 3; ++k) {
+            simd::store_lanes(pk.org[k], f[k]);
+            simd::store_lanes(pk.rcp_near[k], f[3 + k]);
+            simd::store_lanes(pk.rcp_far[k], f[6 + k]);
+            near_is_hi[k] = simd::to_bits(pk.near_is_hi[k]);
+        }
+        const std::uint32_t plain = simd::to_bits(pk.active & pk.plain_lanes);
+        // Untraceable rays (simd/ray.h) are not active: they meet nothing.
+        for (std::uint32_t live = simd::to_bits(pk.active); live != 0; live &= live - 1) {
+            const auto l = std::size_t(std::countr_zero(live));
+            const std::size_t i = base + l;
+            const Ray& r = rays[i];
+            simd::SlabRay s;
+            s.org = {f[0][l], f[1][l], f[2][l]};
+            s.rcp_near = {f[3][l], f[4][l], f[5][l]};
+            s.rcp_far = {f[6][l], f[7][l], f[8][l]};
+            for (int k = 0; k < 3; ++k) s.near_is_hi[k] = int(near_is_hi[k] >> l & 1u);
+            const double len =
+                std::sqrt(double(r.dir.x) * r.dir.x + double(r.dir.y) * r.dir.y + double(r.dir.z) * r.dir.z);
+            top_.ray_items(s, r.tnear, r.tfar, (plain >> l & 1u) != 0, [&](std::uint32_t k, double t0) {
+                pairs_place.push_back(k);
+                pairs_ray.push_back(std::uint32_t(i));
+                pairs_t.push_back(t0);
+                enter[k] += t0 * len;
+            });
+        }
     }
     // Counting sort by placement; stable, so each group keeps the rays' order (packets stay coherent).
     g.start.assign(placements_.size() + 1, 0);

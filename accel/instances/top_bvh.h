@@ -27,9 +27,10 @@ public:
 
     /// Calls f(item, t_enter) for every item whose box the segment o + t d, t in [tnear, tfar],
     /// meets (the ray given by its slab constants, simd::slab_ray; tnear <= tfar), t_enter being
-    /// where the segment enters the box, rounded down: at most the exact entry distance.
+    /// where the segment enters the box, rounded down: at most the exact entry distance. `plain`:
+    /// simd::is_plain holds for the ray (then the shorter slab_test_plain, with the same answers).
     template <class F>
-    void ray_items(const simd::SlabRay& r, float tnear, float tfar, F&& f) const;
+    void ray_items(const simd::SlabRay& r, float tnear, float tfar, bool plain, F&& f) const;
 
     /// Calls f(item, box_distance2) for items nearest box first; stops at boxes farther than
     /// sqrt(reach2), which f may lower as it finds closer answers.
@@ -80,7 +81,7 @@ private:
 };
 
 template <class F>
-void TopBvh::ray_items(const simd::SlabRay& r, float tnear, float tfar, F&& f) const {
+void TopBvh::ray_items(const simd::SlabRay& r, float tnear, float tfar, bool plain, F&& f) const {
     if (wide_.empty()) return;
     using T = Lane;
     const simd::Vec3<T> org(T(r.org.x), T(r.org.y), T(r.org.z));
@@ -91,8 +92,6 @@ void TopBvh::ray_items(const simd::SlabRay& r, float tnear, float tfar, F&& f) c
     int top = 0;
     stack[top++] = 0;
     alignas(64) float enter[width];
-    // Plain rays (slab_test_plain: the same boxes met, the same entry distances) take the shorter test.
-    const bool plain = simd::is_plain<float>(tnear, r.rcp_near, r.rcp_far);
     while (top > 0) {
         const Wide& n = wide_[stack[--top]];
         simd::Vec3<T> np, fp;
