@@ -3,7 +3,13 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <bit>
 #include <cmath>
+
+#include "simd/simd.h"  // XSIMD_WITH_AVX512F
+#if XSIMD_WITH_AVX512F
+#include <immintrin.h>
+#endif
 
 #include "accel/util/prefault.h"
 
@@ -56,6 +62,29 @@ void opposite_octant(const float key[N], const std::uint8_t* order, std::size_t 
     }
 }
 
+#if XSIMD_WITH_AVX512F
+/// For 16-wide nodes: the orders of octant o (into `out`) and of its opposite, 7 - o (into
+/// `opposite`), from o's keys without NaN, as sort_octant gives them, by counting with vector
+/// compares: child c goes after the children with a larger key (the opposite octant: a smaller
+/// one) and after the higher lanes of an equal key. No data-dependent branch (the insertion sort's
+/// were a third of a refit's time).
+inline void rank_octants16(std::size_t children, const float key[16], std::uint8_t* out, std::uint8_t* opposite) {
+    const std::size_t first = 16 - children;
+    const auto live = __mmask16((1u << children) - 1u);
+    const __m512 k = _mm512_maskz_loadu_ps(live, key);
+    for (std::size_t c = children; c < 16; ++c) out[c - children] = opposite[c - children] = std::uint8_t(c);
+    for (std::size_t c = 0; c < children; ++c) {
+        const __m512 kc = _mm512_set1_ps(key[c]);
+        const auto above = __mmask16(live & ~((2u << c) - 1u));
+        const auto larger = unsigned(std::popcount(unsigned(_mm512_mask_cmp_ps_mask(live, k, kc, _CMP_GT_OQ))));
+        const auto smaller = unsigned(std::popcount(unsigned(_mm512_mask_cmp_ps_mask(live, k, kc, _CMP_LT_OQ))));
+        const auto tied = unsigned(std::popcount(unsigned(_mm512_mask_cmp_ps_mask(above, k, kc, _CMP_EQ_OQ))));
+        out[first + larger + tied] = std::uint8_t(c);
+        opposite[first + smaller + tied] = std::uint8_t(c);
+    }
+}
+#endif
+
 }  // namespace
 
 template <std::size_t N>
@@ -69,9 +98,17 @@ void make_octant_orders(WideLayout<N>& layout) {
             for (int o = 0; o < 4; ++o) {
                 float key[N];
                 octant_keys(n, o, key);
-                const std::size_t first = sort_octant(n, key, orders + std::size_t(o) * N);
                 bool nan = false;
                 for (std::size_t c = 0; c < n.children; ++c) nan |= std::isnan(key[c]);
+#if XSIMD_WITH_AVX512F
+                if constexpr (N == 16) {
+                    if (!nan) {
+                        rank_octants16(n.children, key, orders + std::size_t(o) * N, orders + std::size_t(7 - o) * N);
+                        continue;
+                    }
+                }
+#endif
+                const std::size_t first = sort_octant(n, key, orders + std::size_t(o) * N);
                 if (!nan) {
                     opposite_octant<N>(key, orders + std::size_t(o) * N, first, orders + std::size_t(7 - o) * N);
                 } else {
