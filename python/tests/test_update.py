@@ -1,42 +1,22 @@
 """Scene.update_vertices (spec/python.md, "Added in 0.2"): after each step of a deforming model,
 every query answers exactly as a scene built fresh from the new positions, whatever the mode and
 structure; bad arguments raise TypeError or ValueError naming them and change nothing."""
+import pathlib
+import sys
+
 import numpy as np
 import pytest
 
 import arbor
 from conftest import random_rays
 
-
-def read_obj(path):
-    """Vertices and fan-triangulated faces of an OBJ file (v and f lines only)."""
-    v, f = [], []
-    for line in open(path):
-        p = line.split()
-        if not p:
-            continue
-        if p[0] == "v":
-            v.append([float(x) for x in p[1:4]])
-        elif p[0] == "f":
-            idx = [int(q.split("/")[0]) for q in p[1:]]
-            idx = [i - 1 if i > 0 else len(v) + i for i in idx]
-            f.extend([idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1))
-    return np.array(v, dtype=np.float32), np.array(f, dtype=np.int64)
-
-
-def pose(rest, step, amplitude=0.04):
-    """The rest positions displaced by travelling sine waves (as tests/deform.h)."""
-    diag = float(np.linalg.norm(rest.max(axis=0) - rest.min(axis=0)))
-    a = amplitude * diag
-    out = rest.copy()
-    out[:, 0] += a * np.sin(6 * np.pi * rest[:, 1] / diag + 0.9 * step)
-    out[:, 2] += a * np.cos(4 * np.pi * rest[:, 0] / diag + 0.6 * step)
-    return out
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+from deform import pose, read_obj  # noqa: E402  (the model the refit benchmark deforms too)
 
 
 @pytest.fixture(scope="module")
 def bunny(models):
-    return read_obj(next(m for m in models if m.name == "stanford-bunny.obj"))
+    return read_obj(next(m for m in models if m.name == "stanford-bunny.obj"), np.int64)
 
 
 def answers(scene, o, d, pts):
