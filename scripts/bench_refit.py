@@ -27,7 +27,9 @@ import time
 import numpy as np
 
 import arbor
-from deform import pose, read_obj
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "python" / "tests"))
+from deform import pose, read_obj  # noqa: E402  (the update tests' deforming model)
 
 
 def bumpy_sphere(triangles):

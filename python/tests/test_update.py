@@ -1,17 +1,12 @@
 """Scene.update_vertices (spec/python.md, "Added in 0.2"): after each step of a deforming model,
 every query answers exactly as a scene built fresh from the new positions, whatever the mode and
 structure; bad arguments raise TypeError or ValueError naming them and change nothing."""
-import pathlib
-import sys
-
 import numpy as np
 import pytest
 
 import arbor
 from conftest import random_rays
-
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
-from deform import pose, read_obj  # noqa: E402  (the model the refit benchmark deforms too)
+from deform import pose, read_obj
 
 
 @pytest.fixture(scope="module")

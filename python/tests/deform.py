@@ -1,6 +1,7 @@
-"""The deforming model of the update tests and benchmarks (python/tests/test_update.py,
-scripts/bench_refit.py): a mesh read from an OBJ file and moved by travelling sine waves, the
-same waves as tests/deform.h."""
+"""The deforming model of the update tests (test_update.py), which scripts/bench_refit.py deforms
+too: a mesh read from an OBJ file and moved by travelling sine waves, the same waves as
+tests/deform.h. Here, beside the tests, so that the suite's copy (tests/python_package_test.sh)
+carries it."""
 import numpy as np
 
 
