@@ -1,5 +1,10 @@
 /// arbor::Scene::update_vertices: new positions for a mesh, and the structure refit or rebuilt
 /// (accel/select/refit_select.h decides and says why; docs/refit.md).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -8,21 +13,18 @@
 #include "accel/select/auto_model.h"
 #include "accel/select/auto_select.h"
 #include "accel/select/job_shape.h"
+#include "accel/select/reason_words.h"
 #include "accel/select/refit_select.h"
 #include "accel/util/timer.h"
 #include "api/scene_impl.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
-
-#include <algorithm>
 
 namespace arbor {
 
 namespace {
 
 using Kind = Error::Kind;
+/// The bracket's times stay in milliseconds, two decimals below 10 ms (scripts/bench_refit.py reads them).
+constexpr accel::MsWords in_ms{false, false};
 
 /// Grain of the passes over vertices and triangles below (each is one streaming pass: in parallel,
 /// they keep a 1M-triangle update's own work small beside the refit).
@@ -87,16 +89,11 @@ double fresh_ns_per_ray(const Scene::Impl& s, accel::AccelKind kind, double rays
         shape.rays = rays;
         shape.coherent = shape.together = 0.0;
         source = "predicted by auto's model";
-        return model.ns_per_ray(kind, p, accel::scene_shape(s.mesh.view()), shape, double(std::max(1, s.threads ? s.threads : accel::active_trace_threads())));
+        return model.ns_per_ray(kind, p, accel::scene_shape(s.mesh.view()), shape,
+                                double(std::max(1, s.threads ? s.threads : accel::active_trace_threads())));
     }
     source = "no model of it";
     return 0.0;
-}
-
-std::string ms_words(double ms) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, ms >= 10.0 ? "%.0f ms" : "%.2f ms", ms);
-    return buf;
 }
 
 }  // namespace
@@ -108,13 +105,16 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         const std::lock_guard lock(s.build_mutex);
         const std::size_t meshes = s.first_prim.size();
         if (geom >= meshes)
-            throw Error(Kind::invalid_argument, "update_vertices: geom " + std::to_string(geom) + " is not in the scene (" +
-                                                    std::to_string(meshes) + " meshes)");
+            throw Error(Kind::invalid_argument, "update_vertices: geom " + std::to_string(geom) +
+                                                    " is not in the scene (" + std::to_string(meshes) + " meshes)");
         const auto mode = accel::parse_update_mode(options.mode);
         if (!mode)
-            throw Error(Kind::invalid_argument, "update_vertices: mode '" + options.mode + "' (expected auto, refit or rebuild)");
+            throw Error(Kind::invalid_argument,
+                        "update_vertices: mode '" + options.mode + "' (expected auto, refit or rebuild)");
         if (!(options.rays == options.rays) || std::isinf(options.rays))
-            throw Error(Kind::invalid_argument, "update_vertices: rays must be a finite number (negative: the rays answered since the last build or update)");
+            throw Error(Kind::invalid_argument,
+                        "update_vertices: rays must be a finite number (negative: the rays answered since the last "
+                        "build or update)");
         if (!s.instances.empty())
             throw Error(Kind::invalid_argument,
                         "update_vertices: the scene has instances; moving a mesh under instances is not offered yet "
@@ -122,15 +122,20 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         const std::size_t first_v = s.first_vertex[geom];
         const std::size_t end_v = geom + 1 < meshes ? s.first_vertex[geom + 1] : s.mesh.vertex_count();
         if (vertex_count != end_v - first_v)
-            throw Error(Kind::invalid_argument, "update_vertices: vertices: expected " + std::to_string(end_v - first_v) + " (mesh " +
-                                                    std::to_string(geom) + "'s vertex count), got " + std::to_string(vertex_count));
-        if (vertex_count != 0 && vertices == nullptr) throw Error(Kind::invalid_argument, "update_vertices: vertices is null");
+            throw Error(Kind::invalid_argument, "update_vertices: vertices: expected " +
+                                                    std::to_string(end_v - first_v) + " (mesh " + std::to_string(geom) +
+                                                    "'s vertex count), got " + std::to_string(vertex_count));
+        if (vertex_count != 0 && vertices == nullptr)
+            throw Error(Kind::invalid_argument, "update_vertices: vertices is null");
         if (vertex_count != 0 && stride < 3 * sizeof(float))
-            throw Error(Kind::invalid_argument, "update_vertices: stride " + std::to_string(stride) + " is below 12 bytes (x, y, z floats)");
+            throw Error(Kind::invalid_argument,
+                        "update_vertices: stride " + std::to_string(stride) + " is below 12 bytes (x, y, z floats)");
         // The passes below run on the scene's threads (a scene never built: on the caller's).
         const auto in_arena = [&](auto&& f) {
-            if (s.arena) s.arena->execute(f);
-            else f();
+            if (s.arena)
+                s.arena->execute(f);
+            else
+                f();
         };
         // Every coordinate checked before anything changes: a bad array leaves the scene as it was.
         const auto* bytes = reinterpret_cast<const unsigned char*>(vertices);
@@ -139,9 +144,9 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         if (bad != vertex_count) {
             float p[3];
             std::memcpy(p, bytes + bad * stride, sizeof p);
-            throw Error(Kind::invalid_argument, "update_vertices: vertices[" + std::to_string(bad) + "] is not finite (" +
-                                                    std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
-                                                    std::to_string(p[2]) + ")");
+            throw Error(Kind::invalid_argument, "update_vertices: vertices[" + std::to_string(bad) +
+                                                    "] is not finite (" + std::to_string(p[0]) + ", " +
+                                                    std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")");
         }
         const std::size_t first_t = s.first_prim[geom];
         const std::size_t end_t = geom + 1 < meshes ? s.first_prim[geom + 1] : s.mesh.triangle_count();
@@ -150,20 +155,24 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         in_arena([&] {
             // A triangle left out of the tree for a non-finite corner is finite now: a refit cannot
             // add it (only a tree that left some out needs the look).
-            if (s.ready && s.accel && s.accel->stats().dropped_nonfinite != 0) gained = any_nonfinite(view, first_t, end_t);
+            if (s.ready && s.accel && s.accel->stats().dropped_nonfinite != 0)
+                gained = any_nonfinite(view, first_t, end_t);
             // In place: the spans of `view` (and a brute structure's view) stay valid.
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_count, grain), [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                    float p[3];
-                    std::memcpy(p, bytes + i * stride, sizeof p);
-                    s.mesh.x[first_v + i] = p[0], s.mesh.y[first_v + i] = p[1], s.mesh.z[first_v + i] = p[2];
-                }
-            });
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, vertex_count, grain), [&](const tbb::blocked_range<std::size_t>& r) {
+                    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        float p[3];
+                        std::memcpy(p, bytes + i * stride, sizeof p);
+                        s.mesh.x[first_v + i] = p[0], s.mesh.y[first_v + i] = p[1], s.mesh.z[first_v + i] = p[2];
+                    }
+                });
         });
         // The scene's box: a refit's root box, else one pass over the triangles.
         const auto update_bounds = [&](const accel::Bounds* refit_box) {
-            if (refit_box) s.bounds = *refit_box;
-            else in_arena([&] { s.bounds = finite_bounds(view); });
+            if (refit_box)
+                s.bounds = *refit_box;
+            else
+                in_arena([&] { s.bounds = finite_bounds(view); });
             s.mesh.bounds = s.bounds;
         };
 
@@ -180,12 +189,15 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
         }
         const auto kind = *accel::parse_accel_kind(s.accel_name);
         std::string why_not(s.accel->refit_unsupported());
-        if (why_not.empty() && gained) why_not = "triangles with a non-finite corner, left out of the tree, are finite now";
+        if (why_not.empty() && gained)
+            why_not = "triangles with a non-finite corner, left out of the tree, are finite now";
         bool rebuild = *mode == accel::UpdateMode::rebuild || !why_not.empty();
         std::string timing;  // what the structure's own work took, for the reason's end
         std::string reason;
-        if (!why_not.empty()) reason = accel::unsupported_reason(why_not);
-        else if (*mode == accel::UpdateMode::rebuild) reason = accel::forced_reason(*mode, nullptr);
+        if (!why_not.empty())
+            reason = accel::unsupported_reason(why_not);
+        else if (*mode == accel::UpdateMode::rebuild)
+            reason = accel::forced_reason(*mode, nullptr);
         if (!rebuild) {
             accel::RefitResult r;
             s.arena->execute([&] { r = s.accel->refit(view); });
@@ -203,7 +215,7 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
                 reason = c.reason;
             }
             s.sah_ratio = r.ratio();
-            timing = "the refit took " + ms_words(r.ms);
+            timing = "the refit took " + accel::ms_words(r.ms, in_ms);
             if (!rebuild) update_bounds(&r.bounds);
         }
         if (rebuild) {
@@ -215,7 +227,8 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
             update_bounds(nullptr);
             s.arena->execute([&] { s.accel = accel::make_accel(kind, view, cfg); });
             s.build_ms = s.accel->stats().build_ms;
-            timing += std::string(timing.empty() ? "the rebuild took " : ", the rebuild ") + ms_words(s.build_ms);
+            timing += std::string(timing.empty() ? "the rebuild took " : ", the rebuild ") +
+                      accel::ms_words(s.build_ms, in_ms);
             s.sah_ratio = 1.0;
             s.ready = true;
         }

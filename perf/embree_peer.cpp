@@ -1,7 +1,5 @@
 #include "perf/embree_peer.h"
 
-#include "accel/util/timer.h"
-
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -12,6 +10,8 @@
 #include <limits>
 #include <stdexcept>
 #include <vector>
+
+#include "accel/util/timer.h"
 
 namespace arbor::perf {
 
@@ -36,7 +36,8 @@ bool monitor_memory(void* user, ssize_t bytes, bool) {
 
 /// Fills the RTCRay fields of one ray; untraceable rays become inactive (tnear > tfar) with a
 /// harmless finite origin and direction, so that Embree never sees NaN or Inf.
-template <class R> void put_ray(R& r, const Ray& ray) {
+template <class R>
+void put_ray(R& r, const Ray& ray) {
     if (accel::ray_is_traceable(ray)) {
         r.org_x = ray.org.x, r.org_y = ray.org.y, r.org_z = ray.org.z, r.tnear = ray.tnear;
         r.dir_x = ray.dir.x, r.dir_y = ray.dir.y, r.dir_z = ray.dir.z, r.tfar = ray.tfar;
@@ -50,9 +51,15 @@ template <class R> void put_ray(R& r, const Ray& ray) {
     r.flags = 0;
 }
 
-Hit closest_hit(const RTCRayHit& rh) {
+/// arbor's triangle number of Embree's (instance, prim): instance k's triangles follow the k
+/// before it, `per` each (per = 0: no instances).
+unsigned global_prim(unsigned inst, unsigned prim, unsigned per) {
+    return inst == RTC_INVALID_GEOMETRY_ID ? prim : inst * per + prim;
+}
+
+Hit closest_hit(const RTCRayHit& rh, unsigned per) {
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return accel::miss_hit;
-    return {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v};
+    return {rh.ray.tfar, global_prim(rh.hit.instID[0], rh.hit.primID, per), rh.hit.u, rh.hit.v};
 }
 
 /// Embree sets tfar = -inf on an occluded ray. The answer keeps t = tnear, prim = 0.
@@ -61,26 +68,37 @@ Hit any_hit(float tfar_after, float tnear) {
     return {tnear, 0u, 0.0f, 0.0f};
 }
 
-template <int N> struct Packet;
-template <> struct Packet<8> {
+template <int N>
+struct Packet;
+template <>
+struct Packet<8> {
     using RayHit = RTCRayHit8;
     using Ray = RTCRay8;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) { rtcIntersect8(valid, s, c, rh); }
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+        rtcIntersect8(valid, s, c, rh);
+    }
     static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded8(valid, s, c, r); }
 };
-template <> struct Packet<16> {
+template <>
+struct Packet<16> {
     using RayHit = RTCRayHit16;
     using Ray = RTCRay16;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) { rtcIntersect16(valid, s, c, rh); }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(valid, s, c, r); }
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+        rtcIntersect16(valid, s, c, rh);
+    }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded16(valid, s, c, r);
+    }
 };
 
 /// Lane k of an SoA packet ray, written through the same put_ray as single rays.
-template <class P> struct LaneRef {
+template <class P>
+struct LaneRef {
     P& p;
     int k;
 };
-template <class P> void put_lane(P& p, int k, const Ray& ray) {
+template <class P>
+void put_lane(P& p, int k, const Ray& ray) {
     struct One {
         float org_x, org_y, org_z, tnear, dir_x, dir_y, dir_z, time, tfar;
         unsigned mask, id, flags;
@@ -92,7 +110,8 @@ template <class P> void put_lane(P& p, int k, const Ray& ray) {
 }
 
 template <int N>
-void trace_packets(RTCScene scene, RTCIntersectContext* ctx, std::span<const Ray> rays, std::span<Hit> hits, Query q) {
+void trace_packets(RTCScene scene, RTCIntersectContext* ctx, std::span<const Ray> rays, std::span<Hit> hits, Query q,
+                   unsigned per) {
     using P = Packet<N>;
     for (std::size_t base = 0; base < rays.size(); base += N) {
         const int n = int(std::min<std::size_t>(N, rays.size() - base));
@@ -107,9 +126,11 @@ void trace_packets(RTCScene scene, RTCIntersectContext* ctx, std::span<const Ray
             }
             P::intersect(valid, scene, ctx, &rh);
             for (int k = 0; k < n; ++k)
-                hits[base + std::size_t(k)] = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID || !valid[k]
-                                                  ? accel::miss_hit
-                                                  : Hit{rh.ray.tfar[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k]};
+                hits[base + std::size_t(k)] =
+                    rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID || !valid[k]
+                        ? accel::miss_hit
+                        : Hit{rh.ray.tfar[k], global_prim(rh.hit.instID[0][k], rh.hit.primID[k], per), rh.hit.u[k],
+                              rh.hit.v[k]};
         } else {
             alignas(64) typename P::Ray r;
             for (int k = 0; k < N; ++k) {
@@ -129,23 +150,37 @@ struct EmbreePeer::Impl {
     EmbreeConfig cfg;
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
+    RTCScene object = nullptr;    ///< the instanced mesh's own scene (two-level scenes only)
+    unsigned per_instance = 0;    ///< its triangle count (two-level scenes only)
     std::vector<float> vertices;  // x, y, z, pad per vertex (+ 4 floats: Embree reads 16 bytes)
     std::atomic<std::int64_t> bytes{0};
     double build_ms = 0.0, setup_ms = 0.0;
     std::size_t memory_bytes = 0, triangles = 0;
 
+    /// The device, with its memory monitor, and the (top) scene, empty.
+    void start(const EmbreeConfig& config);
+    /// A triangle geometry over a copy of `tris`' vertices, attached to `target` as geometry 0.
+    void attach_triangles(RTCScene target, const accel::TriangleView& tris);
+    /// Commits `target`, adding its time to build_ms and what it allocated to memory_bytes.
+    void commit(RTCScene target);
+
     ~Impl() {
         if (scene) rtcReleaseScene(scene);
+        if (object) rtcReleaseScene(object);
         if (device) rtcReleaseDevice(device);
     }
 };
 
 std::string_view to_string(EmbreeCall c) {
     switch (c) {
-    case EmbreeCall::single: return "1";
-    case EmbreeCall::packet8: return "8";
-    case EmbreeCall::packet16: return "16";
-    case EmbreeCall::stream: return "1M";
+        case EmbreeCall::single:
+            return "1";
+        case EmbreeCall::packet8:
+            return "8";
+        case EmbreeCall::packet16:
+            return "16";
+        case EmbreeCall::stream:
+            return "1M";
     }
     return "?";
 }
@@ -158,18 +193,28 @@ std::string embree_config_name(const EmbreeConfig& cfg) {
     return s;
 }
 
-EmbreePeer::EmbreePeer(const accel::TriangleView& tris, const EmbreeConfig& cfg) : impl_(std::make_unique<Impl>()) {
-    Impl& m = *impl_;
-    m.cfg = cfg;
-    m.triangles = tris.triangle_count();
-    const accel::Timer setup;
+namespace {
+/// An empty scene with cfg's flags and quality.
+RTCScene new_scene(RTCDevice device, const EmbreeConfig& cfg) {
+    RTCScene scene = rtcNewScene(device);
+    rtcSetSceneFlags(scene, cfg.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+    rtcSetSceneBuildQuality(scene, cfg.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+    return scene;
+}
+}  // namespace
+
+void EmbreePeer::Impl::start(const EmbreeConfig& config) {
+    Impl& m = *this;
+    m.cfg = config;
     m.device = rtcNewDevice(nullptr);
     if (!m.device) throw std::runtime_error("embree: rtcNewDevice failed");
     rtcSetDeviceMemoryMonitorFunction(m.device, monitor_memory, &m.bytes);
-    m.scene = rtcNewScene(m.device);
-    rtcSetSceneFlags(m.scene, cfg.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-    rtcSetSceneBuildQuality(m.scene, cfg.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+    m.scene = new_scene(m.device, config);
+}
 
+void EmbreePeer::Impl::attach_triangles(RTCScene target, const accel::TriangleView& tris) {
+    Impl& m = *this;
+    m.triangles = tris.triangle_count();
     RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     const std::size_t nv = tris.vertex_count();
     m.vertices.assign(4 * nv + 4, 0.0f);
@@ -181,8 +226,8 @@ EmbreePeer::EmbreePeer(const accel::TriangleView& tris, const EmbreeConfig& cfg)
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.vertices.data(), 0,
                                4 * sizeof(float), nv);
     if (cfg.copy_indices) {
-        auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                         3 * sizeof(std::uint32_t), m.triangles));
+        auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), m.triangles));
         if (!idx) throw_embree(m.device, "rtcSetNewGeometryBuffer");
         std::copy(tris.indices.begin(), tris.indices.end(), idx);
     } else {
@@ -191,17 +236,55 @@ EmbreePeer::EmbreePeer(const accel::TriangleView& tris, const EmbreeConfig& cfg)
     }
     rtcSetGeometryBuildQuality(geom, cfg.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
     rtcCommitGeometry(geom);
-    rtcAttachGeometry(m.scene, geom);  // geometry 0: every geomID is 0
+    rtcAttachGeometry(target, geom);  // geometry 0: every geomID is 0
     rtcReleaseGeometry(geom);
     if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE) throw_embree(m.device, "scene setup");
-    m.setup_ms = setup.ms();
+}
 
+void EmbreePeer::Impl::commit(RTCScene target) {
+    Impl& m = *this;
     const std::int64_t before = m.bytes.load();
     const accel::Timer build;
-    rtcCommitScene(m.scene);
-    m.build_ms = build.ms();
+    rtcCommitScene(target);
+    m.build_ms += build.ms();
     if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE) throw_embree(m.device, "rtcCommitScene");
-    m.memory_bytes = std::size_t(std::max<std::int64_t>(0, m.bytes.load() - before));
+    m.memory_bytes += std::size_t(std::max<std::int64_t>(0, m.bytes.load() - before));
+}
+
+EmbreePeer::EmbreePeer(const accel::TriangleView& tris, const EmbreeConfig& cfg) : impl_(std::make_unique<Impl>()) {
+    const accel::Timer setup;
+    impl_->start(cfg);
+    impl_->attach_triangles(impl_->scene, tris);
+    impl_->setup_ms = setup.ms();
+    impl_->commit(impl_->scene);
+}
+
+EmbreePeer::EmbreePeer(const accel::TriangleView& mesh, std::span<const accel::Affine> placements,
+                       const EmbreeConfig& cfg)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    accel::Timer setup;
+    m.start(cfg);
+    m.object = new_scene(m.device, cfg);
+    m.attach_triangles(m.object, mesh);
+    m.per_instance = unsigned(m.triangles);
+    m.setup_ms = setup.ms();
+    // The instanced scene is committed before the instances that name it.
+    m.commit(m.object);
+    setup = accel::Timer{};
+    for (const accel::Affine& a : placements) {
+        RTCGeometry inst = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(inst, m.object);
+        float xf[12];
+        for (std::size_t i = 0; i < 12; ++i) xf[i] = float(a.m[i]);
+        rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
+        rtcCommitGeometry(inst);
+        rtcAttachGeometry(m.scene, inst);  // instance k is geometry k: instID[0] = k
+        rtcReleaseGeometry(inst);
+    }
+    if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE) throw_embree(m.device, "instance setup");
+    m.setup_ms += setup.ms();
+    m.commit(m.scene);
 }
 
 EmbreePeer::~EmbreePeer() = default;
@@ -218,55 +301,61 @@ void EmbreePeer::trace(std::span<const Ray> rays, std::span<Hit> hits, Query que
     rtcInitIntersectContext(&ctx);
     if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     RTCScene scene = impl_->scene;
+    const unsigned per = impl_->per_instance;
     const std::size_t n = std::min(rays.size(), hits.size());
     rays = rays.first(n);
     hits = hits.first(n);
 
     switch (call) {
-    case EmbreeCall::packet8: trace_packets<8>(scene, &ctx, rays, hits, query); return;
-    case EmbreeCall::packet16: trace_packets<16>(scene, &ctx, rays, hits, query); return;
-    case EmbreeCall::single:
-        for (std::size_t i = 0; i < n; ++i) {
-            if (query == Query::closest) {
-                RTCRayHit rh;
-                put_ray(rh.ray, rays[i]);
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect1(scene, &ctx, &rh);
-                hits[i] = closest_hit(rh);
-            } else {
-                RTCRay r;
-                put_ray(r, rays[i]);
-                rtcOccluded1(scene, &ctx, &r);
-                hits[i] = accel::ray_is_traceable(rays[i]) ? any_hit(r.tfar, r.tnear) : accel::miss_hit;
-            }
-        }
-        return;
-    case EmbreeCall::stream: {
-        // Sub-batches on the stack: no allocation while timing; Embree's stream code works on
-        // small blocks internally anyway.
-        constexpr std::size_t block = 256;
-        for (std::size_t base = 0; base < n; base += block) {
-            const std::size_t m = std::min(block, n - base);
-            if (query == Query::closest) {
-                RTCRayHit rh[block];
-                for (std::size_t k = 0; k < m; ++k) {
-                    put_ray(rh[k].ray, rays[base + k]);
-                    rh[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                    rh[k].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        case EmbreeCall::packet8:
+            trace_packets<8>(scene, &ctx, rays, hits, query, per);
+            return;
+        case EmbreeCall::packet16:
+            trace_packets<16>(scene, &ctx, rays, hits, query, per);
+            return;
+        case EmbreeCall::single:
+            for (std::size_t i = 0; i < n; ++i) {
+                if (query == Query::closest) {
+                    RTCRayHit rh;
+                    put_ray(rh.ray, rays[i]);
+                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                    rtcIntersect1(scene, &ctx, &rh);
+                    hits[i] = closest_hit(rh, per);
+                } else {
+                    RTCRay r;
+                    put_ray(r, rays[i]);
+                    rtcOccluded1(scene, &ctx, &r);
+                    hits[i] = accel::ray_is_traceable(rays[i]) ? any_hit(r.tfar, r.tnear) : accel::miss_hit;
                 }
-                rtcIntersect1M(scene, &ctx, rh, unsigned(m), sizeof(RTCRayHit));
-                for (std::size_t k = 0; k < m; ++k) hits[base + k] = closest_hit(rh[k]);
-            } else {
-                RTCRay r[block];
-                for (std::size_t k = 0; k < m; ++k) put_ray(r[k], rays[base + k]);
-                rtcOccluded1M(scene, &ctx, r, unsigned(m), sizeof(RTCRay));
-                for (std::size_t k = 0; k < m; ++k)
-                    hits[base + k] = accel::ray_is_traceable(rays[base + k]) ? any_hit(r[k].tfar, r[k].tnear) : accel::miss_hit;
             }
+            return;
+        case EmbreeCall::stream: {
+            // Sub-batches on the stack: no allocation while timing; Embree's stream code works on
+            // small blocks internally anyway.
+            constexpr std::size_t block = 256;
+            for (std::size_t base = 0; base < n; base += block) {
+                const std::size_t m = std::min(block, n - base);
+                if (query == Query::closest) {
+                    RTCRayHit rh[block];
+                    for (std::size_t k = 0; k < m; ++k) {
+                        put_ray(rh[k].ray, rays[base + k]);
+                        rh[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                        rh[k].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                    }
+                    rtcIntersect1M(scene, &ctx, rh, unsigned(m), sizeof(RTCRayHit));
+                    for (std::size_t k = 0; k < m; ++k) hits[base + k] = closest_hit(rh[k], per);
+                } else {
+                    RTCRay r[block];
+                    for (std::size_t k = 0; k < m; ++k) put_ray(r[k], rays[base + k]);
+                    rtcOccluded1M(scene, &ctx, r, unsigned(m), sizeof(RTCRay));
+                    for (std::size_t k = 0; k < m; ++k)
+                        hits[base + k] =
+                            accel::ray_is_traceable(rays[base + k]) ? any_hit(r[k].tfar, r[k].tnear) : accel::miss_hit;
+                }
+            }
+            return;
         }
-        return;
-    }
     }
 }
 

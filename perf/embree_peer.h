@@ -9,12 +9,13 @@
 ///
 /// Embree's default triangle test is not watertight, and even RTC_SCENE_FLAG_ROBUST is reported
 /// to miss some edge hits (embree#387): the benchmark counts the disagreements, it does not hide them.
-#include "accel/interface/trace.h"
-
 #include <memory>
 #include <span>
 #include <string>
 #include <string_view>
+
+#include "accel/instances/affine.h"
+#include "accel/interface/trace.h"
 
 namespace arbor::perf {
 
@@ -42,6 +43,12 @@ public:
     /// and commits it; build_ms() is the time of rtcCommitScene. Throws std::runtime_error with
     /// Embree's error message when Embree fails.
     EmbreePeer(const accel::TriangleView& tris, const EmbreeConfig& cfg = {});
+    /// Embree's two-level scene: `mesh` in a scene of its own, placed once per transform by an
+    /// RTC_GEOMETRY_TYPE_INSTANCE (rtcSetGeometryTransform, 3x4 row-major, rounded to float) in the
+    /// top scene. Hits carry arbor's global triangle numbers (instance k's triangle j is
+    /// k * triangle count + j, as accel::InstanceAccel numbers them); build_ms() is both commits.
+    EmbreePeer(const accel::TriangleView& mesh, std::span<const accel::Affine> placements,
+               const EmbreeConfig& cfg = {});
     ~EmbreePeer();
     EmbreePeer(const EmbreePeer&) = delete;
     EmbreePeer& operator=(const EmbreePeer&) = delete;
@@ -54,6 +61,7 @@ public:
     /// Bytes Embree allocated during the commit (its acceleration structure), from the device's
     /// memory monitor.
     std::size_t memory_bytes() const;
+    /// Triangles of the scene's mesh (once, however often it is placed).
     std::size_t triangles() const;
 
     /// Traces rays[i] into hits[i] on the calling thread. `coherent` sets

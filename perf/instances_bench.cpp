@@ -3,16 +3,15 @@
 // the same rays. A benchmark, not a test: the answers are compared first (rays whose hit differs,
 // by the rayfile.md rule or by triangle), then build and trace are timed. Usage:
 //   arbor-bench instances [--model OBJ] [--copies N] [--accel NAME] [--rays N] [--repeat K] [--threads T]
+//                         [--save-hits FILE]
+// --save-hits writes the instanced scene's raw hit records (closest and any hit, on the scalar,
+// single and packet paths, in that order) to FILE, so that two builds can be compared bit for bit.
 // Copies sit on a square grid, each turned about a random axis and scaled (every third one
 // mirrored, every fourth non-uniformly scaled). Rays: a camera grid over the scene and random rays
 // inside its box (N of each). Times are medians of K runs, instanced and flattened interleaved.
-#include "accel/factory/make_accel.h"
-#include "accel/instances/instance_accel.h"
-#include "accel/interface/trace.h"
-#include "accel/util/timer.h"
-#include "engine/mesh_loader.h"
-#include "perf/commands.h"
-
+// With the Embree peer built in (perf/embree_peer.h), Embree's instanced scene (its instances of
+// one mesh scene, RTC_GEOMETRY_TYPE_INSTANCE) and its flattened scene are built and traced beside
+// them, interleaved the same way, with Embree's fastest call on the instanced scene.
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -22,6 +21,16 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include "accel/factory/make_accel.h"
+#include "accel/instances/instance_accel.h"
+#include "accel/interface/trace.h"
+#include "accel/util/timer.h"
+#include "engine/mesh_loader.h"
+#include "perf/commands.h"
+#ifdef ARBOR_HAVE_EMBREE
+#include "perf/embree_peer.h"
+#endif
 
 using namespace arbor;
 using accel::Vec3f;
@@ -33,6 +42,7 @@ struct Options {
     std::string accel = "bvh-sah";
     int copies = 64, repeat = 5, threads = 2;
     std::size_t rays = 1u << 18;
+    std::string save_hits;  ///< where to write the instanced scene's answers (for comparing builds)
 };
 
 double median(std::vector<double> v) {
@@ -60,7 +70,7 @@ std::vector<accel::Affine> placements(const accel::Bounds& b, int copies) {
                                 {z * x * C - y * si, z * y * C + x * si, co + z * z * C}};
         const double s = 0.6 + 0.4 * u(rng);
         double sc[3] = {s, s, s};
-        if (k % 3 == 1) sc[0] = -s;                     // mirrored
+        if (k % 3 == 1) sc[0] = -s;                        // mirrored
         if (k % 4 == 2) sc[1] = s * 0.5, sc[2] = s * 1.2;  // non-uniform
         const double move[3] = {(k % side) * spacing, 0.0, (k / side) * spacing};
         accel::Affine a;
@@ -99,8 +109,10 @@ std::vector<accel::Ray> camera_and_random(const accel::Bounds& b, std::size_t n)
 }
 
 int usage(const char* msg) {
-    std::fprintf(stderr, "arbor-bench instances: %s\nUsage: arbor-bench instances [--model OBJ] [--copies N] "
-                         "[--accel NAME] [--rays N] [--repeat K] [--threads T]\n", msg);
+    std::fprintf(stderr,
+                 "arbor-bench instances: %s\nUsage: arbor-bench instances [--model OBJ] [--copies N] "
+                 "[--accel NAME] [--rays N] [--repeat K] [--threads T] [--save-hits FILE]\n",
+                 msg);
     return 2;
 }
 
@@ -114,13 +126,22 @@ int instances_command(int argc, char** argv) {
         const std::string a = argv[i];
         if (i + 1 >= argc) return usage((a + ": needs a value").c_str());
         const char* v = argv[++i];
-        if (a == "--model") o.model = v;
-        else if (a == "--accel") o.accel = v;
-        else if (a == "--copies") o.copies = std::max(1, std::atoi(v));
-        else if (a == "--rays") o.rays = std::size_t(std::max(64, std::atoi(v)));
-        else if (a == "--repeat") o.repeat = std::max(1, std::atoi(v));
-        else if (a == "--threads") o.threads = std::max(1, std::atoi(v));
-        else return usage(("unknown option " + a).c_str());
+        if (a == "--model")
+            o.model = v;
+        else if (a == "--accel")
+            o.accel = v;
+        else if (a == "--copies")
+            o.copies = std::max(1, std::atoi(v));
+        else if (a == "--rays")
+            o.rays = std::size_t(std::max(64, std::atoi(v)));
+        else if (a == "--repeat")
+            o.repeat = std::max(1, std::atoi(v));
+        else if (a == "--threads")
+            o.threads = std::max(1, std::atoi(v));
+        else if (a == "--save-hits")
+            o.save_hits = v;
+        else
+            return usage(("unknown option " + a).c_str());
     }
     const auto kind = accel::parse_accel_kind(o.accel);
     if (!kind || *kind == accel::AccelKind::automatic) return usage("--accel: a structure name (bvh-sah, lbvh, ...)");
@@ -170,6 +191,45 @@ int instances_command(int argc, char** argv) {
     std::size_t differ = 0, hits = 0;
     for (std::size_t i = 0; i < rays.size(); ++i)
         differ += !accel::hits_agree(a[i], b[i]) || a[i].prim != b[i].prim, hits += a[i].is_hit();
+    if (!o.save_hits.empty()) {
+        std::FILE* out = std::fopen(o.save_hits.c_str(), "wb");
+        if (!out) return usage(("--save-hits: cannot write " + o.save_hits).c_str());
+        std::vector<accel::Hit> h(rays.size());
+        for (const accel::Query q : {accel::Query::closest, accel::Query::any})
+            for (const accel::TracePath p :
+                 {accel::TracePath::scalar, accel::TracePath::single, accel::TracePath::packet}) {
+                accel::trace_parallel(*inst, rays, h, q, p);
+                std::fwrite(h.data(), sizeof(accel::Hit), h.size(), out);
+            }
+        std::fclose(out);
+    }
+#ifdef ARBOR_HAVE_EMBREE
+    // Embree's two-level scene of the same copies (one mesh scene, an instance per transform) and
+    // its flattened scene, on the same rays, with its fastest call of 1, 16 and 1M on the
+    // instanced scene (one timed pass each).
+    std::unique_ptr<perf::EmbreePeer> e_inst, e_flat;
+    std::vector<double> ebuild_i, ebuild_f;
+    for (int r = 0; r < o.repeat; ++r) {
+        e_inst = std::make_unique<perf::EmbreePeer>(mesh.view(), ts);
+        ebuild_i.push_back(e_inst->build_ms());
+        e_flat = std::make_unique<perf::EmbreePeer>(flat.view());
+        ebuild_f.push_back(e_flat->build_ms());
+    }
+    std::vector<accel::Hit> e(rays.size());
+    perf::EmbreeCall call = perf::EmbreeCall::single;
+    double fastest = INFINITY;
+    for (const perf::EmbreeCall c : {perf::EmbreeCall::single, perf::EmbreeCall::packet16, perf::EmbreeCall::stream}) {
+        const accel::Timer t;
+        e_inst->trace_parallel(rays, e, accel::Query::closest, c, false);
+        if (t.ms() < fastest) fastest = t.ms(), call = c;
+    }
+    std::size_t e_differ = 0, ef_differ = 0;
+    e_inst->trace_parallel(rays, e, accel::Query::closest, call, false);
+    for (std::size_t i = 0; i < rays.size(); ++i) e_differ += !accel::hits_agree(a[i], e[i]) || a[i].prim != e[i].prim;
+    e_flat->trace_parallel(rays, e, accel::Query::closest, call, false);
+    for (std::size_t i = 0; i < rays.size(); ++i) ef_differ += !accel::hits_agree(a[i], e[i]) || a[i].prim != e[i].prim;
+    std::vector<double> etrace_i, etrace_f;
+#endif
     std::vector<double> trace_i, trace_f;
     for (int r = 0; r < o.repeat; ++r) {
         const accel::Timer tf;
@@ -178,22 +238,47 @@ int instances_command(int argc, char** argv) {
         const accel::Timer ti;
         accel::trace_parallel(*inst, rays, b, accel::Query::closest);
         trace_i.push_back(ti.ms());
+#ifdef ARBOR_HAVE_EMBREE
+        const accel::Timer ei;
+        e_inst->trace_parallel(rays, e, accel::Query::closest, call, false);
+        etrace_i.push_back(ei.ms());
+        const accel::Timer ef;
+        e_flat->trace_parallel(rays, e, accel::Query::closest, call, false);
+        etrace_f.push_back(ef.ms());
+#endif
     }
     const double eff = double(n) * double(ts.size());
     const double mem_i = double(inst->stats().memory_bytes), mem_f = double(ref->stats().memory_bytes);
     const double mi = median(trace_i), mf = median(trace_f);
-    std::printf("model %s: %zu triangles x %zu copies = %.0f effective; %s; %zu rays (%zu camera + %zu random), "
-                "%zu threads; %zu hits, %zu rays differ (by the rayfile.md rule or triangle)\n\n",
-                o.model.c_str(), n, ts.size(), eff, o.accel.c_str(), rays.size(), rays.size() - o.rays, o.rays,
-                std::size_t(o.threads), hits, differ);
+    std::printf(
+        "model %s: %zu triangles x %zu copies = %.0f effective; %s; %zu rays (%zu camera + %zu random), "
+        "%zu threads; %zu hits, %zu rays differ (by the rayfile.md rule or triangle)\n\n",
+        o.model.c_str(), n, ts.size(), eff, o.accel.c_str(), rays.size(), rays.size() - o.rays, o.rays,
+        std::size_t(o.threads), hits, differ);
     std::printf("| scene | build ms | trace ms | Mrays/s | bytes / unique tri | bytes / effective tri |\n");
     std::printf("|---|---:|---:|---:|---:|---:|\n");
     std::printf("| instanced (%zu copies) | %.1f | %.1f | %.2f | %.1f | %.2f |\n", ts.size(), median(build_i), mi,
                 double(rays.size()) / mi * 1e-3, mem_i / double(n), mem_i / eff);
-    std::printf("| flattened | %.1f | %.1f | %.2f | %.1f | %.2f |\n", median(build_f), mf, double(rays.size()) / mf * 1e-3,
-                mem_f / double(n), mem_f / eff);
+    std::printf("| flattened | %.1f | %.1f | %.2f | %.1f | %.2f |\n", median(build_f), mf,
+                double(rays.size()) / mf * 1e-3, mem_f / double(n), mem_f / eff);
+#ifdef ARBOR_HAVE_EMBREE
+    const double ei = median(etrace_i), ef = median(etrace_f);
+    const double emem_i = double(e_inst->memory_bytes()), emem_f = double(e_flat->memory_bytes());
+    std::printf("| Embree instanced (call %s) | %.1f | %.1f | %.2f | %.1f | %.2f |\n",
+                std::string(to_string(call)).c_str(), median(ebuild_i), ei, double(rays.size()) / ei * 1e-3,
+                emem_i / double(n), emem_i / eff);
+    std::printf("| Embree flattened (call %s) | %.1f | %.1f | %.2f | %.1f | %.2f |\n",
+                std::string(to_string(call)).c_str(), median(ebuild_f), ef, double(rays.size()) / ef * 1e-3,
+                emem_f / double(n), emem_f / eff);
+#endif
     std::printf("\ninstanced trace throughput = %.2f x flattened; top level %zu bytes, bottom %zu bytes\n", mf / mi,
                 inst->top_bytes(), inst->bottom_bytes());
+#ifdef ARBOR_HAVE_EMBREE
+    std::printf(
+        "arbor / Embree trace throughput: instanced %.2f x, flattened %.2f x; Embree instanced = %.2f x its "
+        "flattened; Embree's answers differ from arbor's flattened on %zu rays (instanced) and %zu (flattened)\n",
+        ei / mi, ef / mf, ef / ei, e_differ, ef_differ);
+#endif
     return differ * 1000 > rays.size() ? 1 : 0;
 }
 

@@ -28,21 +28,8 @@ import numpy as np
 
 import arbor
 
-
-def read_obj(path):
-    """Vertices and fan-triangulated faces of an OBJ file (v and f lines only)."""
-    v, f = [], []
-    for line in open(path):
-        p = line.split()
-        if not p:
-            continue
-        if p[0] == "v":
-            v.append([float(x) for x in p[1:4]])
-        elif p[0] == "f":
-            idx = [int(q.split("/")[0]) for q in p[1:]]
-            idx = [i - 1 if i > 0 else len(v) + i for i in idx]
-            f.extend([idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1))
-    return np.array(v, dtype=np.float32), np.array(f, dtype=np.uint32)
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "python" / "tests"))
+from deform import pose, read_obj  # noqa: E402  (the update tests' deforming model)
 
 
 def bumpy_sphere(triangles):
@@ -60,16 +47,6 @@ def bumpy_sphere(triangles):
     c, d = a + nu, b + nu
     f = np.concatenate([np.stack([a, b, d], -1).reshape(-1, 3), np.stack([a, d, c], -1).reshape(-1, 3)])
     return v.astype(np.float32), f.astype(np.uint32)
-
-
-def pose(rest, step, amplitude):
-    """Travelling sine waves over the rest positions (as tests/deform.h)."""
-    diag = float(np.linalg.norm(rest.max(axis=0) - rest.min(axis=0)))
-    a = amplitude * diag
-    out = rest.copy()
-    out[:, 0] += a * np.sin(6 * np.pi * rest[:, 1] / diag + 0.9 * step)
-    out[:, 2] += a * np.cos(4 * np.pi * rest[:, 0] / diag + 0.6 * step)
-    return out
 
 
 def rays_into(v, n, seed):

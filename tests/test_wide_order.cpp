@@ -3,13 +3,6 @@
 // octant's diagonal; the AVX-512 push writes what the plain loop writes, entry for entry; and the
 // walk that uses both finds the same closest hits as the scalar path (test_wide_paths.cpp checks
 // every path against brute on every model).
-#include "accel/bvh/bvh_build.h"
-#include "accel/wide/wide_order.h"
-#include "accel/wide/wide_packet.h"
-#include "accel/wide/wide_push.h"
-#include "engine/procedural.h"
-#include "testing.h"
-
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
@@ -19,12 +12,20 @@
 #include <numeric>
 #include <random>
 
+#include "accel/bvh/bvh_build.h"
+#include "accel/wide/wide_order.h"
+#include "accel/wide/wide_packet.h"
+#include "accel/wide/wide_push.h"
+#include "engine/procedural.h"
+#include "testing.h"
+
 using namespace arbor;
 using accel::Vec3f;
 
 namespace {
 
-template <std::size_t N> float order_key(const accel::WideNode<N>& n, std::size_t c, int octant) {
+template <std::size_t N>
+float order_key(const accel::WideNode<N>& n, std::size_t c, int octant) {
     float key = 0.0f;
     for (int k = 0; k < 3; ++k) {
         const float centre2 = n.boxes.b[0][k][c] + n.boxes.b[1][k][c];
@@ -33,7 +34,8 @@ template <std::size_t N> float order_key(const accel::WideNode<N>& n, std::size_
     return key;
 }
 
-template <std::size_t N> void check_orders(const accel::WideLayout<N>& L) {
+template <std::size_t N>
+void check_orders(const accel::WideLayout<N>& L) {
     REQUIRE(L.orders.size() == L.nodes.size() * 8 * N);
     std::size_t bad_perm = 0, bad_unused = 0, bad_key = 0, bad_tie = 0;
     for (std::size_t i = 0; i < L.nodes.size(); ++i) {
@@ -57,13 +59,15 @@ template <std::size_t N> void check_orders(const accel::WideLayout<N>& L) {
     CHECK(bad_tie == 0);
 }
 
-template <std::size_t N> accel::WideLayout<N> layout_of(const engine::Mesh& mesh) {
+template <std::size_t N>
+accel::WideLayout<N> layout_of(const engine::Mesh& mesh) {
     const accel::PrimRefs refs = accel::make_prim_refs(mesh.view());
     return accel::make_wide_layout<N>(accel::build_bvh_sah(refs, {}), mesh.view());
 }
 
 /// A node of `children` random children (random references, counts and distances).
-template <std::size_t N> accel::WideNode<N> random_node(std::mt19937& rng, std::size_t children) {
+template <std::size_t N>
+accel::WideNode<N> random_node(std::mt19937& rng, std::size_t children) {
     accel::WideNode<N> n{};
     for (std::size_t c = 0; c < N; ++c) {
         n.child[c] = rng();
@@ -175,7 +179,8 @@ namespace {
 /// A vector push (`push(bits, order, node, d, stack, sp)`, d 64-byte aligned) against the plain loop
 /// on random nodes, orders, distances, masks (and the edge cases none, the top lane alone, all) and
 /// stack positions: the same top and the same entries.
-template <std::size_t N, class Push> void check_vector_push(std::uint32_t seed, Push&& push) {
+template <std::size_t N, class Push>
+void check_vector_push(std::uint32_t seed, Push&& push) {
     std::mt19937 rng(seed);
     accel::WideStack a(64), b(64);
     constexpr std::uint32_t all = (1u << N) - 1u;
@@ -204,8 +209,8 @@ template <std::size_t N, class Push> void check_vector_push(std::uint32_t seed, 
 
 #if XSIMD_WITH_AVX2
 TEST_CASE("wide push: the AVX2 push writes what the plain loop writes") {
-    check_vector_push<8>(13, [](std::uint32_t bits, const std::uint8_t* order, const accel::WideNode<8>& n, const float* d,
-                                accel::WideStack& s, std::size_t sp) {
+    check_vector_push<8>(13, [](std::uint32_t bits, const std::uint8_t* order, const accel::WideNode<8>& n,
+                                const float* d, accel::WideStack& s, std::size_t sp) {
         return accel::push_ordered8(bits, order, n, _mm256_load_ps(d), s, sp);
     });
 }
@@ -213,9 +218,30 @@ TEST_CASE("wide push: the AVX2 push writes what the plain loop writes") {
 
 #if XSIMD_WITH_AVX512F
 TEST_CASE("wide push: the AVX-512 push writes what the plain loop writes") {
-    check_vector_push<16>(11, [](std::uint32_t bits, const std::uint8_t* order, const accel::WideNode<16>& n, const float* d,
-                                 accel::WideStack& s, std::size_t sp) {
+    check_vector_push<16>(11, [](std::uint32_t bits, const std::uint8_t* order, const accel::WideNode<16>& n,
+                                 const float* d, accel::WideStack& s, std::size_t sp) {
         return accel::push_ordered16(bits, order, n, _mm512_load_ps(d), s, sp);
     });
 }
 #endif
+
+TEST_CASE("wide order: children with equal keys keep the lower lane nearer in every octant") {
+    // Sixteen small triangles on a 4 x 4 grid in the z = 0 plane: along the diagonals that the
+    // octants' keys measure, many children tie (each octant's order is made from its opposite's).
+    engine::Mesh grid;
+    for (std::uint32_t i = 0; i < 16; ++i) {
+        const float x = float(i % 4) * 3.0f, y = float(i / 4) * 3.0f;
+        grid.add_vertex({x, y, 0}), grid.add_vertex({x + 1, y, 0}), grid.add_vertex({x, y + 1, 0});
+        grid.add_triangle(3 * i, 3 * i + 1, 3 * i + 2);
+    }
+    grid.compute_bounds();
+    accel::BvhBuildConfig bc;
+    bc.max_leaf_size = 1;
+    accel::WideConfig wc;
+    wc.merge_triangles = 1;
+    const accel::PrimRefs refs = accel::make_prim_refs(grid.view());
+    const auto L = accel::make_wide_layout<16>(accel::build_bvh_sah(refs, bc), grid.view(), wc);
+    REQUIRE(L.nodes.size() == 1);
+    REQUIRE(L.nodes[0].children == 16);
+    check_orders<16>(L);
+}

@@ -1,11 +1,12 @@
 #include "accel/instances/instance_accel.h"
 
-#include "accel/factory/make_accel.h"
-
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "accel/factory/make_accel.h"
 
 namespace arbor::accel {
 
@@ -27,8 +28,8 @@ InstanceAccel::InstanceAccel(AccelKind kind, std::vector<Bottom> bottoms, std::v
         p.first = std::uint32_t(first);
         first += b.mesh->indices.size() / 3;
         if (first >= invalid_prim)
-            throw std::length_error("instances: the placed triangles number 2^32 - 1 or more (" + std::to_string(first) +
-                                    " by instance " + std::to_string(p.id) + ")");
+            throw std::length_error("instances: the placed triangles number 2^32 - 1 or more (" +
+                                    std::to_string(first) + " by instance " + std::to_string(p.id) + ")");
         boxes[k] = p.identity ? b.mesh->bounds : transform_bounds(p.to_world, b.mesh->bounds);
         bounds_.grow(boxes[k]);
         scale_[k] = p.identity ? 1.0 : p.to_world.similarity_scale().value_or(0.0);
@@ -100,7 +101,8 @@ InstanceAccel::WorldSeams InstanceAccel::world_seams(const Placement& p) const {
 std::size_t InstanceAccel::seam_bytes() const {
     std::size_t s = 0;
     for (const WorldSeams& w : placed_seams_)
-        if (w.accel) s += w.accel->stats().memory_bytes + w.mesh->x.size() * 3 * sizeof(float) + w.mesh->indices.size() * 4;
+        if (w.accel)
+            s += w.accel->stats().memory_bytes + w.mesh->x.size() * 3 * sizeof(float) + w.mesh->indices.size() * 4;
     return s;
 }
 
@@ -153,17 +155,42 @@ void InstanceAccel::group(std::span<const Ray> rays, Groups& g) const {
     thread_local std::vector<double> pairs_t, enter;
     pairs_place.clear(), pairs_ray.clear(), pairs_t.clear();
     enter.assign(placements_.size(), 0.0);
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        const Ray& r = rays[i];
-        if (!ray_is_traceable(r)) continue;
-        const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
-        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        top_.ray_items(o, d, r.tnear, r.tfar, [&](std::uint32_t k, double t0) {
-            pairs_place.push_back(k);
-            pairs_ray.push_back(std::uint32_t(i));
-            pairs_t.push_back(t0);
-            enter[k] += t0 * len;
-        });
+    // The rays' slab constants (simd/ray_box.h) worked out a packet at a time (bit for bit those of
+    // simd::slab_ray: the packet code's are tested lane by lane against it), then each ray walks
+    // the top level on its own, in ray order.
+    using P = simd::FloatV;
+    constexpr std::size_t width = P::size;
+    for (std::size_t base = 0; base < rays.size(); base += width) {
+        const simd::RayPacket<P> pk =
+            simd::load_packet_boxes<P, Ray>(rays.subspan(base, std::min(width, rays.size() - base)));
+        alignas(64) float f[9][width];
+        std::uint32_t near_is_hi[3];
+        for (int k = 0; k < 3; ++k) {
+            simd::store_lanes(pk.org[k], f[k]);
+            simd::store_lanes(pk.rcp_near[k], f[3 + k]);
+            simd::store_lanes(pk.rcp_far[k], f[6 + k]);
+            near_is_hi[k] = simd::to_bits(pk.near_is_hi[k]);
+        }
+        const std::uint32_t plain = simd::to_bits(pk.active & pk.plain_lanes);
+        // Untraceable rays (simd/ray.h) are not active: they meet nothing.
+        for (std::uint32_t live = simd::to_bits(pk.active); live != 0; live &= live - 1) {
+            const auto l = std::size_t(std::countr_zero(live));
+            const std::size_t i = base + l;
+            const Ray& r = rays[i];
+            simd::SlabRay s;
+            s.org = {f[0][l], f[1][l], f[2][l]};
+            s.rcp_near = {f[3][l], f[4][l], f[5][l]};
+            s.rcp_far = {f[6][l], f[7][l], f[8][l]};
+            for (int k = 0; k < 3; ++k) s.near_is_hi[k] = int(near_is_hi[k] >> l & 1u);
+            const double len =
+                std::sqrt(double(r.dir.x) * r.dir.x + double(r.dir.y) * r.dir.y + double(r.dir.z) * r.dir.z);
+            top_.ray_items(s, r.tnear, r.tfar, (plain >> l & 1u) != 0, [&](std::uint32_t k, double t0) {
+                pairs_place.push_back(k);
+                pairs_ray.push_back(std::uint32_t(i));
+                pairs_t.push_back(t0);
+                enter[k] += t0 * len;
+            });
+        }
     }
     // Counting sort by placement; stable, so each group keeps the rays' order (packets stay coherent).
     g.start.assign(placements_.size() + 1, 0);
@@ -184,9 +211,8 @@ void InstanceAccel::group(std::span<const Ray> rays, Groups& g) const {
             enter[k] /= double(g.start[k + 1] - g.start[k]);
         }
     // Ties by placement number: the order, and so the answers, do not depend on anything else.
-    std::sort(g.visit.begin(), g.visit.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return enter[a] < enter[b] || (enter[a] == enter[b] && a < b);
-    });
+    std::sort(g.visit.begin(), g.visit.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return enter[a] < enter[b] || (enter[a] == enter[b] && a < b); });
 }
 
 void InstanceAccel::run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
@@ -232,8 +258,8 @@ class Collect final : public HitSink {
 public:
     /// `skip`: per triangle of the mesh, 1 for those answered elsewhere (null: none); `map`: the
     /// mesh's triangle number of each prim the structure reports (null: the same).
-    Collect(std::vector<std::pair<std::uint32_t, Hit>>& out, const std::vector<std::uint32_t>& which, std::uint32_t first,
-            const std::uint8_t* skip, const std::uint32_t* map)
+    Collect(std::vector<std::pair<std::uint32_t, Hit>>& out, const std::vector<std::uint32_t>& which,
+            std::uint32_t first, const std::uint8_t* skip, const std::uint32_t* map)
         : out_(out), which_(which), first_(first), skip_(skip), map_(map) {}
     void take(std::size_t j, std::span<Hit> list) override {
         for (const Hit& h : list) {
@@ -280,8 +306,9 @@ void InstanceAccel::trace_all(std::span<const Ray> rays, HitSink& sink) const {
     // Ray by ray, in (t, global number) order: each placement's triangles once (each bottom drops
     // its own repeats; placements have disjoint numbers).
     std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-        return a.first < b.first || (a.first == b.first && (a.second.t < b.second.t ||
-                                                            (a.second.t == b.second.t && a.second.prim < b.second.prim)));
+        return a.first < b.first ||
+               (a.first == b.first &&
+                (a.second.t < b.second.t || (a.second.t == b.second.t && a.second.prim < b.second.prim)));
     });
     thread_local std::vector<Hit> list;
     std::size_t j = 0;

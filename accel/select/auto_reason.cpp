@@ -3,27 +3,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "accel/select/reason_words.h"
+
 namespace arbor::accel {
 
 namespace {
-
-std::string human_ms(double ms) {
-    char buf[32];
-    if (ms >= 1000.0) std::snprintf(buf, sizeof buf, "%.2f s", ms * 1e-3);
-    else if (ms >= 10.0) std::snprintf(buf, sizeof buf, "%.0f ms", ms);
-    else if (ms >= 0.1) std::snprintf(buf, sizeof buf, "%.2f ms", ms);
-    else std::snprintf(buf, sizeof buf, "%.3f ms", ms);
-    return buf;
-}
-
-std::string human_count(double n) {
-    char buf[32];
-    if (n >= 1e9) std::snprintf(buf, sizeof buf, "%.3gG", n * 1e-9);
-    else if (n >= 1e6) std::snprintf(buf, sizeof buf, "%.3gM", n * 1e-6);
-    else if (n >= 1e3) std::snprintf(buf, sizeof buf, "%.3gk", n * 1e-3);
-    else std::snprintf(buf, sizeof buf, "%.0f", n);
-    return buf;
-}
 
 std::string percent(double f) {
     char buf[32];
@@ -55,28 +39,32 @@ std::string next_after(const ModelDecision& d, std::size_t ref) {
     return std::string();
 }
 
-std::string job_words(const ModelDecision& d) { return " for " + human_count(d.rays) + " rays"; }
+std::string job_words(const ModelDecision& d) { return " for " + count_words(d.rays) + " rays"; }
 
 }  // namespace
 
 std::string describe(const AutoCandidate& c, double rays) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.0f ns/ray", rays > 0 ? c.trace_ms * 1e6 / rays : 0.0);
-    return config_name(c) + " " + human_ms(c.total_ms) + " (build " + human_ms(c.build_ms) + " + " + buf + ")";
+    return config_name(c) + " " + ms_words(c.total_ms) + " (build " + ms_words(c.build_ms) + " + " + buf + ")";
 }
 
-std::string outside_margin_words(const ModelDecision& d) { return " (outside the model's " + percent(d.margin) + " margin)"; }
+std::string outside_margin_words(const ModelDecision& d) {
+    return " (outside the model's " + percent(d.margin) + " margin)";
+}
 
-std::string within_margin_words(const ModelDecision& d) { return " (within the model's " + percent(d.margin) + " margin)"; }
+std::string within_margin_words(const ModelDecision& d) {
+    return " (within the model's " + percent(d.margin) + " margin)";
+}
 
 std::string no_probe_words(const ProbePlan& plan, const AutoJob& job) {
     if (!plan.sampled) return "no rays to time";
     const double stake_cap = job.stake_share * plan.stake;
     if (plan.job_cap <= stake_cap)
-        return "it would cost " + human_ms(plan.cost) + ", more than " + percent(job.probe_share) + " of the job (" +
-               human_ms(plan.cap) + ")";
-    return "it would cost " + human_ms(plan.cost) + ", more than " + percent(job.stake_share) + " of what it can win (" +
-           human_ms(plan.cap) + " of " + human_ms(plan.stake) + ": the margin x " +
+        return "it would cost " + ms_words(plan.cost) + ", more than " + percent(job.probe_share) + " of the job (" +
+               ms_words(plan.cap) + ")";
+    return "it would cost " + ms_words(plan.cost) + ", more than " + percent(job.stake_share) +
+           " of what it can win (" + ms_words(plan.cap) + " of " + ms_words(plan.stake) + ": the margin x " +
            (plan.structures.size() == 1 ? "the trace" : "the job") + ")";
 }
 
@@ -84,8 +72,8 @@ std::string model_reason(const ModelDecision& d, const std::string& why, double 
     const AutoCandidate& lead = d.all[d.lead].c;
     const std::string preferred =
         d.lead != 0 ? ", preferred within " + percent(d.prefer) + " of the best prediction" : std::string();
-    return pick_words(lead) + " model: predicted " + describe(lead, d.rays) + job_words(d) + preferred + next_after(d, d.lead) +
-           why + "; auto " + human_ms(auto_ms);
+    return pick_words(lead) + " model: predicted " + describe(lead, d.rays) + job_words(d) + preferred +
+           next_after(d, d.lead) + why + "; auto " + ms_words(auto_ms);
 }
 
 std::string probe_reason(const ModelDecision& d, const std::vector<AutoCandidate>& measured, std::size_t sample_rays,
@@ -93,10 +81,10 @@ std::string probe_reason(const ModelDecision& d, const std::vector<AutoCandidate
     const AutoCandidate& pick = measured.front();
     std::string r = pick_words(pick) + " probe: " + describe(pick, d.rays);
     for (std::size_t i = 1; i < measured.size(); ++i) r += (i == 1 ? "; next " : ", ") + describe(measured[i], d.rays);
-    r += " (" + std::to_string(sample_rays) + " rays timed" + job_words(d) + "); the model had " + describe(d.all[0].c, d.rays) +
-         next_after(d, 0) + within_margin_words(d) + "; auto " + human_ms(own_ms) + " (" +
-         percent(own_ms / (pick.total_ms + own_ms)) + " of the job)" +
-         (handed ? " + the pick's build " + human_ms(handed_ms) + ", handed over" : "");
+    r += " (" + std::to_string(sample_rays) + " rays timed" + job_words(d) + "); the model had " +
+         describe(d.all[0].c, d.rays) + next_after(d, 0) + within_margin_words(d) + "; auto " + ms_words(own_ms) +
+         " (" + percent(own_ms / (pick.total_ms + own_ms)) + " of the job)" +
+         (handed ? " + the pick's build " + ms_words(handed_ms) + ", handed over" : "");
     return r;
 }
 

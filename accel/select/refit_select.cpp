@@ -3,26 +3,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "accel/select/reason_words.h"
+
 namespace arbor::accel {
 
 namespace {
-
-std::string ms_words(double ms) {
-    char buf[32];
-    if (ms >= 1000.0) std::snprintf(buf, sizeof buf, "%.2f s", ms * 1e-3);
-    else if (ms >= 10.0) std::snprintf(buf, sizeof buf, "%.0f ms", ms);
-    else std::snprintf(buf, sizeof buf, "%.2f ms", ms);
-    return buf;
-}
-
-std::string count_words(double n) {
-    char buf[32];
-    if (n >= 1e6) std::snprintf(buf, sizeof buf, "%.3gM", n * 1e-6);
-    else if (n >= 1e3) std::snprintf(buf, sizeof buf, "%.3gk", n * 1e-3);
-    else std::snprintf(buf, sizeof buf, "%.0f", n);
-    return buf;
-}
-
+/// Two decimals below 10 ms, down to zero (as these lines were first written).
+constexpr MsWords refit_ms{true, false};
 }  // namespace
 
 std::optional<UpdateMode> parse_update_mode(std::string_view s) {
@@ -46,15 +33,14 @@ RefitChoice choose_refit(const RefitJob& job) {
     std::string sah = "SAH " + ratio_words(ratio) + " the last build's";
     if (job.rays <= 0.0) {
         c.reason = "refit: " + sah + "; no rays expected (" + job.rays_source + "), so nothing to win by a rebuild (" +
-                   ms_words(job.rebuild_ms) + ")";
+                   ms_words(job.rebuild_ms, refit_ms) + ")";
         return c;
     }
-    const std::string rays = count_words(job.rays) + " rays (" + job.rays_source + ") at " +
-                             std::to_string(std::llround(job.ns_per_ray)) +
-                             " ns each (" + job.ns_source + ")";
+    const std::string rays = count_words(job.rays, false) + " rays (" + job.rays_source + ") at " +
+                             std::to_string(std::llround(job.ns_per_ray)) + " ns each (" + job.ns_source + ")";
     c.reason = std::string(c.rebuild ? "rebuild: " : "refit: ") + sah + "; " + rays + " would take " +
-               ms_words(c.extra_trace_ms) + " longer on the refitted tree, " + (c.rebuild ? "more" : "less") +
-               " than a rebuild (" + ms_words(job.rebuild_ms) + ", the last build's time)";
+               ms_words(c.extra_trace_ms, refit_ms) + " longer on the refitted tree, " + (c.rebuild ? "more" : "less") +
+               " than a rebuild (" + ms_words(job.rebuild_ms, refit_ms) + ", the last build's time)";
     return c;
 }
 

@@ -1,18 +1,19 @@
 #include "accel/wide/wide_refit.h"
 
-#include "accel/wide/wide_order.h"
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+
+#include "accel/wide/wide_order.h"
 
 namespace arbor::accel {
 
 namespace {
 
 /// The box of children [0, children) of `node`.
-template <std::size_t N> Bounds node_box(const WideNode<N>& node) {
+template <std::size_t N>
+Bounds node_box(const WideNode<N>& node) {
     Bounds b;
     for (std::size_t c = 0; c < node.children; ++c) b.grow(Bounds{node.boxes.lo(c), node.boxes.hi(c)});
     return b;
@@ -25,10 +26,20 @@ Bounds refit_leaf(WideLayout<N>& layout, const TriangleView& tris, std::uint32_t
     Bounds box;
     for (std::uint32_t b = first; b < first + blocks; ++b) {
         WideBlock<N>& block = layout.blocks[b];
+        // The block's vertex numbers first, then its vertices: each pass's loads are independent
+        // of one another (a block's triangles lie anywhere in the caller's arrays: cache misses,
+        // which overlap this way instead of queueing behind each lane's index load).
+        std::uint32_t corner[N][3];
+        std::uint32_t live = 0;
         for (std::size_t l = 0; l < N; ++l) {
             const std::uint32_t tri = block.ids[l];
             if (tri == invalid_prim) continue;
-            const Vec3f v0 = tris.corner(tri, 0), v1 = tris.corner(tri, 1), v2 = tris.corner(tri, 2);
+            live |= 1u << l;
+            for (int c = 0; c < 3; ++c) corner[l][c] = tris.indices[3 * std::size_t(tri) + std::size_t(c)];
+        }
+        for (std::size_t l = 0; l < N; ++l) {
+            if (!(live >> l & 1u)) continue;
+            const Vec3f v0 = tris.vertex(corner[l][0]), v1 = tris.vertex(corner[l][1]), v2 = tris.vertex(corner[l][2]);
             block.tris.set(l, v0, v1, v2);
             box.grow(v0), box.grow(v1), box.grow(v2);
         }
@@ -38,7 +49,8 @@ Bounds refit_leaf(WideLayout<N>& layout, const TriangleView& tris, std::uint32_t
 
 }  // namespace
 
-template <std::size_t N> double refit_wide_layout(WideLayout<N>& layout, const TriangleView& tris) {
+template <std::size_t N>
+double refit_wide_layout(WideLayout<N>& layout, const TriangleView& tris) {
     if (layout.empty()) return 0.0;
     const std::size_t nodes = layout.nodes.size();
     // Leaf children first, every node on its own (each block belongs to one leaf).
@@ -66,7 +78,8 @@ template <std::size_t N> double refit_wide_layout(WideLayout<N>& layout, const T
     return wide_sah_cost(layout);
 }
 
-template <std::size_t N> double wide_sah_cost(const WideLayout<N>& layout) {
+template <std::size_t N>
+double wide_sah_cost(const WideLayout<N>& layout) {
     if (layout.empty()) return 0.0;
     const double root = node_box(layout.nodes[0]).area();
     if (!(root > 0.0) || !std::isfinite(root)) return 0.0;

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import arbor
+import deform
 
 
 def shared_models():
@@ -27,19 +28,8 @@ def spot(models):
 
 
 def read_obj(path):
-    """Vertices (float32) and fan-triangulated faces (int64) of an OBJ file (v and f lines only)."""
-    v, f = [], []
-    for line in open(path):
-        p = line.split()
-        if not p:
-            continue
-        if p[0] == "v":
-            v.append([float(x) for x in p[1:4]])
-        elif p[0] == "f":
-            idx = [int(q.split("/")[0]) for q in p[1:]]
-            idx = [i - 1 if i > 0 else len(v) + i for i in idx]
-            f.extend([idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1))
-    return np.array(v, dtype=np.float32), np.array(f, dtype=np.int64)
+    """Vertices (float32) and fan-triangulated faces (int64) of an OBJ file (deform.read_obj)."""
+    return deform.read_obj(path, np.int64)
 
 
 def box_mesh(lo=(-1.0, -1.0, -1.0), hi=(1.0, 1.0, 1.0)):

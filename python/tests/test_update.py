@@ -5,22 +5,13 @@ import numpy as np
 import pytest
 
 import arbor
-from conftest import random_rays, read_obj
-
-
-def pose(rest, step, amplitude=0.04):
-    """The rest positions displaced by travelling sine waves (as tests/deform.h)."""
-    diag = float(np.linalg.norm(rest.max(axis=0) - rest.min(axis=0)))
-    a = amplitude * diag
-    out = rest.copy()
-    out[:, 0] += a * np.sin(6 * np.pi * rest[:, 1] / diag + 0.9 * step)
-    out[:, 2] += a * np.cos(4 * np.pi * rest[:, 0] / diag + 0.6 * step)
-    return out
+from conftest import random_rays
+from deform import pose, read_obj
 
 
 @pytest.fixture(scope="module")
 def bunny(models):
-    return read_obj(next(m for m in models if m.name == "stanford-bunny.obj"))
+    return read_obj(next(m for m in models if m.name == "stanford-bunny.obj"), np.int64)
 
 
 def answers(scene, o, d, pts):
