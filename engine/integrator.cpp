@@ -100,7 +100,8 @@ Surface placed_surface(const RenderContext& ctx, const Ray& ray, const Hit& hit,
         s.shading = carry_normal(inv, shading_normal(mesh, pp.prim, b, ng_obj));
         if (simd::dot(s.shading, g.normal) <= 0.0f) s.shading = g.normal;
     }
-    if (plan.textures || plan.vertex_colors) s.albedo = albedo_at(mesh, *s.material, pp.prim, b, plan.textures, plan.vertex_colors);
+    if (plan.textures || plan.vertex_colors)
+        s.albedo = albedo_at(mesh, *s.material, pp.prim, b, plan.textures, plan.vertex_colors);
     if (plan.position) {
         Vec3f from = g.position;
         if (plan.vertex_normals) {

@@ -1,10 +1,10 @@
 #include "engine/mesh_instances.h"
 
+#include <algorithm>
+
 #include "accel/factory/make_accel.h"
 #include "accel/instances/instance_accel.h"
 #include "engine/error.h"
-
-#include <algorithm>
 
 namespace arbor::engine {
 
@@ -27,7 +27,8 @@ Vec3f carry(const accel::Affine* a, float x, float y, float z) {
 }
 
 /// Calls f(first, count, transform or null) for every placement, in numbering order.
-template <class F> void each_placement(const MeshInstances& inst, F&& f) {
+template <class F>
+void each_placement(const MeshInstances& inst, F&& f) {
     if (inst.drawn > 0) f(0u, inst.drawn, static_cast<const accel::Affine*>(nullptr));
     for (const PartInstance& i : inst.instances) f(inst.parts[i.part].first, inst.parts[i.part].count, &i.transform);
 }
@@ -58,22 +59,25 @@ void MeshInstances::index(const Mesh& mesh, const std::string& name) {
     if (drawn > mesh.triangle_count()) throw InputError(name, 0, "instances: the drawn triangles exceed the mesh");
     for (std::size_t p = 0; p < parts.size(); ++p) {
         if (parts[p].first < end || std::uint64_t(parts[p].first) + parts[p].count > mesh.triangle_count())
-            throw InputError(name, 0, "instances: part " + std::to_string(p) + " overlaps another or lies outside the mesh");
+            throw InputError(name, 0,
+                             "instances: part " + std::to_string(p) + " overlaps another or lies outside the mesh");
         end = std::uint64_t(parts[p].first) + parts[p].count;
     }
     first.assign(instances.size(), 0);
     std::uint64_t next = drawn;
     for (std::size_t k = 0; k < instances.size(); ++k) {
         if (instances[k].part >= parts.size())
-            throw InputError(name, 0, "instances: instance " + std::to_string(k) + " names part " +
-                                          std::to_string(instances[k].part) + " of " + std::to_string(parts.size()));
+            throw InputError(name, 0,
+                             "instances: instance " + std::to_string(k) + " names part " +
+                                 std::to_string(instances[k].part) + " of " + std::to_string(parts.size()));
         const std::string problem = accel::check_affine(instances[k].transform);
         if (!problem.empty()) throw InputError(name, 0, "instance " + std::to_string(k) + ": transform: " + problem);
         first[k] = next;
         next += parts[instances[k].part].count;
         if (next >= accel::invalid_prim)
-            throw InputError(name, 0, "instances: the placed triangles number 2^32 - 1 or more (" + std::to_string(next) +
-                                          " by instance " + std::to_string(k) + ")");
+            throw InputError(name, 0,
+                             "instances: the placed triangles number 2^32 - 1 or more (" + std::to_string(next) +
+                                 " by instance " + std::to_string(k) + ")");
     }
 }
 
@@ -172,15 +176,18 @@ std::unique_ptr<accel::Accel> make_instanced_accel(const Mesh& mesh, const MeshI
     for (std::size_t p = 0; p <= inst.parts.size(); ++p) {
         const bool as_is = p == inst.parts.size();
         if (as_is && inst.drawn == 0) continue;
-        bottoms[p].mesh = as_is ? part_copy(mesh, 0, inst.drawn) : part_copy(mesh, inst.parts[p].first, inst.parts[p].count);
+        bottoms[p].mesh =
+            as_is ? part_copy(mesh, 0, inst.drawn) : part_copy(mesh, inst.parts[p].first, inst.parts[p].count);
         bottoms[p].accel = accel::make_accel(kind, bottoms[p].mesh->view(), cfg);
     }
     std::vector<accel::Placement> placements;
     placements.reserve(inst.instances.size() + 1);
     if (inst.drawn > 0)
-        placements.push_back(accel::Placement::make(std::uint32_t(inst.parts.size()), accel::invalid_prim, accel::Affine{}));
+        placements.push_back(
+            accel::Placement::make(std::uint32_t(inst.parts.size()), accel::invalid_prim, accel::Affine{}));
     for (std::size_t k = 0; k < inst.instances.size(); ++k)
-        placements.push_back(accel::Placement::make(inst.instances[k].part, std::uint32_t(k), inst.instances[k].transform));
+        placements.push_back(
+            accel::Placement::make(inst.instances[k].part, std::uint32_t(k), inst.instances[k].transform));
     return std::make_unique<accel::InstanceAccel>(kind, std::move(bottoms), std::move(placements));
 }
 

@@ -11,14 +11,14 @@
 /// Triangles are numbered as the flattened scene numbers them: first the `drawn` triangles, then
 /// instance by instance (in id order) its part's triangles in mesh order. This is the numbering
 /// of accel::InstanceAccel over the placements make_instanced_accel makes, and of flatten().
-#include "accel/instances/affine.h"
-#include "accel/interface/accel.h"
-#include "engine/mesh.h"
-
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "accel/instances/affine.h"
+#include "accel/interface/accel.h"
+#include "engine/mesh.h"
 
 namespace arbor::engine {
 

@@ -2,12 +2,12 @@
 /// 82k to 328k triangles (two jittered icospheres, a flat torus and a standing ring), each turned,
 /// scaled and some mirrored, on a ground plane under a point light. The models are held
 /// once (0.7 million unique triangles); the default field places 1.75 billion.
-#include "engine/builtin_scenes.h"
-#include "engine/procedural.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "engine/builtin_scenes.h"
+#include "engine/procedural.h"
 
 namespace arbor::engine {
 
@@ -15,7 +15,8 @@ namespace {
 
 /// A uniform number in [0, 1) from (i, j, k): the same field on every machine.
 float field_random(int i, int j, int k) {
-    std::uint64_t h = (std::uint64_t(std::uint32_t(i)) << 32) ^ (std::uint64_t(std::uint32_t(j)) << 8) ^ std::uint64_t(k);
+    std::uint64_t h =
+        (std::uint64_t(std::uint32_t(i)) << 32) ^ (std::uint64_t(std::uint32_t(j)) << 8) ^ std::uint64_t(k);
     h += 0x9E3779B97F4A7C15ull;
     h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
     h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
@@ -76,8 +77,8 @@ Scene make_field_scene(int n) {
             PartInstance inst;
             inst.part = part;
             // R_y(angle) * diag(mirror * scale, scale, scale), then the move to (x, 0, z).
-            inst.transform.m = {c * mirror * scale, 0.0, sn * scale, x, 0.0, scale, 0.0, 0.0,
-                                -sn * mirror * scale, 0.0, c * scale, z};
+            inst.transform.m = {c * mirror * scale,   0.0, sn * scale, x, 0.0, scale, 0.0, 0.0,
+                                -sn * mirror * scale, 0.0, c * scale,  z};
             s.placed.instances.push_back(inst);
         }
     s.mesh.compute_bounds();

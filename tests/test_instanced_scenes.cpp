@@ -4,6 +4,13 @@
 // ray farther than 1e-6 of the scene's diagonal from an edge of the triangle it hits gets the
 // same answer (hit or miss, triangle number; t within 1e-6 relative, or within 1e-6 of the
 // diagonal for hits nearer than the scene's size); the renderer draws both alike.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
 #include "accel/factory/make_accel.h"
 #include "engine/builtin_scenes.h"
 #include "engine/error.h"
@@ -13,13 +20,6 @@
 #include "engine/renderer.h"
 #include "instance_scenes.h"
 #include "testing.h"
-
-#include <doctest/doctest.h>
-
-#include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 
 using namespace arbor;
 
@@ -51,8 +51,8 @@ std::string five_placements_gltf() {
     const std::size_t positions = bytes.size();
     for (const std::uint32_t i : m.indices) bytes.append(reinterpret_cast<const char*>(&i), 4);
     const float c = std::cos(0.7f), s = std::sin(0.7f);
-    const std::string matrix = "[1,0,0,0, 0," + std::to_string(c) + "," + std::to_string(s) + ",0, 0," + std::to_string(-s) +
-                               "," + std::to_string(c) + ",0, 0.5,1.5,0.25,1]";
+    const std::string matrix = "[1,0,0,0, 0," + std::to_string(c) + "," + std::to_string(s) + ",0, 0," +
+                               std::to_string(-s) + "," + std::to_string(c) + ",0, 0.5,1.5,0.25,1]";
     return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 3, 4]}],
   "nodes": [
     {"mesh": 0, "translation": [3, 0, 0], "rotation": [0, 0.3826834, 0, 0.9238795], "children": [1]},
@@ -100,11 +100,12 @@ std::size_t differences(const engine::Mesh& flat, const accel::Accel& placed, co
         const double len = std::sqrt(double(rays[i].dir.x) * rays[i].dir.x + double(rays[i].dir.y) * rays[i].dir.y +
                                      double(rays[i].dir.z) * rays[i].dir.z);
         const bool same = p[i].is_hit() == f[i].is_hit() &&
-                          (!f[i].is_hit() || (p[i].prim == f[i].prim &&
-                                              std::fabs(double(p[i].t) - double(f[i].t)) <=
-                                                  1e-6 * std::max(std::fabs(double(f[i].t)), diagonal / len)));
+                          (!f[i].is_hit() ||
+                           (p[i].prim == f[i].prim && std::fabs(double(p[i].t) - double(f[i].t)) <=
+                                                          1e-6 * std::max(std::fabs(double(f[i].t)), diagonal / len)));
         if (!same && ++differ <= 3)
-            MESSAGE("ray ", i, ": flattened t ", f[i].t, " prim ", f[i].prim, "; instanced t ", p[i].t, " prim ", p[i].prim);
+            MESSAGE("ray ", i, ": flattened t ", f[i].t, " prim ", f[i].prim, "; instanced t ", p[i].t, " prim ",
+                    p[i].prim);
     }
     return differ;
 }
@@ -142,7 +143,8 @@ TEST_CASE("glTF: nodes that place one mesh five times load as instances, with th
     for (std::size_t t = 0; t < flat.triangle_count(); ++t)
         for (int k = 0; k < 3; ++k)
             for (int c = 0; c < 3; ++c)
-                worst = std::max(worst, std::fabs(double(mine.view().corner(t, k)[c]) - double(flat.view().corner(t, k)[c])));
+                worst = std::max(worst,
+                                 std::fabs(double(mine.view().corner(t, k)[c]) - double(flat.view().corner(t, k)[c])));
     CHECK(worst < 1e-5);
     const accel::Bounds box = engine::world_bounds(mesh, placed, true);
     for (int c = 0; c < 3; ++c) {
@@ -199,7 +201,8 @@ TEST_CASE("built-in field: instances of four models, the hits of its flattened c
     for (int y = 0; y < set.height; ++y)
         for (int x = 0; x < set.width; ++x) {
             lit += a.at(0, x, y) > 0.0f;
-            for (int c = 0; c < 3; ++c) differ += std::fabs(a.at(c, x, y) - b.at(c, x, y)) > 1e-3f * (1.0f + b.at(c, x, y));
+            for (int c = 0; c < 3; ++c)
+                differ += std::fabs(a.at(c, x, y) - b.at(c, x, y)) > 1e-3f * (1.0f + b.at(c, x, y));
         }
     CHECK(lit > std::size_t(set.width * set.height / 2));
     CHECK(differ <= std::size_t(set.width * set.height / 100));

@@ -3,12 +3,12 @@
 /// the same one, freed when none does. The cost integrator needs the structure's counting layout
 /// (the scalar reference walk) beside the SIMD one; the other integrators get what `arbor render`
 /// builds (the SIMD layouts only), so their frames match its frames.
-#include "accel/interface/accel.h"
-#include "engine/mesh_instances.h"
-
 #include <map>
 #include <memory>
 #include <mutex>
+
+#include "accel/interface/accel.h"
+#include "engine/mesh_instances.h"
 
 namespace arbor::view {
 

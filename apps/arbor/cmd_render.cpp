@@ -111,12 +111,15 @@ int run_render(const RenderCommand& o) {
     const std::string placed = instanced ? " (" + std::to_string(scene.placed.instances.size()) + " instances of " +
                                                std::to_string(scene.mesh.triangle_count()) + " unique triangles)"
                                          : "";
-    std::printf("%s: %llu triangles%s, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s%s -> %s\n",
-                scene.name.c_str(), (unsigned long long)(instanced ? scene.placed.effective_triangles() : scene.mesh.triangle_count()),
-                placed.c_str(), accel_name.c_str(),
-                pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms, set.width,
-                set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
-                stats.threads, stats.threads == 1 ? "" : "s", ranks.c_str(), written.c_str());
+    std::printf(
+        "%s: %llu triangles%s, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s%s -> "
+        "%s\n",
+        scene.name.c_str(),
+        (unsigned long long)(instanced ? scene.placed.effective_triangles() : scene.mesh.triangle_count()),
+        placed.c_str(), accel_name.c_str(),
+        pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms,
+        set.width, set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
+        stats.threads, stats.threads == 1 ? "" : "s", ranks.c_str(), written.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
     return 0;
 }

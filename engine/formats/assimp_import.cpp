@@ -167,7 +167,8 @@ struct Converter {
     void placements(const aiNode& node, const aiMatrix4x4& parent, std::vector<std::pair<unsigned, aiMatrix4x4>>& out) {
         const aiMatrix4x4 m = parent * node.mTransformation;
         for (unsigned i = 0; i < node.mNumMeshes; ++i)
-            if (node.mMeshes[i] < scene.mNumMeshes && scene.mMeshes[node.mMeshes[i]]) out.push_back({node.mMeshes[i], m});
+            if (node.mMeshes[i] < scene.mNumMeshes && scene.mMeshes[node.mMeshes[i]])
+                out.push_back({node.mMeshes[i], m});
         for (unsigned c = 0; c < node.mNumChildren; ++c)
             if (node.mChildren[c]) placements(*node.mChildren[c], m, out);
     }
