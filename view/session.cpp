@@ -182,9 +182,19 @@ void Session::loop() {
         const accel::Timer pass_timer;
         engine::Image pass;
         engine::RenderStats stats;
-        const auto status = arena->execute([&] {
-            return group.run_and_wait([&] { pass = engine::render(scene_, cam, lights_, plan, *structure.accel, rs, &stats); });
-        });
+        tbb::task_group_status status;
+        try {
+            status = arena->execute([&] {
+                return group.run_and_wait(
+                    [&] { pass = engine::render(scene_, cam, lights_, plan, *structure.accel, rs, &stats); });
+            });
+        } catch (...) {
+            // A pass that throws (the cost integrator on a structure that cannot count: a scene of
+            // instances) ends this page; stop() must not cancel the group that is gone.
+            const std::lock_guard lock(mutex_);
+            running_ = nullptr;
+            throw;
+        }
         const double render_ms = pass_timer.ms();
         {
             const std::lock_guard lock(mutex_);

@@ -4,7 +4,8 @@ tests/data/meshes/instances-five-nodes.gltf (an octahedron placed by five nodes:
 non-uniformly scaled) counts 5 instances, 8 unique and 40 effective triangles (`triangles`, as the
 flattened file numbers them). `arbor view builtin:field:3`, nine placed models: the page's hello counts the placed (effective) triangles that `arbor info --json` counts,
 and its box holds the field; frames come with the primary and the direct integrator (the
-two-level structure traced, instance hits shaded), and the server stops with exit 0.
+two-level structure traced, instance hits shaded); the cost integrator gets an error note; and the
+server stops with exit 0.
 Usage: instances_test.py ARBOR
 """
 import json
@@ -50,6 +51,16 @@ try:
         page.send({"type": "settings", "width": 64, "height": 48, "spp": 1, "integrator": integrator, "threads": 1})
         figures, jpeg = page.next_frame()
         check(jpeg[:2] == b"\xff\xd8", f"{integrator}: a JPEG frame")
+    # The cost integrator cannot count through instances: the page gets an error note, and the
+    # server still stops cleanly (a pass that threw once left a dangling pass behind: SIGSEGV).
+    page.send({"type": "settings", "width": 64, "height": 48, "spp": 1, "integrator": "cost", "threads": 1})
+    try:
+        for _ in range(20):  # frames of the earlier settings may still be on their way
+            figures, _ = page.next_frame()
+            check(figures["integrator"] != "cost", "cost integrator on instances: a frame, expected an error note")
+        check(False, "cost integrator on instances: no error note in 20 frames")
+    except AssertionError as e:
+        check("cannot count" in str(e), f"cost integrator on instances: {e}")
     status = viewer.stop(signal.SIGTERM)
     check(status == 0, f"exit status {status} after SIGTERM")
 finally:
