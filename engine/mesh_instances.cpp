@@ -87,6 +87,13 @@ std::uint64_t MeshInstances::effective_triangles() const {
     return n;
 }
 
+std::uint64_t MeshInstances::effective(std::uint64_t held, std::uint32_t MeshPart::*field) const {
+    std::uint64_t n = held;
+    for (const MeshPart& p : parts) n -= p.*field;
+    for (const PartInstance& i : instances) n += parts[i.part].*field;
+    return n;
+}
+
 PlacedPrim MeshInstances::locate(std::uint32_t global) const {
     if (instances.empty() || global < drawn) return {global, nullptr};
     const auto it = std::upper_bound(first.begin(), first.end(), std::uint64_t(global));

@@ -22,9 +22,12 @@
 
 namespace arbor::engine {
 
-/// Triangles [first, first + count) of the mesh: one placeable model.
+/// Triangles [first, first + count) of the mesh: one placeable model. `vertices`, `normals` and
+/// `uvs` count the entries of those arrays the part holds (for counts as a flattened copy, which
+/// repeats them per placement, gives them).
 struct MeshPart {
     std::uint32_t first = 0, count = 0;
+    std::uint32_t vertices = 0, normals = 0, uvs = 0;
 };
 
 /// One placement of a part.
@@ -53,6 +56,9 @@ struct MeshInstances {
     void index(const Mesh& mesh, const std::string& name);
     /// Triangles placed: the drawn ones plus every instance's part (what a flattened copy holds).
     std::uint64_t effective_triangles() const;
+    /// Entries of a per-part array (`MeshPart::vertices`, `normals` or `uvs`) a flattened copy
+    /// holds, of `held` in the mesh: those outside the parts once, each part's once per instance.
+    std::uint64_t effective(std::uint64_t held, std::uint32_t MeshPart::*field) const;
     /// The mesh triangle and transform of global triangle number `global` (after index()).
     PlacedPrim locate(std::uint32_t global) const;
 };

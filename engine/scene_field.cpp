@@ -61,9 +61,10 @@ Scene make_field_scene(int n) {
                                {"brass", {0.75f, 0.65f, 0.3f}, {}, {}}};
     std::vector<Mesh> models = field_models();
     for (std::size_t p = 0; p < models.size(); ++p) {
-        const auto first = std::uint32_t(s.mesh.triangle_count());
+        const auto first = std::uint32_t(s.mesh.triangle_count()), v = std::uint32_t(s.mesh.vertex_count());
         s.mesh.append(with_material(std::move(models[p]), looks[p]));
-        s.placed.parts.push_back({first, std::uint32_t(s.mesh.triangle_count()) - first});
+        s.placed.parts.push_back(
+            {first, std::uint32_t(s.mesh.triangle_count()) - first, std::uint32_t(s.mesh.vertex_count()) - v});
     }
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {

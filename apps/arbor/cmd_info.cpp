@@ -74,14 +74,21 @@ int run_info(const InfoOptions& o) {
     j["file"] = o.model;
     j["format"] = builtin ? "built-in" : engine::formats::format_name(format);
     j["triangles"] = effective;
-    j["vertices"] = mesh.vertex_count();
+    // Vertices, normals and texture coordinates as the flattened file holds them (each placement
+    // its own), like the triangles.
+    using engine::MeshPart;
+    const std::uint64_t vertices = placed.effective(mesh.vertex_count(), &MeshPart::vertices);
+    const std::uint64_t normals = placed.effective(mesh.normals.size(), &MeshPart::normals);
+    const std::uint64_t uvs = placed.effective(mesh.uvs.size(), &MeshPart::uvs);
+    j["vertices"] = vertices;
     j["degenerate_triangles"] = placed_degenerate(mesh, placed);
     j["instances"] = placed.instances.size();
     j["unique_triangles"] = mesh.triangle_count();
+    j["unique_vertices"] = mesh.vertex_count();
     j["effective_triangles"] = effective;
     j["materials"] = mesh.materials.size();
-    j["normals"] = mesh.normals.size();
-    j["texture_coordinates"] = mesh.uvs.size();
+    j["normals"] = normals;
+    j["texture_coordinates"] = uvs;
     j["vertex_colors"] = !mesh.colors.empty();
     j["textures"] = mesh.textures.size();
     j["bounds"] = {{"min", {bounds.lo.x, bounds.lo.y, bounds.lo.z}}, {"max", {bounds.hi.x, bounds.hi.y, bounds.hi.z}}};
@@ -124,14 +131,18 @@ int run_info(const InfoOptions& o) {
         return 0;
     }
     engine::print_warnings(warnings);
-    std::printf("%s (%s): %llu triangles (%llu degenerate), %zu vertices, %zu materials, %zu normals, %zu texture coordinates, "
-                "%zu textures%s\n",
-                o.model.c_str(), std::string(j["format"]).c_str(), (unsigned long long)effective,
-                (unsigned long long)std::uint64_t(j["degenerate_triangles"]), mesh.vertex_count(), mesh.materials.size(),
-                mesh.normals.size(), mesh.uvs.size(), mesh.textures.size(), mesh.colors.empty() ? "" : ", vertex colours");
+    std::printf(
+        "%s (%s): %llu triangles (%llu degenerate), %llu vertices, %zu materials, %llu normals, %llu texture "
+        "coordinates, %zu textures%s\n",
+        o.model.c_str(), std::string(j["format"]).c_str(), (unsigned long long)effective,
+        (unsigned long long)std::uint64_t(j["degenerate_triangles"]), (unsigned long long)vertices,
+        mesh.materials.size(), (unsigned long long)normals, (unsigned long long)uvs, mesh.textures.size(),
+        mesh.colors.empty() ? "" : ", vertex colours");
     if (!placed.empty())
-        std::printf("instances: %zu placing %llu effective triangles from %zu unique triangles (each mesh held once)\n",
-                    placed.instances.size(), (unsigned long long)effective, mesh.triangle_count());
+        std::printf(
+            "instances: %zu placing %llu effective triangles from %zu unique triangles, %zu vertices (each mesh "
+            "held once)\n",
+            placed.instances.size(), (unsigned long long)effective, mesh.triangle_count(), mesh.vertex_count());
     std::printf("bounds: [%g %g %g] .. [%g %g %g]\n", bounds.lo.x, bounds.lo.y, bounds.lo.z, bounds.hi.x, bounds.hi.y,
                 bounds.hi.z);
     const std::string skipped = accel::kernel_set_skipped();

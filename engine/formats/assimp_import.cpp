@@ -211,10 +211,14 @@ bool import_instanced(Converter& conv, const std::vector<std::uint32_t>& materia
     std::vector<std::int64_t> part_of(conv.scene.mNumMeshes, -1);
     for (const auto& [id, m] : uses) {
         if (part_of[id] < 0) {
-            const auto first = std::uint32_t(conv.mesh.triangle_count());
+            const Mesh& held = conv.mesh;
+            const auto first = std::uint32_t(held.triangle_count()), v = std::uint32_t(held.vertex_count()),
+                       n = std::uint32_t(held.normals.size()), t = std::uint32_t(held.uvs.size());
             conv.add(*conv.scene.mMeshes[id], aiMatrix4x4(), material_of[id]);
             part_of[id] = std::int64_t(out.parts.size());
-            out.parts.push_back({first, std::uint32_t(conv.mesh.triangle_count()) - first});
+            out.parts.push_back({first, std::uint32_t(held.triangle_count()) - first,
+                                 std::uint32_t(held.vertex_count()) - v, std::uint32_t(held.normals.size()) - n,
+                                 std::uint32_t(held.uvs.size()) - t});
         }
         const MeshPart& part = out.parts[std::size_t(part_of[id])];
         if (part.count > 0) out.instances.push_back({std::uint32_t(part_of[id]), to_affine(m)});

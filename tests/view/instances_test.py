@@ -2,7 +2,7 @@
 """`arbor info` and `arbor view` on scenes of instances (engine/mesh_instances.h). info on
 tests/data/meshes/instances-five-nodes.gltf (an octahedron placed by five nodes: nested, mirrored,
 non-uniformly scaled) counts 5 instances, 8 unique and 40 effective triangles (`triangles`, as the
-flattened file numbers them). `arbor view builtin:field:3`, nine placed models: the page's hello counts the placed (effective) triangles that `arbor info --json` counts,
+flattened file numbers them), 6 vertices held and 30 as the flattened file holds them. `arbor view builtin:field:3`, nine placed models: the page's hello counts the placed (effective) triangles that `arbor info --json` counts,
 and its box holds the field; frames come with the primary and the direct integrator (the
 two-level structure traced, instance hits shaded); the cost integrator gets an error note; and the
 server stops with exit 0.
@@ -31,7 +31,8 @@ def check(cond, what):
 FIVE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "meshes", "instances-five-nodes.gltf")
 five = json.loads(subprocess.run([ARBOR, "info", FIVE, "--json", "--accel", "bvh-sah"], capture_output=True, text=True,
                                  check=True).stdout)
-for key, want in (("instances", 5), ("unique_triangles", 8), ("effective_triangles", 40), ("triangles", 40)):
+for key, want in (("instances", 5), ("unique_triangles", 8), ("effective_triangles", 40), ("triangles", 40),
+                  ("vertices", 30), ("unique_vertices", 6)):
     check(five[key] == want, f"info five-nodes: {key} {five[key]}, expected {want}")
 check(five["bytes_per_effective_triangle"] < five["bytes_per_unique_triangle"], "info five-nodes: memory per triangle")
 
