@@ -18,6 +18,7 @@
 #include "engine/mesh_loader.h"
 #include "engine/procedural.h"
 #include "engine/renderer.h"
+#include "engine/smooth_normals.h"
 #include "instance_scenes.h"
 #include "testing.h"
 
@@ -206,4 +207,24 @@ TEST_CASE("built-in field: instances of four models, the hits of its flattened c
         }
     CHECK(lit > std::size_t(set.width * set.height / 2));
     CHECK(differ <= std::size_t(set.width * set.height / 100));
+
+    // With vertex normals (shading normals carried by the inverse transpose, Hanika's point
+    // carried by the transform) against flatten(), which carries the normals the same way.
+    engine::Scene smooth = engine::make_builtin_scene("builtin:field:2", true);
+    REQUIRE(engine::compute_smooth_normals(smooth.mesh) > 0);
+    engine::Scene smooth_flat = smooth;
+    smooth_flat.mesh = engine::flatten(smooth.mesh, smooth.placed);
+    smooth_flat.placed = {};
+    REQUIRE(smooth_flat.mesh.has_normals());
+    const auto sref = accel::make_accel(accel::AccelKind::bvh_sah, smooth_flat.mesh.view(), {});
+    const engine::Image sa = engine::render(smooth, *inst, set), sb = engine::render(smooth_flat, *sref, set);
+    std::size_t smooth_differ = 0, smooth_changed = 0;
+    for (int y = 0; y < set.height; ++y)
+        for (int x = 0; x < set.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                smooth_differ += std::fabs(sa.at(c, x, y) - sb.at(c, x, y)) > 1e-3f * (1.0f + sb.at(c, x, y));
+                smooth_changed += std::fabs(sa.at(c, x, y) - a.at(c, x, y)) > 1e-3f * (1.0f + a.at(c, x, y));
+            }
+    CHECK(smooth_changed > std::size_t(set.width * set.height / 20));  // the normals are read
+    CHECK(smooth_differ <= std::size_t(set.width * set.height / 100));
 }
