@@ -148,11 +148,17 @@ int run_info(const InfoOptions& o) {
     const std::string skipped = accel::kernel_set_skipped();
     std::printf("SIMD kernels: %s%s%s\n", std::string(accel::kernel_set()).c_str(), skipped.empty() ? "" : " (",
                 skipped.empty() ? "" : (skipped + ")").c_str());
-    if (j.contains("accel"))
+    if (j.contains("accel") && placed.empty())
         std::printf("%s: built in %.2f ms, %zu nodes, %zu leaves, max depth %u, SAH cost %.2f, %.1f bytes/triangle\n",
                     std::string(j["accel"]).c_str(), double(j["build_ms"]), std::size_t(j["nodes"]),
                     std::size_t(j["leaves"]), unsigned(j["max_depth"]), double(j["sah_cost"]),
                     double(j["bytes_per_triangle"]));
+    else if (j.contains("accel"))  // depth and SAH cost belong to each mesh's structure: not summed
+        std::printf(
+            "%s for each of %zu meshes under a top BVH over %zu instances: built in %.2f ms, %zu nodes, %zu "
+            "leaves\n",
+            std::string(j["accel"]).c_str(), placed.parts.size() + (placed.drawn > 0), placed.instances.size(),
+            double(j["build_ms"]), std::size_t(j["nodes"]), std::size_t(j["leaves"]));
     if (j.contains("scene_bytes"))
         std::printf("memory: %s with the mesh and transforms, %.1f bytes per unique triangle, %.3g bytes per effective triangle\n",
                     engine::format_bytes(std::uint64_t(j["scene_bytes"])).c_str(), double(j["bytes_per_unique_triangle"]),
