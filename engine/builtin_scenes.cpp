@@ -17,27 +17,42 @@ namespace arbor::engine {
 
 bool is_builtin_scene(const std::string& arg) { return arg.rfind("builtin:", 0) == 0; }
 
-std::string builtin_scene_names() { return "builtin:default, builtin:cornell, builtin:scaling[:N]"; }
+std::string builtin_scene_names() { return "builtin:default, builtin:cornell, builtin:scaling[:N], builtin:field[:N]"; }
 
 std::string shared_models_dir() {
     const char* env = std::getenv("ARBOR_SHARED_SCENES");
     return std::string(env && *env ? env : ARBOR_DEFAULT_SHARED_SCENES) + "/models";
 }
 
-Scene make_builtin_scene(const std::string& arg) {
+namespace {
+
+/// N of "NAME:N" (from 1 to `most`); InputError naming `arg` otherwise.
+int copies_of(const std::string& arg, const std::string& n, int most) {
+    int copies = 0;
+    const auto [end, ec] = std::from_chars(n.data(), n.data() + n.size(), copies);
+    if (ec != std::errc() || end != n.data() + n.size() || copies < 1 || copies > most)
+        throw InputError(arg + ": the number of copies per side must be an integer from 1 to " + std::to_string(most));
+    return copies;
+}
+
+Scene make_named(const std::string& arg) {
     const std::string name = arg.substr(std::string("builtin:").size());
     if (name == "default") return make_default_scene();
     if (name == "cornell") return make_cornell_scene();
     if (name == "scaling") return make_scaling_scene(6);
-    if (name.rfind("scaling:", 0) == 0) {
-        const std::string n = name.substr(8);
-        int copies = 0;
-        const auto [end, ec] = std::from_chars(n.data(), n.data() + n.size(), copies);
-        if (ec != std::errc() || end != n.data() + n.size() || copies < 1 || copies > 64)
-            throw InputError(arg + ": the number of copies per side must be an integer from 1 to 64");
-        return make_scaling_scene(copies);
-    }
+    if (name.rfind("scaling:", 0) == 0) return make_scaling_scene(copies_of(arg, name.substr(8), 64));
+    if (name == "field") return make_field_scene(100);
+    // 120 x 120 places 2.5 billion triangles: the global numbers stay below 2^32.
+    if (name.rfind("field:", 0) == 0) return make_field_scene(copies_of(arg, name.substr(6), 120));
     throw InputError(arg + ": unknown built-in scene (expected one of " + builtin_scene_names() + ")");
+}
+
+}  // namespace
+
+Scene make_builtin_scene(const std::string& arg, bool with_instances) {
+    Scene s = make_named(arg);
+    if (!with_instances) flatten_instances(s, arg);
+    return s;
 }
 
 void place_on_floor(Mesh& mesh, float height, float cx, float cz, float floor) {

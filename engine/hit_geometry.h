@@ -17,11 +17,11 @@ struct HitGeometry {
     bool valid = false;  ///< false for a zero-area or overflowing triangle (no normal): ignore the hit
 };
 
-/// Geometry of `hit` (on tris) for `ray`; the position and scale only `with_position`.
-inline HitGeometry hit_geometry(const accel::TriangleView& tris, const accel::Ray& ray, const accel::Hit& hit,
-                                bool with_position = true) {
+/// Geometry of `hit` on the triangle of corners v0, v1, v2 for `ray`; the position and scale only
+/// `with_position`.
+inline HitGeometry hit_geometry(const accel::Vec3f& v0, const accel::Vec3f& v1, const accel::Vec3f& v2,
+                                const accel::Ray& ray, const accel::Hit& hit, bool with_position = true) {
     HitGeometry g;
-    const accel::Vec3f v0 = tris.corner(hit.prim, 0), v1 = tris.corner(hit.prim, 1), v2 = tris.corner(hit.prim, 2);
     const accel::Vec3f n = simd::cross(v1 - v0, v2 - v0);
     const float len = simd::length(n);
     if (!(len > 0.0f) || !std::isfinite(len)) return g;
@@ -33,6 +33,13 @@ inline HitGeometry hit_geometry(const accel::TriangleView& tris, const accel::Ra
     }
     g.valid = true;
     return g;
+}
+
+/// Geometry of `hit` (on tris) for `ray`; the position and scale only `with_position`.
+inline HitGeometry hit_geometry(const accel::TriangleView& tris, const accel::Ray& ray, const accel::Hit& hit,
+                                bool with_position = true) {
+    return hit_geometry(tris.corner(hit.prim, 0), tris.corner(hit.prim, 1), tris.corner(hit.prim, 2), ray, hit,
+                        with_position);
 }
 
 }  // namespace arbor::engine

@@ -55,8 +55,75 @@ void camera_batch(const RenderContext& ctx, const Tile& tile, int s0, int s1, st
         }
 }
 
+namespace {
+
+/// n carried by the inverse transpose of `a`'s 3x3 part (`inv` is a's inverse), renormalized.
+Vec3f carry_normal(const accel::Affine& inv, const Vec3f& n) {
+    Vec3f w;
+    for (int r = 0; r < 3; ++r) w[r] = float(inv.at(0, r) * n.x + inv.at(1, r) * n.y + inv.at(2, r) * n.z);
+    const float len = simd::length(w);
+    return len > 0.0f && std::isfinite(len) ? w / len : n;
+}
+
+/// The shading of an instance's hit: the corners carried to the world as flatten() carries them
+/// (so position, geometric normal and offsets are the flattened scene's), the vertex attributes
+/// read from the mesh in object space, where the geometric normal turned to the ray is A^T n
+/// (its side is kept: dot(A^T n, A^-1 d) = dot(n, d)), and carried back by the inverse transpose.
+Surface placed_surface(const RenderContext& ctx, const Ray& ray, const Hit& hit, const PlacedPrim& pp) {
+    Surface s;
+    const RenderPlan& plan = ctx.plan;
+    const Mesh& mesh = ctx.scene.mesh;
+    const accel::Affine& a = *pp.to_world;
+    const accel::TriangleView tris = mesh.view();
+    Vec3f obj[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+        obj[k] = tris.corner(pp.prim, k);
+        const auto p = a.point(obj[k].x, obj[k].y, obj[k].z);
+        w[k] = {float(p[0]), float(p[1]), float(p[2])};
+    }
+    const HitGeometry g = hit_geometry(w[0], w[1], w[2], ray, hit, plan.position);
+    if (!g.valid) return s;
+    s.normal = s.shading = g.normal;
+    s.position = g.position;
+    s.scale = g.scale;
+    s.material = &ctx.material(pp.prim);
+    s.albedo = s.material->diffuse;
+    const Barycentrics b = barycentrics(hit.u, hit.v);
+    Vec3f ng_obj{0.0f};
+    if (plan.vertex_normals) {
+        Vec3f t;
+        for (int r = 0; r < 3; ++r)
+            t[r] = float(a.at(0, r) * g.normal.x + a.at(1, r) * g.normal.y + a.at(2, r) * g.normal.z);
+        const float len = simd::length(t);
+        ng_obj = len > 0.0f && std::isfinite(len) ? t / len : g.normal;
+        const accel::Affine inv = a.inverse();
+        s.shading = carry_normal(inv, shading_normal(mesh, pp.prim, b, ng_obj));
+        if (simd::dot(s.shading, g.normal) <= 0.0f) s.shading = g.normal;
+    }
+    if (plan.textures || plan.vertex_colors)
+        s.albedo = albedo_at(mesh, *s.material, pp.prim, b, plan.textures, plan.vertex_colors);
+    if (plan.position) {
+        Vec3f from = g.position;
+        if (plan.vertex_normals) {
+            const Vec3f p_obj = obj[0] * b.b0 + obj[1] * b.b1 + obj[2] * b.b2;
+            const Vec3f lifted = terminator_point(mesh, pp.prim, b, p_obj, ng_obj);
+            if (lifted.x != p_obj.x || lifted.y != p_obj.y || lifted.z != p_obj.z) {
+                const auto q = a.point(lifted.x, lifted.y, lifted.z);
+                from = {float(q[0]), float(q[1]), float(q[2])};
+            }
+        }
+        s.origin = accel::offset_ray_origin(from, g.normal, g.scale);
+    }
+    s.valid = true;
+    return s;
+}
+
+}  // namespace
+
 Surface surface_at(const RenderContext& ctx, const Ray& ray, const Hit& hit) {
     Surface s;
+    const PlacedPrim pp = ctx.scene.placed.locate(hit.prim);
+    if (pp.to_world) return placed_surface(ctx, ray, hit, pp);
     const RenderPlan& plan = ctx.plan;
     const Mesh& mesh = ctx.scene.mesh;
     const HitGeometry g = hit_geometry(mesh.view(), ray, hit, plan.position);

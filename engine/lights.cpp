@@ -14,7 +14,10 @@ LightSet::LightSet(const Scene& scene) : points_(scene.lights) {
     const auto view = m.view();
     double total = 0.0;
     std::vector<double> power;
-    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+    // Instances' triangles are not sampled as lights (they glow where rays meet them): only the
+    // triangles drawn as they are.
+    const std::size_t lit = scene.placed.empty() ? m.triangle_count() : scene.placed.drawn;
+    for (std::size_t t = 0; t < lit; ++t) {
         const Material& mat = m.materials[m.material.empty() ? 0 : m.material[t]];
         if (is_black(mat.emission) || !view.triangle_is_finite(t)) continue;
         Emitter e;

@@ -23,7 +23,8 @@ std::uint64_t mesh_load_bytes(MeshFormat format, std::uint64_t file_bytes) {
 }
 
 Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std::string& base_dir, Warnings& warnings,
-                     bool read_other_files, MeshFormat* format_out) {
+                     bool read_other_files, MeshFormat* format_out, MeshInstances* instances) {
+    if (instances) *instances = {};
     const MeshFormat format = detect_mesh_format(bytes, name);
     if (format_out) *format_out = format;
     if (format == MeshFormat::obj) {
@@ -64,7 +65,7 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
     ImportCounts counts;
     // Assimp reads other files relative to the folder; "" would mean the current one.
     const std::string dir = base_dir.empty() ? "./" : base_dir;
-    Mesh m = import_with_assimp(bytes, format, name, read_other_files ? dir : "", warnings, counts);
+    Mesh m = import_with_assimp(bytes, format, name, read_other_files ? dir : "", warnings, counts, instances);
     if ((format == MeshFormat::gltf || format == MeshFormat::glb) && counts.polygons != gltf.triangles)
         throw InputError(name, 0, "glTF: the accessors define " + std::to_string(gltf.triangles) + " triangles, Assimp read " +
                                       std::to_string(counts.polygons) +
@@ -75,10 +76,12 @@ Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std:
                      (gltf.point_line_prims > 1 ? "s" : "") +
                      " of points or lines not read (no surfaces), the first: " + gltf.first_point_line);
     validate_mesh(m, name, only_points ? ": the file holds only points/lines" : "");
+    if (instances && !instances->empty()) instances->index(m, name);
     return m;
 }
 
-Mesh load_mesh(const std::string& path, Warnings& warnings, std::uint64_t max_bytes, MeshFormat* format_out) {
+Mesh load_mesh(const std::string& path, Warnings& warnings, std::uint64_t max_bytes, MeshFormat* format_out,
+               MeshInstances* instances) {
     std::error_code ec;
     const auto size = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
     const std::uint64_t budget = memory_budget(max_bytes);
@@ -103,7 +106,7 @@ Mesh load_mesh(const std::string& path, Warnings& warnings, std::uint64_t max_by
     const std::string bytes = read_file(path);
     const auto slash = path.find_last_of('/');
     const std::string base_dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-    return load_mesh_bytes(bytes, path, base_dir, warnings, true, format_out);
+    return load_mesh_bytes(bytes, path, base_dir, warnings, true, format_out, instances);
 }
 
 }  // namespace arbor::engine

@@ -8,6 +8,7 @@
 #include "engine/formats/detect.h"
 #include "engine/log.h"
 #include "engine/mesh.h"
+#include "engine/mesh_instances.h"
 
 #include <cstdint>
 #include <string>
@@ -20,13 +21,17 @@ using formats::MeshFormat;
 /// Loads `path` in whatever supported format it holds. Before reading, a file whose loading would
 /// need more than `max_bytes` (mesh_load_bytes; 0: the machine's physical memory) is refused.
 /// Throws InputError ("FILE: problem", OBJ: "FILE:LINE: problem").
-Mesh load_mesh(const std::string& path, Warnings& warnings, std::uint64_t max_bytes = 0, MeshFormat* format = nullptr);
+/// Node transforms are applied (a flat mesh) unless `instances` is given: then a glTF file whose
+/// nodes place a mesh more than once comes back as its meshes once each and `instances` placing
+/// them (indexed; formats/assimp_import.h says when), other files as before with `instances` empty.
+Mesh load_mesh(const std::string& path, Warnings& warnings, std::uint64_t max_bytes = 0, MeshFormat* format = nullptr,
+               MeshInstances* instances = nullptr);
 
 /// Same, from a file's bytes already in memory; `name` is used in messages and `base_dir` (ending
 /// in '/', or empty for the current folder) to find the files it names (MTL, textures, glTF
 /// buffers). `read_other_files` false: nothing but `bytes` is read (the fuzzers).
 Mesh load_mesh_bytes(std::string_view bytes, const std::string& name, const std::string& base_dir, Warnings& warnings,
-                     bool read_other_files = true, MeshFormat* format = nullptr);
+                     bool read_other_files = true, MeshFormat* format = nullptr, MeshInstances* instances = nullptr);
 
 /// Bytes loading a file of `file_bytes` bytes in `format` needs, about (the text or bytes, the
 /// reader's own copy, the mesh): 3x for OBJ, 8x for the formats read through Assimp.

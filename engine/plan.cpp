@@ -42,7 +42,7 @@ RenderPlan make_plan(const Scene& scene, const LightSet& lights, const RenderSet
     const bool lit = set.integrator == IntegratorKind::direct || set.integrator == IntegratorKind::path;
 
     if (set.integrator == IntegratorKind::ao) {
-        const Vec3f ext = scene.mesh.bounds.extent();
+        const Vec3f ext = scene_bounds(scene).extent();
         p.ao_radius = set.ao_radius >= 0.0f ? set.ao_radius : 0.25f * std::sqrt(simd::dot(ext, ext));
         p.ao_samples = set.ao_samples;
         p.ao = p.ao_radius > 0.0f && p.ao_samples > 0 && std::isfinite(p.ao_radius);

@@ -1,5 +1,7 @@
 #include "engine/scene.h"
 
+#include "engine/error.h"
+#include "engine/memory_budget.h"
 #include "engine/procedural.h"
 #include "engine/smooth_normals.h"
 
@@ -33,13 +35,29 @@ Scene make_default_scene() {
     return s;
 }
 
-Scene scene_from_mesh(Mesh mesh, std::string name) {
+void flatten_instances(Scene& s, const std::string& what) {
+    if (s.placed.empty()) return;
+    const std::uint64_t need = flatten_bytes(s.mesh, s.placed), budget = memory_budget(0);
+    if (need > budget / 2)
+        throw InputError(what + ": " + std::to_string(s.placed.instances.size()) + " instances place " +
+                         std::to_string(s.placed.effective_triangles()) +
+                         " triangles; this command traces a flattened copy, which needs about " + format_bytes(need) +
+                         ", more than half the " + format_bytes(budget) +
+                         " of memory (arbor render, arbor view and arbor info trace the instances)");
+    s.mesh = flatten(s.mesh, s.placed);
+    s.placed = {};
+}
+
+Bounds scene_bounds(const Scene& scene) { return world_bounds(scene.mesh, scene.placed); }
+
+Scene scene_from_mesh(Mesh mesh, std::string name, MeshInstances placed) {
     Scene s;
     s.name = std::move(name);
-    s.camera = Camera::framing(mesh.bounds);
-    const Vec3f ext = mesh.bounds.extent();
+    const Bounds box = world_bounds(mesh, placed, true);
+    s.camera = Camera::framing(box);
+    const Vec3f ext = box.extent();
     const float size = std::max(ext.x, std::max(ext.y, ext.z));
-    const Vec3f c = mesh.bounds.center();
+    const Vec3f c = box.center();
     // Models with emissive materials are lit by them. Others get a light above and in front, at
     // about two model sizes, with an intensity that makes the irradiance at the model about 3.
     bool emissive = false;
@@ -53,6 +71,7 @@ Scene scene_from_mesh(Mesh mesh, std::string name) {
     }
     s.background = {0.2f, 0.2f, 0.22f};
     s.mesh = std::move(mesh);
+    s.placed = std::move(placed);
     return s;
 }
 

@@ -2,6 +2,7 @@
 /// Scene = mesh + camera + lights. Built-in scenes need no files.
 #include "engine/camera.h"
 #include "engine/mesh.h"
+#include "engine/mesh_instances.h"
 
 #include <string>
 #include <vector>
@@ -16,6 +17,9 @@ struct PointLight {
 struct Scene {
     std::string name;
     Mesh mesh;
+    /// Parts of `mesh` placed by transforms (engine/mesh_instances.h); empty: the mesh is drawn
+    /// as it is. Indexed (MeshInstances::index) by whoever fills it.
+    MeshInstances placed;
     Camera camera;
     std::vector<PointLight> lights;
     Vec3f background{0.6f, 0.7f, 0.9f};  ///< radiance of rays that leave the scene
@@ -33,7 +37,13 @@ Scene make_default_scene();
 /// A scene around a loaded mesh: camera framed on its bounds, a grey background, and one point
 /// light above-front unless some material emits (then its triangles are the lights). The ray
 /// generator and the benchmarks use this light; `arbor render` replaces it (light_from_camera).
-Scene scene_from_mesh(Mesh mesh, std::string name);
+/// With `placed` (indexed) the camera and light are fitted to the placed triangles' box.
+Scene scene_from_mesh(Mesh mesh, std::string name, MeshInstances placed = {});
+/// Replaces the scene's instances by the flattened mesh (flatten()), for the commands that do not
+/// trace instances; InputError naming `what` when the copy would need more than half the memory.
+void flatten_instances(Scene& scene, const std::string& what);
+/// The box of what the scene draws: the mesh's, or with instances the placed triangles'.
+Bounds scene_bounds(const Scene& scene);
 
 /// For a scene whose only light is the one scene_from_mesh made: a key light that follows the
 /// camera (above and to the left of the eye, irradiance 2 where the camera looks) plus the

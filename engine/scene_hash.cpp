@@ -33,6 +33,12 @@ std::uint64_t scene_hash(const Scene& scene) {
     h.values(std::span(m.x)).values(std::span(m.y)).values(std::span(m.z));
     h.values(std::span(m.indices)).values(std::span(m.material));
     auto vec = [&](const Vec3f& v) { h.number(v.x).number(v.y).number(v.z); };
+    h.number(double(scene.placed.drawn));
+    for (const MeshPart& p : scene.placed.parts) h.number(double(p.first)).number(double(p.count));
+    for (const PartInstance& i : scene.placed.instances) {
+        h.number(double(i.part));
+        h.values(std::span<const double>(i.transform.m));
+    }
     for (const Material& mat : m.materials) {
         vec(mat.diffuse);
         vec(mat.mirror);

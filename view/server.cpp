@@ -33,7 +33,7 @@ std::string page_answer(bool head) {
 Server::Server(const engine::Scene& scene, const accel::BuildConfig& build, const ServerOptions& options)
     : scene_(scene),
       lights_(scene),
-      cache_(scene.mesh.view(), build),
+      cache_(scene.mesh, scene.placed, build),
       options_(options),
       loop_(options.connections, *this),
       pages_(scene_, lights_, cache_, options_.limits, options_.initial, options_.max_clients, loop_) {}

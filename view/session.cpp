@@ -59,13 +59,15 @@ std::string Session::hello(int client) const {
     json accels = json::array(), integ = json::array();
     for (auto k : choosable) accels.push_back(accel::to_string(k));
     for (auto k : integrators) integ.push_back(engine::to_string(k));
+    const accel::Bounds box = engine::scene_bounds(scene_);
     const json j = {{"type", "hello"},
                     {"client", client},
                     {"scene", scene_.name},
-                    {"triangles", scene_.mesh.triangle_count()},
+                    {"triangles", scene_.placed.empty() ? std::uint64_t(scene_.mesh.triangle_count())
+                                                        : scene_.placed.effective_triangles()},
                     {"camera", {{"eye", vec(camera_.eye)}, {"look_at", vec(camera_.look_at)}, {"up", vec(camera_.up)},
                                 {"fov", camera_.vfov_degrees}}},
-                    {"bounds", {{"lo", vec(scene_.mesh.bounds.lo)}, {"hi", vec(scene_.mesh.bounds.hi)}}},
+                    {"bounds", {{"lo", vec(box.lo)}, {"hi", vec(box.hi)}}},
                     {"accels", accels},
                     {"integrators", integ},
                     {"settings", settings_json(settings_)},
@@ -180,9 +182,19 @@ void Session::loop() {
         const accel::Timer pass_timer;
         engine::Image pass;
         engine::RenderStats stats;
-        const auto status = arena->execute([&] {
-            return group.run_and_wait([&] { pass = engine::render(scene_, cam, lights_, plan, *structure.accel, rs, &stats); });
-        });
+        tbb::task_group_status status;
+        try {
+            status = arena->execute([&] {
+                return group.run_and_wait(
+                    [&] { pass = engine::render(scene_, cam, lights_, plan, *structure.accel, rs, &stats); });
+            });
+        } catch (...) {
+            // A pass that throws (the cost integrator on a structure that cannot count: a scene of
+            // instances) ends this page; stop() must not cancel the group that is gone.
+            const std::lock_guard lock(mutex_);
+            running_ = nullptr;
+            throw;
+        }
         const double render_ms = pass_timer.ms();
         {
             const std::lock_guard lock(mutex_);

@@ -12,7 +12,8 @@ StructureCache::Entry StructureCache::get(accel::AccelKind kind, bool counting) 
     accel::BuildConfig cfg = base_;
     cfg.layouts = counting ? accel::Layouts::all : accel::Layouts::simd;
     const accel::Timer timer;
-    std::shared_ptr<const accel::Accel> built = accel::make_accel(kind, tris_, cfg);
+    std::shared_ptr<const accel::Accel> built =
+        placed_ ? engine::make_instanced_accel(*mesh_, *placed_, kind, cfg) : accel::make_accel(kind, tris_, cfg);
     slot.build_ms = timer.ms();
     slot.accel = built;
     return {std::move(built), slot.build_ms, false};

@@ -62,7 +62,8 @@ int run_render(const RenderCommand& o) {
     const engine::RenderSettings base = to_settings(o.render, integrator);
     engine::RenderSettings set = base;
     set.progress = !o.quiet;
-    const engine::Scene scene = load_scene(o.scene, writer);
+    const engine::Scene scene = load_scene(o.scene, writer, true);
+    const bool instanced = !scene.placed.empty();
     if (cluster) cluster->require_same(scene, settings_text(set));
     // The renderer traces the SIMD paths (packets and single rays): the scalar layout is not built.
     accel::BuildConfig build = o.build;
@@ -73,7 +74,16 @@ int run_render(const RenderCommand& o) {
     // resolves --accel (a probe measures: ranks could differ); the others take its choice.
     const engine::RenderRays job_rays = engine::render_rays(scene, plan, set);
     accel::AccelPick pick;
-    if (writer) pick = resolve_accel(o.accel, engine::render_job(scene, job_rays, build));
+    if (instanced) {
+        // A structure per placed mesh under a top BVH (engine/mesh_instances.h); auto takes bvh-sah.
+        const auto named = accel::parse_accel_kind(o.accel);
+        if (!named) throw OptionError("--accel: unknown structure '" + o.accel + "'");
+        pick.kind = *named == accel::AccelKind::automatic ? accel::AccelKind::bvh_sah : *named;
+        if (*named == accel::AccelKind::automatic)
+            pick.reason = "the scene has instances: bvh-sah for each placed mesh, without a probe";
+    } else if (writer) {
+        pick = resolve_accel(o.accel, engine::render_job(scene, job_rays, build));
+    }
     if (cluster) pick.kind = *accel::parse_accel_kind(cluster->root_choice(std::string(accel::to_string(pick.kind))));
     const auto kind = pick.kind;
     for (const std::string& s : accel::skipped_by_build(kind, build)) plan.skipped.push_back("the structure's " + s);
@@ -86,7 +96,9 @@ int run_render(const RenderCommand& o) {
     // With auto, its probe may have built the pick already (with these settings).
     const accel::Timer build_timer;
     const bool prebuilt = pick.built != nullptr;
-    const auto structure = prebuilt ? std::move(pick.built) : accel::make_accel(kind, scene.mesh.view(), build);
+    const auto structure = prebuilt    ? std::move(pick.built)
+                           : instanced ? engine::make_instanced_accel(scene.mesh, scene.placed, kind, build)
+                                       : accel::make_accel(kind, scene.mesh.view(), build);
     const double build_ms = prebuilt ? structure->stats().build_ms : build_timer.ms();
     engine::RenderStats stats;
     const auto tiles = cluster ? cluster->frame_tiles() : nullptr;
@@ -96,11 +108,18 @@ int run_render(const RenderCommand& o) {
         for (const std::string& f : engine::write_outputs(o.out, img, {!o.no_png, o.exposure}))
             written += (written.empty() ? "" : ", ") + f;
     const std::string ranks = cluster ? cluster->on_ranks() : "";
-    std::printf("%s: %zu triangles, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s%s -> %s\n",
-                scene.name.c_str(), scene.mesh.triangle_count(), accel_name.c_str(),
-                pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms, set.width,
-                set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
-                stats.threads, stats.threads == 1 ? "" : "s", ranks.c_str(), written.c_str());
+    const std::string placed = instanced ? " (" + std::to_string(scene.placed.instances.size()) + " instances of " +
+                                               std::to_string(scene.mesh.triangle_count()) + " unique triangles)"
+                                         : "";
+    std::printf(
+        "%s: %llu triangles%s, %s%s%s built in %.1f ms; %dx%d, %d spp, %s, rendered in %.3f s with %d thread%s%s -> "
+        "%s\n",
+        scene.name.c_str(),
+        (unsigned long long)(instanced ? scene.placed.effective_triangles() : scene.mesh.triangle_count()),
+        placed.c_str(), accel_name.c_str(),
+        pick.reason.empty() ? "" : " (auto: ", pick.reason.empty() ? "" : (pick.reason + ")").c_str(), build_ms,
+        set.width, set.height, set.spp, std::string(engine::to_string(set.integrator)).c_str(), stats.seconds,
+        stats.threads, stats.threads == 1 ? "" : "s", ranks.c_str(), written.c_str());
     std::printf("rays: %s\n", stats.summary().c_str());
     return 0;
 }

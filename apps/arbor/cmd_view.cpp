@@ -37,7 +37,7 @@ int run_view(const ViewCommand& o) {
     pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
     const auto limit = limit_threads(o.threads);
-    const engine::Scene scene = load_scene(o.scene);
+    const engine::Scene scene = load_scene(o.scene, true, true);
     view::ServerOptions opt;
     opt.listen = o.listen;
     opt.port = o.port;
@@ -54,9 +54,11 @@ int run_view(const ViewCommand& o) {
         throw engine::InputError(e.what());
     }
     std::printf("%s\n", server.url().c_str());
-    std::printf("arbor view: %s, %zu triangles; up to %d pages and %d connections at once, %d threads; Ctrl-C stops\n",
-                scene.name.c_str(), scene.mesh.triangle_count(), o.max_clients, server.max_connections(),
-                opt.limits.max_threads);
+    std::printf(
+        "arbor view: %s, %llu triangles; up to %d pages and %d connections at once, %d threads; Ctrl-C stops\n",
+        scene.name.c_str(),
+        (unsigned long long)(scene.placed.empty() ? scene.mesh.triangle_count() : scene.placed.effective_triangles()),
+        o.max_clients, server.max_connections(), opt.limits.max_threads);
     std::fflush(stdout);
     int sig = 0;
     sigwait(&stop_signals, &sig);

@@ -80,24 +80,27 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o) {
         ->check(parse_check("--background", parse_background));
 }
 
-engine::Scene load_scene(const SceneOptions& o, bool print_warnings) {
+engine::Scene load_scene(const SceneOptions& o, bool print_warnings, bool with_instances) {
     engine::Scene scene;
     if (o.scene.empty()) {
         scene = engine::make_default_scene();
     } else if (engine::is_builtin_scene(o.scene)) {
-        scene = engine::make_builtin_scene(o.scene);
+        scene = engine::make_builtin_scene(o.scene, with_instances);
     } else {
         engine::Warnings warnings;
-        scene = engine::scene_from_mesh(engine::load_mesh(o.scene, warnings), o.scene);
+        engine::MeshInstances placed;
+        engine::Mesh mesh = engine::load_mesh(o.scene, warnings, 0, nullptr, with_instances ? &placed : nullptr);
+        scene = engine::scene_from_mesh(std::move(mesh), o.scene, std::move(placed));
         if (print_warnings) engine::print_warnings(warnings);
     }
+    // Vertex normals are computed on the meshes as they are held (once per instanced part).
     if (o.smooth) engine::compute_smooth_normals(scene.mesh, o.crease_degrees);
     engine::Camera& cam = scene.camera;
     if (o.fov > 0.0f) cam.vfov_degrees = o.fov;
     // A model framed on its bounds is framed again around --up (Z-up scans come out upright).
     const bool framed = !o.scene.empty() && !engine::is_builtin_scene(o.scene);
     if (framed && !o.up.empty() && o.eye.empty() && o.look_at.empty())
-        cam = engine::Camera::framing(scene.mesh.bounds, cam.vfov_degrees, parse_vec3("--up", o.up));
+        cam = engine::Camera::framing(engine::scene_bounds(scene), cam.vfov_degrees, parse_vec3("--up", o.up));
     if (!o.eye.empty()) cam.eye = parse_vec3("--eye", o.eye);
     if (!o.look_at.empty()) cam.look_at = parse_vec3("--look-at", o.look_at);
     if (!o.up.empty()) cam.up = parse_vec3("--up", o.up);

@@ -28,7 +28,9 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o);
 
 /// Loads or makes the scene and applies the options. InputError naming the option or file on
 /// bad input (unparsable vectors, eye == look-at, up parallel to the view, fov outside (0, 180)).
-engine::Scene load_scene(const SceneOptions& o, bool print_warnings = true);
+/// `with_instances`: a glTF file that repeats meshes and a built-in scene of instances keep them
+/// (engine/mesh_instances.h; for commands that trace instances); otherwise they are flattened.
+engine::Scene load_scene(const SceneOptions& o, bool print_warnings = true, bool with_instances = false);
 
 /// Parses "x,y,z" for option `option` (one-line InputError otherwise).
 engine::Vec3f parse_vec3(const std::string& option, const std::string& text);

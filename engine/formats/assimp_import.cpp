@@ -163,6 +163,16 @@ struct Converter {
         }
     }
 
+    /// Every (mesh, node transform) pair in node order, depth first (what walk() places).
+    void placements(const aiNode& node, const aiMatrix4x4& parent, std::vector<std::pair<unsigned, aiMatrix4x4>>& out) {
+        const aiMatrix4x4 m = parent * node.mTransformation;
+        for (unsigned i = 0; i < node.mNumMeshes; ++i)
+            if (node.mMeshes[i] < scene.mNumMeshes && scene.mMeshes[node.mMeshes[i]])
+                out.push_back({node.mMeshes[i], m});
+        for (unsigned c = 0; c < node.mNumChildren; ++c)
+            if (node.mChildren[c]) placements(*node.mChildren[c], m, out);
+    }
+
     void walk(const aiNode& node, const aiMatrix4x4& parent, const std::vector<std::uint32_t>& material_of) {
         const aiMatrix4x4 m = parent * node.mTransformation;
         for (unsigned i = 0; i < node.mNumMeshes; ++i) {
@@ -176,8 +186,50 @@ struct Converter {
 
 }  // namespace
 
+namespace {
+
+accel::Affine to_affine(const aiMatrix4x4& m) {
+    accel::Affine a;
+    a.m = {m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4};
+    return a;
+}
+
+/// The file's meshes once each and their placements, when some mesh is placed twice or more and
+/// every placement is an affine, invertible transform; false (nothing added) otherwise.
+bool import_instanced(Converter& conv, const std::vector<std::uint32_t>& material_of, MeshInstances& out) {
+    std::vector<std::pair<unsigned, aiMatrix4x4>> uses;
+    if (conv.scene.mRootNode) conv.placements(*conv.scene.mRootNode, aiMatrix4x4(), uses);
+    std::vector<unsigned> times(conv.scene.mNumMeshes, 0);
+    bool repeated = false;
+    for (const auto& [id, m] : uses) {
+        repeated |= ++times[id] > 1;
+        // glTF's matrices are affine; a projective row or a singular placement is flattened.
+        if (m.d1 != 0.0f || m.d2 != 0.0f || m.d3 != 0.0f || m.d4 != 1.0f || !accel::check_affine(to_affine(m)).empty())
+            return false;
+    }
+    if (!repeated) return false;
+    std::vector<std::int64_t> part_of(conv.scene.mNumMeshes, -1);
+    for (const auto& [id, m] : uses) {
+        if (part_of[id] < 0) {
+            const Mesh& held = conv.mesh;
+            const auto first = std::uint32_t(held.triangle_count()), v = std::uint32_t(held.vertex_count()),
+                       n = std::uint32_t(held.normals.size()), t = std::uint32_t(held.uvs.size());
+            conv.add(*conv.scene.mMeshes[id], aiMatrix4x4(), material_of[id]);
+            part_of[id] = std::int64_t(out.parts.size());
+            out.parts.push_back({first, std::uint32_t(held.triangle_count()) - first,
+                                 std::uint32_t(held.vertex_count()) - v, std::uint32_t(held.normals.size()) - n,
+                                 std::uint32_t(held.uvs.size()) - t});
+        }
+        const MeshPart& part = out.parts[std::size_t(part_of[id])];
+        if (part.count > 0) out.instances.push_back({std::uint32_t(part_of[id]), to_affine(m)});
+    }
+    return true;
+}
+
+}  // namespace
+
 Mesh import_with_assimp(std::string_view bytes, MeshFormat format, const std::string& name, const std::string& base_dir,
-                        Warnings& warnings, ImportCounts& counts) {
+                        Warnings& warnings, ImportCounts& counts, MeshInstances* instances) {
     Assimp::Importer importer;
     const std::string virtual_name = base_dir + "arbor-input." + extension(format);
     importer.SetIOHandler(new BufferIOSystem(virtual_name, bytes, !base_dir.empty()));  // the importer owns it
@@ -206,7 +258,9 @@ Mesh import_with_assimp(std::string_view bytes, MeshFormat format, const std::st
         }
     }
     Converter conv{name, *scene, format, mesh, {}, {}};
-    if (scene->mRootNode) conv.walk(*scene->mRootNode, aiMatrix4x4(), material_of);
+    if (instances) *instances = {};
+    if (!(instances && gltf && import_instanced(conv, material_of, *instances)) && scene->mRootNode)
+        conv.walk(*scene->mRootNode, aiMatrix4x4(), material_of);
     if (mesh.materials.size() > 1) mesh.material.resize(mesh.triangle_count(), 0);
     else mesh.material.clear();
     if (!mesh.colors.empty()) mesh.colors.resize(mesh.vertex_count(), Vec3f{1.0f});

@@ -9,6 +9,7 @@
 #include "engine/formats/detect.h"
 #include "engine/log.h"
 #include "engine/mesh.h"
+#include "engine/mesh_instances.h"
 
 #include <string>
 #include <string_view>
@@ -25,7 +26,12 @@ struct ImportCounts {
 
 /// InputError "NAME: <format>: <Assimp's message>" when Assimp cannot read the file, and
 /// "NAME: face F refers to vertex I, past the N vertices of its mesh" for an index out of range.
+/// With `instances` (glTF only), a file whose nodes place some mesh more than once, every
+/// transform invertible, comes back as each mesh once (a part, in the order the nodes first
+/// use it) and one instance per (node, mesh) pair in node order, depth first, so that the
+/// triangles are numbered as the flattened file numbers them; other files come back flattened
+/// and `instances` empty.
 Mesh import_with_assimp(std::string_view bytes, MeshFormat format, const std::string& name, const std::string& base_dir,
-                        Warnings& warnings, ImportCounts& counts);
+                        Warnings& warnings, ImportCounts& counts, MeshInstances* instances = nullptr);
 
 }  // namespace arbor::engine::formats
