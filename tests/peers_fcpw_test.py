@@ -18,7 +18,7 @@ if not fcpw_dir:
     print("peers fcpw: skipped (no ARBOR_FCPW checkout)")
     sys.exit(77)
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "scripts"))
-from peers import queries  # noqa: E402
+from peers import meshes, queries  # noqa: E402
 from peers.fcpw_peer import FcpwPeer, compile_shim  # noqa: E402
 
 failures = []
@@ -27,12 +27,6 @@ failures = []
 def check(cond, what):
     if not cond:
         failures.append(what)
-
-
-def cube():
-    v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.float32)
-    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    return v, np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))], np.uint32)
 
 
 def rays(rows):
@@ -46,7 +40,7 @@ try:
 except RuntimeError as e:
     check("--fcpw /nonexistent-fcpw" in str(e), f"the refusal names --fcpw and the directory ({e})")
 shim = compile_shim(fcpw_dir)
-v, f = cube()
+v, f = meshes.unit_cube()
 peer, robust = FcpwPeer(2, fcpw_dir, shim), FcpwPeer(2, fcpw_dir, shim, robust=True)
 for p in (peer, robust):
     check(p.build(v, f) >= 0, f"{p.name} builds")

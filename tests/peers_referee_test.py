@@ -24,16 +24,7 @@ def check(cond, what):
         failures.append(what)
 
 
-def cube():
-    v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.float32)
-    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    f = []
-    for a, b, c, d in quads:
-        f += [(a, b, c), (a, c, d)]
-    return v, np.array(f, np.uint32)
-
-
-v, f = cube()
+v, f = meshes.unit_cube()
 ref = Referee(v, f)
 # Rays: through a face's middle, out the other side; a miss; a ray from inside.
 check(ref.closest_t([0.5, 0.5, -1], [0, 0, 1], 0, np.inf) == 1.0, "closest t through the bottom face")

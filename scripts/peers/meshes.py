@@ -47,3 +47,10 @@ def interior_edges(faces):
 
 def diagonal(verts):
     return float(np.linalg.norm(verts.max(axis=0).astype(np.float64) - verts.min(axis=0)))
+
+
+def unit_cube():
+    """The closed unit cube [0, 1]^3: 8 float32 corners, 12 uint32 triangles turning outwards."""
+    v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.float32)
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    return v, np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))], np.uint32)
