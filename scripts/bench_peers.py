@@ -52,12 +52,8 @@ def main():
             sys.exit(f"bench_peers: {what} {path}: not found")
     sys.path.insert(0, o.python_path)
     sys.path.insert(0, str(ROOT / "scripts"))
-    try:
-        import open3d  # noqa: F401
-    except ImportError:
-        sys.exit("bench_peers: Open3D is missing: apt-get install python3-open3d, and run with /usr/bin/python3")
-    from peers.shim import preload_mask_shim
-    preload_mask_shim()
+    from peers.shim import open3d_with_mask_shim
+    open3d_with_mask_shim("bench_peers")
     from peers.compare import run_model
     from peers.fcpw_peer import compile_shim
     o.fcpw_shim, o.fcpw_missing = None, ""

@@ -146,12 +146,8 @@ def main():
         sys.exit(f"bench_sign_peers: --models {o.models}: not found")
     sys.path.insert(0, o.python_path)
     sys.path.insert(0, str(ROOT / "scripts"))
-    try:
-        import open3d  # noqa: F401
-    except ImportError:
-        sys.exit("bench_sign_peers: Open3D is missing: apt-get install python3-open3d, and run with /usr/bin/python3")
-    from peers.shim import preload_mask_shim
-    preload_mask_shim()
+    from peers.shim import open3d_with_mask_shim
+    open3d_with_mask_shim("bench_sign_peers")
     import arbor
     from peers import meshes, queries
     from peers.referee import Referee
