@@ -66,6 +66,19 @@ Shifted make_ray(const float* o, const float* d, const float* tnear, const float
     return {fcpw::Ray<3>(org, dir / len, span), len};
 }
 
+// Closest hit by `test` (a call of fcpw's on scene, ray and interaction): t in the caller's
+// parametrization, +inf on a miss.
+template <class Test>
+void closest_by(const void* scene, const float* o, const float* d, const float* tnear, const float* tfar,
+                std::int64_t n, float* t_out, int threads, Test test) {
+    const auto& s = *static_cast<const Scene*>(scene);
+    parallel(n, threads, [&](std::int64_t i) {
+        Shifted r = make_ray(o, d, tnear, tfar, i);
+        fcpw::Interaction<3> hit;
+        t_out[i] = test(s, r.ray, hit) ? tnear[i] + hit.d / r.len : std::numeric_limits<float>::infinity();
+    });
+}
+
 }  // namespace
 
 extern "C" {
@@ -100,26 +113,18 @@ void* fcpw_build(const float* verts, std::int64_t nv, const std::uint32_t* faces
 
 void fcpw_free(void* scene) { delete static_cast<Scene*>(scene); }
 
-// Closest hit: t in the caller's parametrization, +inf on a miss.
+// Closest hit through intersect (Moller-Trumbore).
 void fcpw_closest(const void* scene, const float* o, const float* d, const float* tnear, const float* tfar,
                   std::int64_t n, float* t_out, int threads) {
-    const auto& s = *static_cast<const Scene*>(scene);
-    parallel(n, threads, [&](std::int64_t i) {
-        Shifted r = make_ray(o, d, tnear, tfar, i);
-        fcpw::Interaction<3> hit;
-        t_out[i] = s.intersect(r.ray, hit) ? tnear[i] + hit.d / r.len : std::numeric_limits<float>::infinity();
-    });
+    closest_by(scene, o, d, tnear, tfar, n, t_out, threads,
+               [](const Scene& s, auto& ray, fcpw::Interaction<3>& hit) { return s.intersect(ray, hit); });
 }
 
 // Closest hit through intersectRobust, fcpw's watertight test (Woop, Benthin and Wald 2013).
 void fcpw_closest_robust(const void* scene, const float* o, const float* d, const float* tnear, const float* tfar,
                          std::int64_t n, float* t_out, int threads) {
-    const auto& s = *static_cast<const Scene*>(scene);
-    parallel(n, threads, [&](std::int64_t i) {
-        Shifted r = make_ray(o, d, tnear, tfar, i);
-        fcpw::Interaction<3> hit;
-        t_out[i] = s.intersectRobust(r.ray, hit) ? tnear[i] + hit.d / r.len : std::numeric_limits<float>::infinity();
-    });
+    closest_by(scene, o, d, tnear, tfar, n, t_out, threads,
+               [](const Scene& s, auto& ray, fcpw::Interaction<3>& hit) { return s.intersectRobust(ray, hit); });
 }
 
 // Any hit: fcpw's intersect with checkForOcclusion (it stops at the first hit found).
