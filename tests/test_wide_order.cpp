@@ -77,6 +77,17 @@ accel::WideNode<N> random_node(std::mt19937& rng, std::size_t children) {
     return n;
 }
 
+/// The N-wide bvh-sah layout of `m` with one triangle per leaf and no leaves merged.
+template <std::size_t N>
+accel::WideLayout<N> one_leaf_each(const engine::Mesh& m) {
+    accel::BvhBuildConfig bc;
+    bc.max_leaf_size = 1;
+    accel::WideConfig wc;
+    wc.merge_triangles = 1;
+    const accel::PrimRefs refs = accel::make_prim_refs(m.view());
+    return accel::make_wide_layout<N>(accel::build_bvh_sah(refs, bc), m.view(), wc);
+}
+
 }  // namespace
 
 TEST_CASE("wide order: a permutation per node and octant, unused slots first, children far to near") {
@@ -95,12 +106,7 @@ TEST_CASE("wide order: children along the x axis come far to near for rays going
         row.add_triangle(3 * i, 3 * i + 1, 3 * i + 2);
     }
     row.compute_bounds();
-    accel::BvhBuildConfig bc;
-    bc.max_leaf_size = 1;
-    accel::WideConfig wc;
-    wc.merge_triangles = 1;
-    const accel::PrimRefs refs = accel::make_prim_refs(row.view());
-    const auto L = accel::make_wide_layout<16>(accel::build_bvh_sah(refs, bc), row.view(), wc);
+    const auto L = one_leaf_each<16>(row);
     REQUIRE(L.nodes.size() == 1);
     REQUIRE(L.nodes[0].children == 16);
     check_orders<16>(L);
@@ -235,12 +241,7 @@ TEST_CASE("wide order: children with equal keys keep the lower lane nearer in ev
         grid.add_triangle(3 * i, 3 * i + 1, 3 * i + 2);
     }
     grid.compute_bounds();
-    accel::BvhBuildConfig bc;
-    bc.max_leaf_size = 1;
-    accel::WideConfig wc;
-    wc.merge_triangles = 1;
-    const accel::PrimRefs refs = accel::make_prim_refs(grid.view());
-    const auto L = accel::make_wide_layout<16>(accel::build_bvh_sah(refs, bc), grid.view(), wc);
+    const auto L = one_leaf_each<16>(grid);
     REQUIRE(L.nodes.size() == 1);
     REQUIRE(L.nodes[0].children == 16);
     check_orders<16>(L);
