@@ -14,4 +14,19 @@ namespace arbor {
 /// order, for batches too small to gain from it. Sorted in `arena`.
 std::vector<std::uint32_t> spatial_order(const PointArrays& p, CallArena& arena);
 
+/// Visiting position k's point number in `order` (spatial_order's answer; empty: k itself).
+inline std::size_t point_at(const std::vector<std::uint32_t>& order, std::size_t k) {
+    return order.empty() ? k : std::size_t(order[k]);
+}
+
+/// The points visited at positions begin .. end - 1 of `order`, in this thread's buffer.
+inline std::span<const accel::Vec3f> load_points(const PointArrays& p, const std::vector<std::uint32_t>& order,
+                                                 std::size_t begin, std::size_t end) {
+    if (order.empty()) return load_points(p, begin, end);
+    thread_local std::vector<accel::Vec3f> buf;
+    buf.resize(end - begin);
+    for (std::size_t k = begin; k < end; ++k) buf[k - begin] = read_vec3(p.xyz, p.stride, order[k]);
+    return buf;
+}
+
 }  // namespace arbor

@@ -166,20 +166,18 @@ void Scene::closest_point(const PointArrays& points, const PointValues& max_dist
         const accel::Accel& a = impl_->structure();
         // Visited along a curve (api/point_order.h): the k-th point answered is point at(k).
         const std::vector<std::uint32_t> order = spatial_order(points, arena);
-        const auto at = [&](std::size_t k) { return order.empty() ? k : std::size_t(order[k]); };
+        const auto at = [&](std::size_t k) { return point_at(order, k); };
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
-            thread_local std::vector<accel::Vec3f> in;
+            const auto in = load_points(points, order, b, e);
             thread_local std::vector<accel::PointHit> res;
-            in.resize(e - b);
             res.resize(e - b);
-            for (std::size_t k = b; k < e; ++k) in[k - b] = read_vec3(points.xyz, points.stride, at(k));
             // One call of the structure per run of points with the same reach (the whole chunk
             // when one distance is given for all).
             for (std::size_t i = b; i < e;) {
                 const float r = reach(at(i));
                 std::size_t j = i + 1;
                 while (j < e && reach(at(j)) == r) ++j;
-                a.closest_points(std::span(in).subspan(i - b, j - i), r, std::span(res).subspan(i - b, j - i));
+                a.closest_points(in.subspan(i - b, j - i), r, std::span(res).subspan(i - b, j - i));
                 i = j;
             }
             for (std::size_t k = b; k < e; ++k) {

@@ -4,6 +4,7 @@
 #include "accel/core/closed_mesh.h"
 #include "accel/interface/inside.h"
 #include "api/batch.h"
+#include "api/point_order.h"
 
 #include <cmath>
 #include <limits>
@@ -133,17 +134,20 @@ void Scene::signed_distance(const PointArrays& points, float* out, InsideMethod 
         check_points(points, out, "signed_distance");
         const std::unique_ptr<WindingSource> w = method_source(*impl_, arena, method, winding, "signed_distance");
         const accel::Accel& a = impl_->structure();
+        // Visited along a curve, as closest_point does (api/point_order.h): the answers do not
+        // depend on the order.
+        const std::vector<std::uint32_t> order = spatial_order(points, arena);
         for_chunks(arena, points.count, point_chunk, [&](std::size_t b, std::size_t e) {
-            const auto in = load_points(points, b, e);
+            const auto in = load_points(points, order, b, e);
             thread_local std::vector<accel::PointHit> near;
             thread_local std::vector<std::uint8_t> res;
             near.resize(in.size());
             res.resize(in.size());
             a.closest_points(in, std::numeric_limits<float>::infinity(), near);
             inside_chunk(*impl_, a, w.get(), in, res);
-            for (std::size_t i = b; i < e; ++i) {
-                const float d = near[i - b].distance;  // +inf: nothing found (empty scene, non-finite point)
-                out[i] = res[i - b] && std::isfinite(d) ? -d : d;
+            for (std::size_t k = b; k < e; ++k) {
+                const float d = near[k - b].distance;  // +inf: nothing found (empty scene, non-finite point)
+                out[point_at(order, k)] = res[k - b] && std::isfinite(d) ? -d : d;
             }
         });
     });
