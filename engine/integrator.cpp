@@ -65,6 +65,16 @@ Vec3f carry_normal(const accel::Affine& inv, const Vec3f& n) {
     return len > 0.0f && std::isfinite(len) ? w / len : n;
 }
 
+/// What a surface takes from its hit's geometry `g` and its triangle's material (`prim`: the
+/// scene's triangle number); the shading normal starts as the geometric one.
+void set_geometry(const RenderContext& ctx, const HitGeometry& g, std::uint32_t prim, Surface& s) {
+    s.normal = s.shading = g.normal;
+    s.position = g.position;
+    s.scale = g.scale;
+    s.material = &ctx.material(prim);
+    s.albedo = s.material->diffuse;
+}
+
 /// The shading of an instance's hit: the corners carried to the world as flatten() carries them
 /// (so position, geometric normal and offsets are the flattened scene's), the vertex attributes
 /// read from the mesh in object space, where the geometric normal turned to the ray is A^T n
@@ -83,11 +93,7 @@ Surface placed_surface(const RenderContext& ctx, const Ray& ray, const Hit& hit,
     }
     const HitGeometry g = hit_geometry(w[0], w[1], w[2], ray, hit, plan.position);
     if (!g.valid) return s;
-    s.normal = s.shading = g.normal;
-    s.position = g.position;
-    s.scale = g.scale;
-    s.material = &ctx.material(pp.prim);
-    s.albedo = s.material->diffuse;
+    set_geometry(ctx, g, pp.prim, s);
     const Barycentrics b = barycentrics(hit.u, hit.v);
     Vec3f ng_obj{0.0f};
     if (plan.vertex_normals) {
@@ -128,11 +134,7 @@ Surface surface_at(const RenderContext& ctx, const Ray& ray, const Hit& hit) {
     const Mesh& mesh = ctx.scene.mesh;
     const HitGeometry g = hit_geometry(mesh.view(), ray, hit, plan.position);
     if (!g.valid) return s;  // zero-area or overflowing: ignore the hit
-    s.normal = s.shading = g.normal;
-    s.position = g.position;
-    s.scale = g.scale;
-    s.material = &ctx.material(hit.prim);
-    s.albedo = s.material->diffuse;
+    set_geometry(ctx, g, hit.prim, s);
     const Barycentrics b = barycentrics(hit.u, hit.v);
     if (plan.vertex_normals) s.shading = shading_normal(mesh, hit.prim, b, g.normal);
     if (plan.textures || plan.vertex_colors) s.albedo = albedo_at(mesh, *s.material, hit.prim, b, plan.textures, plan.vertex_colors);
