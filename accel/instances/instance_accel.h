@@ -114,7 +114,8 @@ private:
     WorldSeams world_seams(const Placement& p) const;
     /// The world rays of group [b, e) of `g` (closest hits: up to their best hit so far), the seam
     /// structure's answers merged into `hits` with the mesh's global triangle numbers.
-    void trace_seams(std::size_t k, std::span<const Ray> rays, std::span<Hit> hits, const Groups& g, Query query) const;
+    void trace_seams(std::size_t k, std::span<const Ray> rays, std::span<Hit> hits, const Groups& g,
+                     const TraceRequest& req) const;
 
     std::vector<Bottom> bottoms_;
     std::vector<SeamSet> seams_;       ///< per mesh
