@@ -1,10 +1,11 @@
 // `arbor-bench limit`: the two halves of the limit model (docs/benchmarks.md, "Distance to the
 // limit"; scripts/limit_model.py puts them together with `arbor trace`'s achieved rays/s):
 //
-//   arbor-bench limit kernels [--bandwidth-mib M]
+//   arbor-bench limit kernels [--bandwidth-mib M] [--cache-mib C]
 //       the wide node test and the triangle block test timed with hot caches at every width of
 //       the build (checked against the scalar oracles first), the TSC rate, the streaming read
-//       bandwidth at 1 and 2 threads, and the bytes of a node and a block; one JSON line.
+//       bandwidth from memory and from the last-level cache at 1 and 2 threads, and the bytes of a
+//       node and a block; one JSON line.
 //   arbor-bench limit count --scene MODEL --rays FILE.rays [--accel NAME] [--occluded]
 //       the structure built as `arbor trace` builds it, every ray walked by the counted single-ray
 //       walk of its N-wide layout (WideBvhAccel::trace_counted): node tests, blocks and triangles
@@ -37,7 +38,7 @@ namespace {
 
 using nlohmann::json;
 
-json kernels_json(std::size_t bandwidth_mib) {
+json kernels_json(std::size_t bandwidth_mib, std::size_t cache_mib) {
     const double ghz = perf::tsc_ghz();
     json out;
     out["tsc_ghz"] = ghz;
@@ -56,8 +57,10 @@ json kernels_json(std::size_t bandwidth_mib) {
                                   {"checked_lanes", k.checked_tests},
                                   {"box_hit_fraction", k.box_hit_fraction},
                                   {"block_hit_fraction", k.block_hit_fraction}});
-    const perf::Bandwidth b = perf::measure_bandwidth(bandwidth_mib);
-    out["bandwidth"] = {{"buffer_mib", b.buffer_mib}, {"gbs_1_thread", b.gbs_1}, {"gbs_2_threads", b.gbs_2}};
+    const perf::Bandwidth b = perf::measure_bandwidth(bandwidth_mib, cache_mib);
+    out["bandwidth"] = {{"buffer_mib", b.buffer_mib},       {"gbs_1_thread", b.gbs_1},
+                        {"gbs_2_threads", b.gbs_2},         {"cache_mib", b.cache_mib},
+                        {"cache_gbs_1_thread", b.cache_gbs_1}, {"cache_gbs_2_threads", b.cache_gbs_2}};
     // Bytes a walk reads per node (its boxes, children, counts, and its order row for the ray's
     // octant) and per block (the SoA vertices; the ids only for a hit), per width.
     out["bytes"] = json::array();
@@ -145,17 +148,18 @@ int usage_error(const std::string& message) {
 int arbor::perf::limit_command(int argc, char** argv) {
     if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
         std::fprintf(argc < 2 ? stderr : stdout,
-                     "Usage: arbor-bench limit kernels [--bandwidth-mib M]\n"
+                     "Usage: arbor-bench limit kernels [--bandwidth-mib M] [--cache-mib C]\n"
                      "       arbor-bench limit count --scene MODEL --rays FILE.rays [--accel NAME] [--occluded]\n");
         return argc < 2 ? 2 : 0;
     }
     const std::string sub = argv[1];
     CLI::App app{"arbor-bench limit " + sub};
-    std::size_t mib = 512;
+    std::size_t mib = 512, cache_mib = 8;
     std::string scene, rays, accel_name = "bvh-sah";
     bool occluded = false;
     if (sub == "kernels") {
-        app.add_option("--bandwidth-mib", mib, "buffer of the streaming read, MiB")->check(CLI::Range(64, 65536));
+        app.add_option("--bandwidth-mib", mib, "buffer of the streaming read from memory, MiB")->check(CLI::Range(64, 65536));
+        app.add_option("--cache-mib", cache_mib, "buffer of the streaming read from the caches, MiB")->check(CLI::Range(1, 64));
     } else if (sub == "count") {
         app.add_option("--scene", scene, "model file")->required();
         app.add_option("--rays", rays, ".rays file")->required();
@@ -170,7 +174,7 @@ int arbor::perf::limit_command(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     try {
-        const json out = sub == "kernels" ? kernels_json(mib) : count_json(scene, rays, accel_name, occluded);
+        const json out = sub == "kernels" ? kernels_json(mib, cache_mib) : count_json(scene, rays, accel_name, occluded);
         std::printf("%s\n", out.dump().c_str());
         return 0;
     } catch (const std::invalid_argument& e) {

@@ -30,7 +30,7 @@ using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t ray_count = 256;  // distinct rays
 constexpr std::size_t geom_count = 32;  // distinct nodes / blocks: 16 KiB of 16-wide nodes, 18 KiB of blocks (L1)
-constexpr int timing_runs = 7;
+constexpr int timing_runs = 101;  // short timings, many: on a loaded machine some run is not preempted
 
 /// Keeps `v` alive: the compiler must compute it, and cannot move the work out of the loop.
 template <class X> inline void keep(const X& v) { asm volatile("" : : "m"(v) : "memory"); }
@@ -54,8 +54,9 @@ std::vector<TestRay> test_rays() {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// The best (least) and the median of `runs` timings of `work` (seconds each).
+/// The best (least) and the median of `runs` timings, after one untimed run, of `work` (seconds each).
 template <class Work> std::pair<double, double> best_and_median(Work&& work, int runs = timing_runs) {
+    work();  // warm-up: caches, and the clock's ramp
     std::vector<double> s;
     for (int i = 0; i < runs; ++i) {
         const auto t0 = Clock::now();
@@ -123,29 +124,30 @@ template <class T> KernelTimes time_kernels(double tsc_ghz) {
     k.block_hit_fraction = double(block_any) / tests;
     (void)tri_hits;
 
-    const int loops = 40;  // ~330k tests per timing
+    const int loops = 8;  // 65536 tests per timing (0.1-2 ms)
     // Throughput: independent tests back to back (the out-of-order core overlaps them).
     const auto [node_best, node_median] = best_and_median([&] {
         std::uint32_t acc = 0;
         for (int rep = 0; rep < loops; ++rep)
             for (const WideRay<T>& w : wide)
                 for (const BoxesSoA<n>& node : nodes) {
-                    T t;
+                    T t;  // (the mask is computed from the entry and exit distances: t is computed too)
                     acc += to_bits(ray_boxes_plain<T>(w, &node.b[0][0][0], t));
-                    keep(t);
                 }
         keep(acc);
     });
     const auto [tri_best, tri_median] = best_and_median([&] {
         std::uint32_t acc = 0;
+        T sum(0.0f);  // t, u and v used, so that the division is kept (one add chain: far below a test's time)
         for (int rep = 0; rep < loops; ++rep)
             for (const WideRay<T>& w : wide)
                 for (const TrisSoA<n>& b : blocks) {
                     const TriHit<T> h = ray_triangles<T, true>(w, &b.v[0][0][0]);
                     acc += to_bits(h.hit);
-                    keep(h.t);
+                    sum += select(h.hit, h.t + h.u + h.v, T(0.0f));
                 }
         keep(acc);
+        keep(sum);
     });
     // Latency: each test's node chosen by the previous test's outcome, as in a walk (one ray's
     // steps depend on each other).
@@ -170,8 +172,8 @@ template <class T> KernelTimes time_kernels(double tsc_ghz) {
     return k;
 }
 
-/// GB/s of a streaming read of `bytes` by `threads` threads (each a contiguous part), best of 5.
-double read_bandwidth(const float* data, std::size_t floats, unsigned threads) {
+/// GB/s of a streaming read of `floats` floats by `threads` threads (each a contiguous part), best of `runs`.
+double read_bandwidth(const float* data, std::size_t floats, unsigned threads, int runs) {
     const auto part = [&](std::size_t lo, std::size_t hi, float* out) {
         using F = FloatV;
         constexpr std::size_t w = lanes<F>;
@@ -195,7 +197,7 @@ double read_bandwidth(const float* data, std::size_t floats, unsigned threads) {
             keep(sums[0]);
             if (std::fabs(sums[0] - float(step)) > 1e-3f * float(step)) throw std::runtime_error("limit kernels: the bandwidth read summed wrong");
         },
-        5);
+        runs);
     (void)median;
     return double(floats / threads / 64 * 64 * threads) * sizeof(float) / best / 1e9;
 }
@@ -223,7 +225,7 @@ std::vector<KernelTimes> time_wide_kernels(double ghz) {
     return out;
 }
 
-Bandwidth measure_bandwidth(std::size_t mib) {
+Bandwidth measure_bandwidth(std::size_t mib, std::size_t cache_mib) {
     // 1.0 in every float (so the sums check the read), pages touched before the timing.
     const std::size_t floats = mib * 1024 * 1024 / sizeof(float);
     std::unique_ptr<float[], decltype(&std::free)> buf(static_cast<float*>(std::aligned_alloc(64, floats * sizeof(float))),
@@ -232,8 +234,13 @@ Bandwidth measure_bandwidth(std::size_t mib) {
     std::fill(buf.get(), buf.get() + floats, 1.0f);
     Bandwidth b;
     b.buffer_mib = mib;
-    b.gbs_1 = read_bandwidth(buf.get(), floats, 1);
-    b.gbs_2 = read_bandwidth(buf.get(), floats, 2);
+    b.gbs_1 = read_bandwidth(buf.get(), floats, 1, 15);
+    b.gbs_2 = read_bandwidth(buf.get(), floats, 2, 15);
+    // The first cache_mib of it, read again and again (the untimed first run brings it in).
+    b.cache_mib = std::min(cache_mib, mib);
+    const std::size_t cache_floats = b.cache_mib * 1024 * 1024 / sizeof(float);
+    b.cache_gbs_1 = read_bandwidth(buf.get(), cache_floats, 1, 101);
+    b.cache_gbs_2 = read_bandwidth(buf.get(), cache_floats, 2, 101);
     return b;
 }
 

@@ -8,7 +8,7 @@
 
 namespace arbor::perf {
 
-/// The kernels of width `width`: best (least) and median of 7 timings, in ns per test; cycles are
+/// The kernels of width `width`: best (least) and median of 101 short timings, in ns per test; cycles are
 /// TSC (reference) cycles, ns x the TSC's rate: the VM has no core cycle counter.
 struct KernelTimes {
     std::size_t width = 0;
@@ -20,9 +20,12 @@ struct KernelTimes {
     double block_hit_fraction = 0;    ///< of the blocks tested, those with a hit (no early out)
 };
 
+/// GB/s (1e9 bytes) of a streaming read by 1 and 2 threads: of a buffer far larger than the caches
+/// (memory; best of 15) and of one that stays in the last-level cache (cache; best of 101).
 struct Bandwidth {
-    std::size_t buffer_mib = 0;
-    double gbs_1 = 0, gbs_2 = 0;  ///< GB/s (1e9 bytes) of a streaming read by 1 and 2 threads, best of 5
+    std::size_t buffer_mib = 0, cache_mib = 0;
+    double gbs_1 = 0, gbs_2 = 0;
+    double cache_gbs_1 = 0, cache_gbs_2 = 0;
 };
 
 /// The TSC's rate in GHz, against the steady clock over 0.1 s.
@@ -30,7 +33,8 @@ double tsc_ghz();
 /// The kernels at every width this build has (16 with AVX-512, 8 with AVX2, 4). Throws
 /// std::runtime_error when a kernel's answer differs from the scalar oracle's.
 std::vector<KernelTimes> time_wide_kernels(double tsc_ghz);
-/// The streaming read of a buffer of `mib` MiB (far larger than the caches).
-Bandwidth measure_bandwidth(std::size_t mib);
+/// The streaming read of a buffer of `mib` MiB (far larger than the caches) and of one of
+/// `cache_mib` MiB (read once before the timing, so that it is in the caches).
+Bandwidth measure_bandwidth(std::size_t mib, std::size_t cache_mib);
 
 }  // namespace arbor::perf
