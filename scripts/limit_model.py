@@ -12,7 +12,9 @@ Inputs, all measured in the one run:
   - `arbor-bench limit count`: node tests, blocks and triangles per ray of the counted single-ray
     walk of the structure's N-wide layout (the path trace_single walks; hits checked bit for bit
     against TracePath::single's);
-  - `arbor trace --threads T --repeat R --json`: the achieved rays/s (median) on the default path.
+  - `arbor trace --threads T --repeat R --json`: the achieved rays/s (median) on the default path,
+    and again with `--path single` (the walk the counts are of: the default path of coherent
+    kinds is the packet walk, which tests a node once for up to 16 rays).
 
 The model, per ray:
   compute (hot caches) = node_tests x t_node + blocks x t_block        (one thread)
@@ -66,6 +68,67 @@ def run_json(cmd, env=None):
     return json.loads(lines[-1])
 
 
+def model_row(c, t, t1, kernels, bw, threads, what):
+    """The model of one (model, kind, structure): `c` the counts (`limit count`), `t` and `t1` the
+    `arbor trace` JSON of the default and the single path, `kernels` the kernel times by width and
+    `bw` the bandwidths (`limit kernels`)."""
+    width = need(c, "width", "limit count " + what)
+    if width not in kernels:
+        fail(f"no kernel time of width {width} (kernels measured: {sorted(kernels)})")
+    k = kernels[width]
+    nodes = need(c, "node_tests_per_ray", "limit count " + what)
+    blocks = need(c, "blocks_per_ray", "limit count " + what)
+    tris = need(c, "triangles_per_ray", "limit count " + what)
+    if nodes <= 0 or not blocks * width >= tris >= blocks:
+        fail(f"limit count {what}: implausible counts {c}")
+    suffix = "2_threads" if threads == 2 else "1_thread"
+    dram = need(bw, "gbs_" + suffix, "bandwidth") * 1e9
+    cache = need(bw, "cache_gbs_" + suffix, "bandwidth") * 1e9
+    compute_ns = nodes * need(k, "node_ns", "kernels") + blocks * need(k, "block_ns", "kernels")
+    serial_ns = nodes * need(k, "node_chain_ns", "kernels") + blocks * need(k, "block_ns", "kernels")
+    traffic = nodes * need(c, "node_bytes", "limit count " + what) + blocks * need(c, "block_bytes", "limit count " + what)
+    layout = need(c, "layout_bytes", "limit count " + what)
+    resident = layout <= need(bw, "cache_mib", "bandwidth") * 2**20
+    compute_limit = threads / (compute_ns * 1e-9)
+    memory_limit = (cache if resident else dram) / traffic
+    limit = min(compute_limit, memory_limit)
+    achieved = need(t, "mrays_per_s", "arbor trace " + what) * 1e6
+    single = need(t1, "mrays_per_s", "arbor trace --path single " + what) * 1e6
+    return dict(rays=need(c, "rays", "limit count " + what), path=need(t, "path", "arbor trace " + what), width=width,
+                nodes=nodes, blocks=blocks, tris=tris, compute_ns=compute_ns, serial_ns=serial_ns, traffic=traffic,
+                layout_mib=layout / 2**20, compute_limit=compute_limit, memory_limit=memory_limit, limit=limit,
+                bound="compute" if compute_limit <= memory_limit else ("cache" if resident else "memory"),
+                achieved=achieved, fraction=achieved / limit, single=single, single_fraction=single / limit,
+                dram_fraction=achieved / (dram / traffic), serial_fraction=achieved / (threads / (serial_ns * 1e-9)))
+
+
+def self_test():
+    """The model on made-up inputs, and a missing counter refused (exit 1)."""
+    kernels = {16: dict(node_ns=2.0, block_ns=8.0, node_chain_ns=10.0)}
+    bw = dict(gbs_2_threads=20.0, gbs_1_thread=20.0, cache_gbs_2_threads=50.0, cache_gbs_1_thread=50.0, cache_mib=8)
+    c = dict(width=16, rays=100, node_tests_per_ray=4.0, blocks_per_ray=2.0, triangles_per_ray=20.0, node_bytes=528,
+             block_bytes=640, layout_bytes=4 * 2**20)
+    r = model_row(c, dict(mrays_per_s=10.0, path="packet"), dict(mrays_per_s=5.0), kernels, bw, 2, "self-test")
+    # compute 4 x 2 + 2 x 8 = 24 ns; bytes 4 x 528 + 2 x 640 = 3392 from the cache: 50e9 / 3392 rays/s
+    ok = abs(r["compute_ns"] - 24.0) < 1e-9 and r["traffic"] == 3392 and r["bound"] == "cache"
+    ok = ok and abs(r["limit"] - 50e9 / 3392) < 1.0 and abs(r["fraction"] - 10e6 / (50e9 / 3392)) < 1e-9
+    c_big = dict(c, layout_bytes=64 * 2**20)
+    ok = ok and model_row(c_big, dict(mrays_per_s=1, path="single"), dict(mrays_per_s=1), kernels, bw, 2, "big")["bound"] == "memory"
+    if not ok:
+        print(f"self-test: the model computed {r}", file=sys.stderr)
+        return 1
+    for broken in ({k: v for k, v in c.items() if k != "blocks_per_ray"}, dict(c, node_tests_per_ray=None)):
+        p = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); import limit_model as m; "
+                            "m.model_row(" + repr(broken) + ", {'mrays_per_s': 1, 'path': 'single'}, {'mrays_per_s': 1}, "
+                            + repr(kernels) + ", " + repr(bw) + ", 2, 'x')", os.path.dirname(os.path.abspath(__file__))],
+                           capture_output=True, text=True)
+        if p.returncode != 1 or "missing counter" not in p.stderr:
+            print(f"self-test: a missing counter was not refused (exit {p.returncode}): {p.stderr}", file=sys.stderr)
+            return 1
+    print("self-test: passed")
+    return 0
+
+
 def shared_scenes_of(build):
     """The ARBOR_SHARED_SCENES the build was configured with (its CMakeCache.txt), or None."""
     try:
@@ -95,7 +158,10 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--rays-dir", default=os.path.join(root, "build", "rays-limit"))
+    ap.add_argument("--self-test", action="store_true", help="check the model's arithmetic and its refusals, then exit")
     a = ap.parse_args()
+    if a.self_test:
+        sys.exit(self_test())
     kinds = a.kinds.split(",")
     for k in kinds:
         if k not in KINDS:
@@ -116,11 +182,7 @@ def main():
     machine = run_json([bench, "limit", "kernels"])
     kernels = {need(k, "width", "kernels"): k for k in need(machine, "kernels", "limit kernels")}
     bytes_by_width = {need(b, "width", "bytes"): b for b in need(machine, "bytes", "limit kernels")}
-    bw = need(machine, "bandwidth", "limit kernels")
-    suffix = "2_threads" if a.threads == 2 else "1_thread"
-    dram = need(bw, "gbs_" + suffix, "bandwidth") * 1e9
-    cache = need(bw, "cache_gbs_" + suffix, "bandwidth") * 1e9
-    cache_bytes = need(bw, "cache_mib", "bandwidth") * 1024 * 1024
+    bw = machine_bw = need(machine, "bandwidth", "limit kernels")
 
     rows = []
     for model in a.models.split(","):
@@ -133,38 +195,18 @@ def main():
             for s in a.structures.split(","):
                 occ = ["--occluded"] if occluded else []
                 c = run_json([bench, "limit", "count", "--scene", model, "--rays", rays, "--accel", s, *occ], env)
-                t = run_json([arbor, "trace", "--scene", model, "--rays", rays, "--accel", s, "--threads", str(a.threads),
-                              "--repeat", str(a.repeat), "--json", *occ], env)
-                what = f"limit count {stem} {kind} {s}"
-                width = need(c, "width", what)
-                if width not in kernels:
-                    fail(f"no kernel time of width {width} (kernels measured: {sorted(kernels)})")
-                k = kernels[width]
-                nodes = need(c, "node_tests_per_ray", what)
-                blocks = need(c, "blocks_per_ray", what)
-                tris = need(c, "triangles_per_ray", what)
-                if need(c, "rays", what) != a.rays or nodes <= 0:
-                    fail(f"{what}: implausible counts {c}")
-                compute_ns = nodes * need(k, "node_ns", "kernels") + blocks * need(k, "block_ns", "kernels")
-                serial_ns = nodes * need(k, "node_chain_ns", "kernels") + blocks * need(k, "block_ns", "kernels")
-                traffic = nodes * need(c, "node_bytes", what) + blocks * need(c, "block_bytes", what)
-                resident = need(c, "layout_bytes", what) <= cache_bytes
-                compute_limit = a.threads / (compute_ns * 1e-9)
-                memory_limit = (cache if resident else dram) / traffic
-                dram_limit = dram / traffic
-                serial_limit = a.threads / (serial_ns * 1e-9)
-                limit = min(compute_limit, memory_limit)
-                achieved = need(t, "mrays_per_s", f"arbor trace {stem} {kind} {s}") * 1e6
-                rows.append(dict(model=stem, kind=kind, structure=s, path=need(t, "path", "arbor trace"), width=width,
-                                 nodes=nodes, blocks=blocks, tris=tris, compute_ns=compute_ns, serial_ns=serial_ns,
-                                 traffic=traffic, layout_mib=c["layout_bytes"] / 2**20,
-                                 compute_limit=compute_limit, memory_limit=memory_limit, limit=limit,
-                                 bound="compute" if compute_limit <= memory_limit else ("cache" if resident else "memory"),
-                                 achieved=achieved, fraction=achieved / limit, dram_fraction=achieved / dram_limit,
-                                 serial_fraction=achieved / serial_limit))
+                trace = [arbor, "trace", "--scene", model, "--rays", rays, "--accel", s, "--threads", str(a.threads),
+                         "--repeat", str(a.repeat), "--json", *occ]
+                t = run_json(trace, env)
+                t1 = run_json(trace + ["--path", "single"], env)  # the path the counts are of
+                what = f"{stem} {kind} {s}"
+                rows.append(model_row(c, t, t1, kernels, machine_bw, a.threads, what))
+                rows[-1].update(model=stem, kind=kind, structure=s)
+                if rows[-1]["rays"] != a.rays:
+                    fail(f"limit count {what}: {rows[-1]['rays']} rays counted, the file holds {a.rays}")
                 r = rows[-1]
-                print(f"{stem} {kind} {s}: {nodes:.1f} nodes {blocks:.2f} blocks, limit {limit / 1e6:.1f} Mrays/s "
-                      f"({r['bound']}), achieved {achieved / 1e6:.2f} ({r['fraction']:.2f})", file=sys.stderr)
+                print(f"{what}: {r['nodes']:.1f} nodes {r['blocks']:.2f} blocks, limit {r['limit'] / 1e6:.1f} Mrays/s "
+                      f"({r['bound']}), achieved {r['achieved'] / 1e6:.2f} ({r['fraction']:.2f})", file=sys.stderr)
     load_after = loadavg()
 
     git = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
@@ -196,16 +238,18 @@ def main():
                "(wide node tests, triangle blocks tested, the triangles in them); layout: MiB of the wide layout; "
                "compute: ns per ray with hot caches (1 thread); bytes: node and block bytes per ray (cold traffic, an "
                "upper bound); limit: the roofline min(compute rate, bytes rate of the level that holds the layout), "
-               "bound: which; achieved: `arbor trace`, on its default path; fraction = achieved / limit; "
+               "bound: which; achieved: `arbor trace`, on its default path (`path`: the one it took); fraction = "
+               "achieved / limit; single: `arbor trace --path single`, the path the counts are of, and its fraction; "
                "of DRAM: achieved / (memory bandwidth / bytes), every byte from memory; chained: achieved / the "
                "compute rate with chained node tests.\n")
-    out.append("| model | kind | structure | path | nodes | blocks | tris | layout MiB | compute ns | bytes | compute Mrays/s | bytes Mrays/s | limit Mrays/s | achieved Mrays/s | fraction | of DRAM | chained |")
-    out.append("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    out.append("| model | kind | structure | path | nodes | blocks | tris | layout MiB | compute ns | bytes | compute Mrays/s | bytes Mrays/s | limit Mrays/s | achieved Mrays/s | fraction | single Mrays/s | single fraction | of DRAM | chained |")
+    out.append("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in rows:
         out.append(f"| {r['model']} | {r['kind']} | {r['structure']} | {r['path']} | {r['nodes']:.1f} | {r['blocks']:.2f} | "
                    f"{r['tris']:.1f} | {r['layout_mib']:.1f} | {r['compute_ns']:.1f} | {r['traffic']:.0f} | "
                    f"{r['compute_limit'] / 1e6:.0f} | {r['memory_limit'] / 1e6:.0f} | {r['limit'] / 1e6:.0f} ({r['bound']}) | "
-                   f"{r['achieved'] / 1e6:.2f} | {r['fraction']:.3f} | {r['dram_fraction']:.2f} | {r['serial_fraction']:.2f} |")
+                   f"{r['achieved'] / 1e6:.2f} | {r['fraction']:.2f} | {r['single'] / 1e6:.2f} | {r['single_fraction']:.2f} | "
+                   f"{r['dram_fraction']:.2f} | {r['serial_fraction']:.2f} |")
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     with open(a.out, "w") as f:
         f.write("\n".join(out) + "\n")
