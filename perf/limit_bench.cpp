@@ -58,9 +58,12 @@ json kernels_json(std::size_t bandwidth_mib, std::size_t cache_mib) {
                                   {"box_hit_fraction", k.box_hit_fraction},
                                   {"block_hit_fraction", k.block_hit_fraction}});
     const perf::Bandwidth b = perf::measure_bandwidth(bandwidth_mib, cache_mib);
-    out["bandwidth"] = {{"buffer_mib", b.buffer_mib},       {"gbs_1_thread", b.gbs_1},
-                        {"gbs_2_threads", b.gbs_2},         {"cache_mib", b.cache_mib},
-                        {"cache_gbs_1_thread", b.cache_gbs_1}, {"cache_gbs_2_threads", b.cache_gbs_2}};
+    out["bandwidth"] = {{"buffer_mib", b.buffer_mib},
+                        {"gbs_1_thread", b.gbs_1},
+                        {"gbs_2_threads", b.gbs_2},
+                        {"cache_mib", b.cache_mib},
+                        {"cache_gbs_1_thread", b.cache_gbs_1},
+                        {"cache_gbs_2_threads", b.cache_gbs_2}};
     // Bytes a walk reads per node (its boxes, children, counts, and its order row for the ray's
     // octant) and per block (the SoA vertices; the ids only for a hit), per width.
     out["bytes"] = json::array();
@@ -125,7 +128,8 @@ json count_json(const std::string& scene, const std::string& rays_path, const st
     cfg.layouts = accel::Layouts::simd;  // as `arbor trace --path best` builds it
     const auto built = accel::make_accel(*kind, mesh.view(), cfg);
     const accel::Query query = occluded ? accel::Query::any : accel::Query::closest;
-    json out{{"scene", scene}, {"rays_file", rays_path}, {"accel", accel_name}, {"query", occluded ? "any" : "closest"}};
+    json out{
+        {"scene", scene}, {"rays_file", rays_path}, {"accel", accel_name}, {"query", occluded ? "any" : "closest"}};
     bool done = false;
 #if XSIMD_WITH_AVX512F
     done = done || count_width<16>(*built, rays, query, out);
@@ -134,7 +138,8 @@ json count_json(const std::string& scene, const std::string& rays_path, const st
     done = done || count_width<8>(*built, rays, query, out);
 #endif
     done = done || count_width<4>(*built, rays, query, out);
-    if (!done) throw std::runtime_error("limit count: " + accel_name + " was not built as a wide BVH (no counted walk)");
+    if (!done)
+        throw std::runtime_error("limit count: " + accel_name + " was not built as a wide BVH (no counted walk)");
     return out;
 }
 
@@ -158,8 +163,10 @@ int arbor::perf::limit_command(int argc, char** argv) {
     std::string scene, rays, accel_name = "bvh-sah";
     bool occluded = false;
     if (sub == "kernels") {
-        app.add_option("--bandwidth-mib", mib, "buffer of the streaming read from memory, MiB")->check(CLI::Range(64, 65536));
-        app.add_option("--cache-mib", cache_mib, "buffer of the streaming read from the caches, MiB")->check(CLI::Range(1, 64));
+        app.add_option("--bandwidth-mib", mib, "buffer of the streaming read from memory, MiB")
+            ->check(CLI::Range(64, 65536));
+        app.add_option("--cache-mib", cache_mib, "buffer of the streaming read from the caches, MiB")
+            ->check(CLI::Range(1, 64));
     } else if (sub == "count") {
         app.add_option("--scene", scene, "model file")->required();
         app.add_option("--rays", rays, ".rays file")->required();
@@ -174,7 +181,8 @@ int arbor::perf::limit_command(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     try {
-        const json out = sub == "kernels" ? kernels_json(mib, cache_mib) : count_json(scene, rays, accel_name, occluded);
+        const json out =
+            sub == "kernels" ? kernels_json(mib, cache_mib) : count_json(scene, rays, accel_name, occluded);
         std::printf("%s\n", out.dump().c_str());
         return 0;
     } catch (const std::invalid_argument& e) {

@@ -30,13 +30,18 @@ using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t ray_count = 256;  // distinct rays
 constexpr std::size_t geom_count = 32;  // distinct nodes / blocks: 16 KiB of 16-wide nodes, 18 KiB of blocks (L1)
-constexpr int timing_runs = 101;  // short timings, many: on a loaded machine some run is not preempted
+constexpr int timing_runs = 101;        // short timings, many: on a loaded machine some run is not preempted
 
 /// Keeps `v` alive: the compiler must compute it, and cannot move the work out of the loop.
-template <class X> inline void keep(const X& v) { asm volatile("" : : "m"(v) : "memory"); }
+template <class X>
+inline void keep(const X& v) {
+    asm volatile("" : : "m"(v) : "memory");
+}
 
 float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
-Vec3f uniform3(std::mt19937& rng, float lo, float hi) { return {uniform(rng, lo, hi), uniform(rng, lo, hi), uniform(rng, lo, hi)}; }
+Vec3f uniform3(std::mt19937& rng, float lo, float hi) {
+    return {uniform(rng, lo, hi), uniform(rng, lo, hi), uniform(rng, lo, hi)};
+}
 
 struct TestRay {
     Vec3f org, dir;
@@ -55,7 +60,8 @@ std::vector<TestRay> test_rays() {
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// The best (least) and the median of `runs` timings, after one untimed run, of `work` (seconds each).
-template <class Work> std::pair<double, double> best_and_median(Work&& work, int runs = timing_runs) {
+template <class Work>
+std::pair<double, double> best_and_median(Work&& work, int runs = timing_runs) {
     work();  // warm-up: caches, and the clock's ramp
     std::vector<double> s;
     for (int i = 0; i < runs; ++i) {
@@ -70,7 +76,8 @@ template <class Work> std::pair<double, double> best_and_median(Work&& work, int
 /// Kernel times of width N: the node test (ray_boxes_plain, as the walk's plain rays take it) and
 /// the block test (ray_triangles with the walk's early out), each checked lane by lane against the
 /// scalar oracles (slab_test, woop_test) on the benchmark's inputs first.
-template <class T> KernelTimes time_kernels(double tsc_ghz) {
+template <class T>
+KernelTimes time_kernels(double tsc_ghz) {
     constexpr std::size_t n = lanes<T>;
     const std::vector<TestRay> rays = test_rays();
     std::mt19937 rng(5);
@@ -81,7 +88,8 @@ template <class T> KernelTimes time_kernels(double tsc_ghz) {
             const Vec3f lo = uniform3(rng, -1.0f, 0.6f);
             nodes[g].set(l, lo, lo + uniform3(rng, 0.1f, 0.5f));
             const Vec3f c = uniform3(rng, -0.8f, 0.8f);
-            blocks[g].set(l, c + uniform3(rng, -0.3f, 0.3f), c + uniform3(rng, -0.3f, 0.3f), c + uniform3(rng, -0.3f, 0.3f));
+            blocks[g].set(l, c + uniform3(rng, -0.3f, 0.3f), c + uniform3(rng, -0.3f, 0.3f),
+                          c + uniform3(rng, -0.3f, 0.3f));
         }
     std::vector<WideRay<T>> wide;
     for (const TestRay& r : rays) wide.push_back(wide_ray<T>(r.org, r.dir, 0.0f, INFINITY));
@@ -104,16 +112,17 @@ template <class T> KernelTimes time_kernels(double tsc_ghz) {
                 float te;
                 const bool box = slab_test(s, nodes[g].lo(l), nodes[g].hi(l), 0.0f, INFINITY, te);
                 if (box != bool(bits >> l & 1u) || (box && te != lane(t, l)))
-                    throw std::runtime_error("limit kernels: ray_boxes_plain differs from slab_test (width " + std::to_string(n) + ")");
+                    throw std::runtime_error("limit kernels: ray_boxes_plain differs from slab_test (width " +
+                                             std::to_string(n) + ")");
                 box_hits += box;
                 const Vec3f v0{blocks[g].v[0][0][l], blocks[g].v[0][1][l], blocks[g].v[0][2][l]};
                 const Vec3f v1{blocks[g].v[1][0][l], blocks[g].v[1][1][l], blocks[g].v[1][2][l]};
                 const Vec3f v2{blocks[g].v[2][0][l], blocks[g].v[2][1][l], blocks[g].v[2][2][l]};
                 const TriHit<float> o = woop_test(rays[i].org, w, 0.0f, INFINITY, v0, v1, v2);
                 const bool hit = tri_bits >> l & 1u;
-                if (bool(o.hit) != hit ||
-                    (hit && (o.t != lane(h.t, l) || o.u != lane(h.u, l) || o.v != lane(h.v, l))))
-                    throw std::runtime_error("limit kernels: ray_triangles differs from woop_test (width " + std::to_string(n) + ")");
+                if (bool(o.hit) != hit || (hit && (o.t != lane(h.t, l) || o.u != lane(h.u, l) || o.v != lane(h.v, l))))
+                    throw std::runtime_error("limit kernels: ray_triangles differs from woop_test (width " +
+                                             std::to_string(n) + ")");
                 tri_hits += hit;
             }
         }
@@ -172,19 +181,25 @@ template <class T> KernelTimes time_kernels(double tsc_ghz) {
     return k;
 }
 
-/// GB/s of a streaming read of `floats` floats by `threads` threads (each a contiguous part), best of `runs`.
-double read_bandwidth(const float* data, std::size_t floats, unsigned threads, int runs) {
+/// GB/s of a streaming read of `floats` floats by `threads` threads (each a contiguous part, read
+/// `passes` times: enough that a timing of a buffer in the caches is not the threads' start), best
+/// of `runs`.
+double read_bandwidth(const float* data, std::size_t floats, unsigned threads, int runs, int passes) {
     const auto part = [&](std::size_t lo, std::size_t hi, float* out) {
         using F = FloatV;
         constexpr std::size_t w = lanes<F>;
-        F a(0.0f), b(0.0f), c(0.0f), d(0.0f);
-        for (std::size_t i = lo; i + 4 * w <= hi; i += 4 * w) {
-            a += load_lanes<F>(data + i), b += load_lanes<F>(data + i + w);
-            c += load_lanes<F>(data + i + 2 * w), d += load_lanes<F>(data + i + 3 * w);
-        }
-        const F s = (a + b) + (c + d);
         float sum = 0.0f;
-        for (std::size_t l = 0; l < lanes<F>; ++l) sum += lane(s, l);
+        for (int p = 0; p < passes; ++p) {
+            F a(0.0f), b(0.0f), c(0.0f), d(0.0f);
+            for (std::size_t i = lo; i + 4 * w <= hi; i += 4 * w) {
+                a += load_lanes<F>(data + i), b += load_lanes<F>(data + i + w);
+                c += load_lanes<F>(data + i + 2 * w), d += load_lanes<F>(data + i + 3 * w);
+            }
+            const F s = (a + b) + (c + d);
+            float pass = 0.0f;
+            for (std::size_t l = 0; l < lanes<F>; ++l) pass += lane(s, l);
+            sum = pass;  // (each pass sums the same; the last one is checked)
+        }
         *out = sum;
     };
     const auto [best, median] = best_and_median(
@@ -195,11 +210,12 @@ double read_bandwidth(const float* data, std::size_t floats, unsigned threads, i
             for (unsigned t = 0; t < threads; ++t) pool.emplace_back(part, t * step, (t + 1) * step, &sums[t]);
             for (std::thread& t : pool) t.join();
             keep(sums[0]);
-            if (std::fabs(sums[0] - float(step)) > 1e-3f * float(step)) throw std::runtime_error("limit kernels: the bandwidth read summed wrong");
+            if (std::fabs(sums[0] - float(step)) > 1e-3f * float(step))
+                throw std::runtime_error("limit kernels: the bandwidth read summed wrong");
         },
         runs);
     (void)median;
-    return double(floats / threads / 64 * 64 * threads) * sizeof(float) / best / 1e9;
+    return double(floats / threads / 64 * 64 * threads) * sizeof(float) * passes / best / 1e9;
 }
 
 }  // namespace
@@ -228,19 +244,21 @@ std::vector<KernelTimes> time_wide_kernels(double ghz) {
 Bandwidth measure_bandwidth(std::size_t mib, std::size_t cache_mib) {
     // 1.0 in every float (so the sums check the read), pages touched before the timing.
     const std::size_t floats = mib * 1024 * 1024 / sizeof(float);
-    std::unique_ptr<float[], decltype(&std::free)> buf(static_cast<float*>(std::aligned_alloc(64, floats * sizeof(float))),
-                                                      &std::free);
+    std::unique_ptr<float[], decltype(&std::free)> buf(
+        static_cast<float*>(std::aligned_alloc(64, floats * sizeof(float))), &std::free);
     if (!buf) throw std::runtime_error("limit kernels: no memory for the bandwidth buffer");
     std::fill(buf.get(), buf.get() + floats, 1.0f);
     Bandwidth b;
     b.buffer_mib = mib;
-    b.gbs_1 = read_bandwidth(buf.get(), floats, 1, 15);
-    b.gbs_2 = read_bandwidth(buf.get(), floats, 2, 15);
-    // The first cache_mib of it, read again and again (the untimed first run brings it in).
+    b.gbs_1 = read_bandwidth(buf.get(), floats, 1, 15, 1);
+    b.gbs_2 = read_bandwidth(buf.get(), floats, 2, 15, 1);
+    // The first cache_mib of it, read again and again (the untimed first run brings it in), as
+    // many bytes per timing as the read from memory.
     b.cache_mib = std::min(cache_mib, mib);
     const std::size_t cache_floats = b.cache_mib * 1024 * 1024 / sizeof(float);
-    b.cache_gbs_1 = read_bandwidth(buf.get(), cache_floats, 1, 101);
-    b.cache_gbs_2 = read_bandwidth(buf.get(), cache_floats, 2, 101);
+    const int passes = int(mib / b.cache_mib);
+    b.cache_gbs_1 = read_bandwidth(buf.get(), cache_floats, 1, 15, passes);
+    b.cache_gbs_2 = read_bandwidth(buf.get(), cache_floats, 2, 15, passes);
     return b;
 }
 

@@ -12,8 +12,8 @@ namespace arbor::perf {
 /// TSC (reference) cycles, ns x the TSC's rate: the VM has no core cycle counter.
 struct KernelTimes {
     std::size_t width = 0;
-    double node_ns = 0, node_ns_median = 0, node_cycles = 0;        ///< ray_boxes_plain, independent tests
-    double block_ns = 0, block_ns_median = 0, block_cycles = 0;     ///< ray_triangles<T, true>, independent tests
+    double node_ns = 0, node_ns_median = 0, node_cycles = 0;     ///< ray_boxes_plain, independent tests
+    double block_ns = 0, block_ns_median = 0, block_cycles = 0;  ///< ray_triangles<T, true>, independent tests
     double node_chain_ns = 0, node_chain_ns_median = 0, node_chain_cycles = 0;  ///< node tests each chosen by the last
     std::uint64_t checked_tests = 0;  ///< lanes checked against slab_test and woop_test (all equal, else it throws)
     double box_hit_fraction = 0;      ///< of the boxes tested
@@ -21,7 +21,8 @@ struct KernelTimes {
 };
 
 /// GB/s (1e9 bytes) of a streaming read by 1 and 2 threads: of a buffer far larger than the caches
-/// (memory; best of 15) and of one that stays in the last-level cache (cache; best of 101).
+/// (memory) and of one that stays in the last-level cache (cache, read as many times as makes the
+/// same bytes), best of 15 each.
 struct Bandwidth {
     std::size_t buffer_mib = 0, cache_mib = 0;
     double gbs_1 = 0, gbs_2 = 0;

@@ -232,7 +232,7 @@ def main():
                    f"{b['node'] + b['node_order_row']} | {b['block']} | {k['checked_lanes']} |")
     out.append("")
     out.append(f"Streaming read (loaded): memory ({bw['buffer_mib']} MiB, best of 15) {bw['gbs_1_thread']:.1f} GB/s on 1 thread, "
-               f"{bw['gbs_2_threads']:.1f} GB/s on 2; last-level cache ({bw['cache_mib']} MiB, best of 101) "
+               f"{bw['gbs_2_threads']:.1f} GB/s on 2; last-level cache ({bw['cache_mib']} MiB, read again, best of 15) "
                f"{bw['cache_gbs_1_thread']:.1f} GB/s on 1 thread, {bw['cache_gbs_2_threads']:.1f} GB/s on 2.\n")
     out.append(f"Per ray, {a.threads} threads (loaded). nodes, blocks, tris: per ray, of the counted single-ray walk "
                "(wide node tests, triangle blocks tested, the triangles in them); layout: MiB of the wide layout; "

@@ -21,7 +21,8 @@ using accel::Ray;
 
 namespace {
 
-template <std::size_t N> void check_counted(const accel::WideBvhAccel<N>& w, const accel::Accel& traced, const accel::Bounds& b,
+template <std::size_t N>
+void check_counted(const accel::WideBvhAccel<N>& w, const accel::Accel& traced, const accel::Bounds& b,
                    const std::vector<Ray>& rays) {
     for (const accel::Query q : {accel::Query::closest, accel::Query::any}) {
         CAPTURE(N);
@@ -70,7 +71,8 @@ template <std::size_t N> void check_counted(const accel::WideBvhAccel<N>& w, con
     }
 }
 
-template <std::size_t N> void check_width(const engine::Mesh& mesh, const std::vector<Ray>& rays) {
+template <std::size_t N>
+void check_width(const engine::Mesh& mesh, const std::vector<Ray>& rays) {
     if constexpr (accel::wide_width_available<N>()) {
         const auto acc = testing::wide_bvh<N>(mesh.view());
         check_counted<N>(dynamic_cast<const accel::WideBvhAccel<N>&>(*acc), *acc, mesh.bounds, rays);
@@ -93,15 +95,19 @@ TEST_CASE("counted wide walk: the single path's hits bit for bit, plausible coun
         cfg.layouts = accel::Layouts::simd;
         const auto acc = accel::make_accel(kind, mesh.view(), cfg);
         const accel::Accel* target = acc.get();
-        if (const auto* kd = dynamic_cast<const accel::KdTreeAccel*>(target); kd && kd->cell_paths()) target = kd->cell_paths();
+        if (const auto* kd = dynamic_cast<const accel::KdTreeAccel*>(target); kd && kd->cell_paths())
+            target = kd->cell_paths();
         bool checked = false;
 #if XSIMD_WITH_AVX512F
-        if (const auto* w = dynamic_cast<const accel::WideBvhAccel<16>*>(target)) check_counted<16>(*w, *acc, mesh.bounds, rays), checked = true;
+        if (const auto* w = dynamic_cast<const accel::WideBvhAccel<16>*>(target))
+            check_counted<16>(*w, *acc, mesh.bounds, rays), checked = true;
 #endif
 #if XSIMD_WITH_AVX2
-        if (const auto* w = dynamic_cast<const accel::WideBvhAccel<8>*>(target)) check_counted<8>(*w, *acc, mesh.bounds, rays), checked = true;
+        if (const auto* w = dynamic_cast<const accel::WideBvhAccel<8>*>(target))
+            check_counted<8>(*w, *acc, mesh.bounds, rays), checked = true;
 #endif
-        if (const auto* w = dynamic_cast<const accel::WideBvhAccel<4>*>(target)) check_counted<4>(*w, *acc, mesh.bounds, rays), checked = true;
+        if (const auto* w = dynamic_cast<const accel::WideBvhAccel<4>*>(target))
+            check_counted<4>(*w, *acc, mesh.bounds, rays), checked = true;
         CHECK(checked);
     }
 }

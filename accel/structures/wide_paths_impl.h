@@ -99,8 +99,10 @@ public:
     /// `counts`. Not a timed path: the counters live in their own instantiation of the walk and
     /// the leaf test.
     void trace_counted(std::span<const Ray> rays, std::span<Hit> hits, Query query, WideCounts& counts) const {
-        if (query == Query::any) count_rays<true>(rays, hits, counts);
-        else count_rays<false>(rays, hits, counts);
+        if (query == Query::any)
+            count_rays<true>(rays, hits, counts);
+        else
+            count_rays<false>(rays, hits, counts);
     }
 
 protected:
@@ -129,7 +131,8 @@ private:
         bool found = false;
         const std::uint32_t end = first + wide_blocks<N>(n);
         for (std::uint32_t b = first; b < end; ++b) {
-            if constexpr (Count) counts->blocks += 1, counts->triangles += std::min<std::uint32_t>(N, n - (b - first) * N);
+            if constexpr (Count)
+                counts->blocks += 1, counts->triangles += std::min<std::uint32_t>(N, n - (b - first) * N);
             // (Early out: a block no lane of which can hit skips the division, +5% on random rays.)
             const simd::TriHit<T> h = simd::ray_triangles<T, true>(r, blocks[b].soa());
             const std::uint32_t bits = simd::to_bits(h.hit);
@@ -177,7 +180,8 @@ private:
     }
 
     /// trace_counted's rays, set up in groups as trace_single sets them up.
-    template <bool AnyHit> void count_rays(std::span<const Ray> rays, std::span<Hit> hits, WideCounts& counts) const {
+    template <bool AnyHit>
+    void count_rays(std::span<const Ray> rays, std::span<Hit> hits, WideCounts& counts) const {
         counts.rays += rays.size();
         if (layout_.empty()) {
             std::fill(hits.begin(), hits.end(), Hit{});
@@ -201,11 +205,11 @@ private:
                     return test_leaf<AnyHit, true>(r, tfar, best, first, n, &counts);
                 };
                 if (r.plain)
-                    detail::walk_wide<AnyHit, true, false, true>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf,
-                                                                 &counts.node_tests);
+                    detail::walk_wide<AnyHit, true, false, true>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr,
+                                                                 leaf, &counts.node_tests);
                 else
-                    detail::walk_wide<AnyHit, false, false, true>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf,
-                                                                  &counts.node_tests);
+                    detail::walk_wide<AnyHit, false, false, true>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr,
+                                                                  leaf, &counts.node_tests);
                 hits[base + i] = best.hit;
             }
         }

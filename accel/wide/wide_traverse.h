@@ -41,8 +41,8 @@ namespace detail {
 /// Count: the counted walk (WideBvhAccel::trace_counted), which adds one to `*node_tests` per node
 /// whose N boxes it tests; its own instantiation, so the timed walks carry no counter code.
 template <bool AnyHit, bool Plain, bool Root, bool Count = false, std::size_t N, class LeafFn>
-ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar, WideStack& stack,
-                            std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
+ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
+                            WideStack& stack, std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
                             const WideLane<N>& root_t, std::uint32_t first_bits, const float* first_t, LeafFn&& leaf,
                             std::uint64_t* node_tests = nullptr) {
     using T = WideLane<N>;
