@@ -102,6 +102,19 @@ def model_row(c, t, t1, kernels, bw, threads, what):
                 dram_fraction=achieved / (dram / traffic), serial_fraction=achieved / (threads / (serial_ns * 1e-9)))
 
 
+def compact_table(rows):
+    """The table docs/benchmarks.md quotes: per model, kind and structure the counts, the limit and
+    the fractions achieved on the default and the single path."""
+    out = ["The same, short (the table docs/benchmarks.md quotes):\n",
+           "| model | kind | structure | nodes | blocks | bytes | limit Mrays/s | default path: Mrays/s | fraction | single: Mrays/s | fraction |",
+           "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        out.append(f"| {r['model']} | {r['kind']} | {r['structure']} | {r['nodes']:.1f} | {r['blocks']:.2f} | "
+                   f"{r['traffic']:.0f} | {r['limit'] / 1e6:.0f} ({r['bound']}) | {r['achieved'] / 1e6:.1f} ({r['path']}) | "
+                   f"{r['fraction']:.2f} | {r['single'] / 1e6:.1f} | {r['single_fraction']:.2f} |")
+    return "\n".join(out)
+
+
 def self_test():
     """The model on made-up inputs, and a missing counter refused (exit 1)."""
     kernels = {16: dict(node_ns=2.0, block_ns=8.0, node_chain_ns=10.0)}
@@ -250,6 +263,8 @@ def main():
                    f"{r['compute_limit'] / 1e6:.0f} | {r['memory_limit'] / 1e6:.0f} | {r['limit'] / 1e6:.0f} ({r['bound']}) | "
                    f"{r['achieved'] / 1e6:.2f} | {r['fraction']:.2f} | {r['single'] / 1e6:.2f} | {r['single_fraction']:.2f} | "
                    f"{r['dram_fraction']:.2f} | {r['serial_fraction']:.2f} |")
+    out.append("")
+    out.append(compact_table(rows))
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     with open(a.out, "w") as f:
         f.write("\n".join(out) + "\n")
