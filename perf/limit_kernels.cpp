@@ -252,13 +252,13 @@ Bandwidth measure_bandwidth(std::size_t mib, std::size_t cache_mib) {
     b.buffer_mib = mib;
     b.gbs_1 = read_bandwidth(buf.get(), floats, 1, 15, 1);
     b.gbs_2 = read_bandwidth(buf.get(), floats, 2, 15, 1);
-    // The first cache_mib of it, read again and again (the untimed first run brings it in), as
-    // many bytes per timing as the read from memory.
+    // The first cache_mib of it, read 16 times per timing (the untimed first run brings it in):
+    // long enough that the threads' start does not count, short enough that on a loaded machine
+    // some of the 51 timings run without a preemption.
     b.cache_mib = std::min(cache_mib, mib);
     const std::size_t cache_floats = b.cache_mib * 1024 * 1024 / sizeof(float);
-    const int passes = int(mib / b.cache_mib);
-    b.cache_gbs_1 = read_bandwidth(buf.get(), cache_floats, 1, 15, passes);
-    b.cache_gbs_2 = read_bandwidth(buf.get(), cache_floats, 2, 15, passes);
+    b.cache_gbs_1 = read_bandwidth(buf.get(), cache_floats, 1, 51, 16);
+    b.cache_gbs_2 = read_bandwidth(buf.get(), cache_floats, 2, 51, 16);
     return b;
 }
 

@@ -21,8 +21,8 @@ struct KernelTimes {
 };
 
 /// GB/s (1e9 bytes) of a streaming read by 1 and 2 threads: of a buffer far larger than the caches
-/// (memory) and of one that stays in the last-level cache (cache, read as many times as makes the
-/// same bytes), best of 15 each.
+/// (memory, best of 15) and of one that stays in the last-level cache (cache, read 16 times per
+/// timing, best of 51).
 struct Bandwidth {
     std::size_t buffer_mib = 0, cache_mib = 0;
     double gbs_1 = 0, gbs_2 = 0;
