@@ -26,6 +26,9 @@ int build_once_command(int argc, char** argv);
 int trace_once_command(int argc, char** argv);
 /// `instances`: a mesh placed as instances against the same scene flattened (perf/instances_bench.cpp).
 int instances_command(int argc, char** argv);
+/// `limit`: the kernels' times with hot caches, the bandwidth, and the counted walk's node and
+/// block tests per ray (perf/limit_bench.cpp; scripts/limit_model.py makes the table).
+int limit_command(int argc, char** argv);
 /// `kernels`: Google Benchmark microbenchmarks of the simd/ kernels (when libbenchmark-dev was
 /// found; ARBOR_HAVE_GBENCH).
 int kernels_command(int argc, char** argv);

@@ -50,6 +50,8 @@ const std::vector<SubCommand>& sub_commands() {
          build_once_command},
         {"trace-once", "one ray file traced once on one thread by an arbor path or an Embree call, for callgrind",
          trace_once_command},
+        {"limit", "the limit model's inputs: kernel times with hot caches, bandwidth, node and block tests per ray",
+         limit_command},
 #ifdef ARBOR_HAVE_GBENCH
         {"kernels", "Google Benchmark microbenchmarks of the SIMD box and triangle kernels", kernels_command},
 #else

@@ -7,6 +7,7 @@
 #include "accel/core/hit_record.h"
 #include "accel/core/simd_paths.h"
 #include "accel/util/stack_buffer.h"
+#include "accel/wide/wide_counts.h"
 #include "accel/wide/wide_packet.h"
 #include "accel/structures/wide_paths.h"
 #include "accel/wide/wide_queries.h"
@@ -91,6 +92,19 @@ public:
                                       root.t2[i], Hit{}, stack);
     }
 
+    /// The counted single-ray walk: each ray as trace_single walks it, from the root with the root
+    /// test inside the walk (the nodes and leaves, in the same order, that the walks after a group's
+    /// root test visit too, wide_root.h; the shared root leaves of trace_group_shared are not used),
+    /// its hit into `hits` (bit for bit TracePath::single's) and what the walks did added to
+    /// `counts`. Not a timed path: the counters live in their own instantiation of the walk and
+    /// the leaf test.
+    void trace_counted(std::span<const Ray> rays, std::span<Hit> hits, Query query, WideCounts& counts) const {
+        if (query == Query::any)
+            count_rays<true>(rays, hits, counts);
+        else
+            count_rays<false>(rays, hits, counts);
+    }
+
 protected:
     /// The scalar layout (when built) and the SIMD layout; what depends on the boxes is worked out
     /// again as the build does it: the shared root leaves (and, in refit(), the scene's diagonal).
@@ -109,14 +123,16 @@ protected:
 private:
     /// The leaf of the single walk: ray `r`'s test of the leaf (first block, n triangles), its hits
     /// offered to `best`; a kept hit lowers `tfar` and r.tfar (and ends the leaf for AnyHit). True
-    /// when one was kept.
-    template <bool AnyHit>
+    /// when one was kept. Count: the blocks tested and their triangles added to `*counts`.
+    template <bool AnyHit, bool Count = false>
     ARBOR_INLINE bool test_leaf(simd::WideRay<T>& r, float& tfar, HitRecord<AnyHit>& best, std::uint32_t first,
-                                std::uint32_t n) const {
+                                std::uint32_t n, WideCounts* counts = nullptr) const {
         const WideBlock<N>* blocks = layout_.blocks.data();
         bool found = false;
         const std::uint32_t end = first + wide_blocks<N>(n);
         for (std::uint32_t b = first; b < end; ++b) {
+            if constexpr (Count)
+                counts->blocks += 1, counts->triangles += std::min<std::uint32_t>(N, n - (b - first) * N);
             // (Early out: a block no lane of which can hit skips the division, +5% on random rays.)
             const simd::TriHit<T> h = simd::ray_triangles<T, true>(r, blocks[b].soa());
             const std::uint32_t bits = simd::to_bits(h.hit);
@@ -161,6 +177,42 @@ private:
             else detail::walk_wide<AnyHit, false, Root>(layout_, r, tfar, stack, child, count, rest, root_t, first_bits, first_t, leaf);
         }
         return best.hit;
+    }
+
+    /// trace_counted's rays, set up in groups as trace_single sets them up.
+    template <bool AnyHit>
+    void count_rays(std::span<const Ray> rays, std::span<Hit> hits, WideCounts& counts) const {
+        counts.rays += rays.size();
+        if (layout_.empty()) {
+            std::fill(hits.begin(), hits.end(), Hit{});
+            return;
+        }
+        WideStack stack(layout_.stack_size());
+        simd::WideRaySetup<simd::SetupLane> setup;
+        simd::WideRay<T> r;
+        for (std::size_t base = 0; base < rays.size(); base += setup.size) {
+            const auto in = rays.subspan(base, std::min(setup.size, rays.size() - base));
+            simd::wide_ray_setup(in, setup);
+            for (std::size_t i = 0; i < in.size(); ++i) {
+                setup.get(i, r);
+                if (!r.traceable) {
+                    hits[base + i] = Hit{};
+                    continue;
+                }
+                float tfar = in[i].tfar;
+                HitRecord<AnyHit> best{Hit{}};
+                const auto leaf = [&](std::uint32_t first, std::uint32_t n) {
+                    return test_leaf<AnyHit, true>(r, tfar, best, first, n, &counts);
+                };
+                if (r.plain)
+                    detail::walk_wide<AnyHit, true, false, true>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr,
+                                                                 leaf, &counts.node_tests);
+                else
+                    detail::walk_wide<AnyHit, false, false, true>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr,
+                                                                  leaf, &counts.node_tests);
+                hits[base + i] = best.hit;
+            }
+        }
     }
 
     void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,
