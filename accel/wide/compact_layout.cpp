@@ -1,0 +1,85 @@
+#include "accel/wide/compact_layout.h"
+
+#include "accel/wide/compact_quantize.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace arbor::accel {
+
+template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris) {
+    CompactLayout<N> out;
+    out.axis[0] = tris.x.data(), out.axis[1] = tris.y.data(), out.axis[2] = tris.z.data();
+    out.depth = wide.depth;
+    out.leaves = wide.leaves;
+    if (wide.empty()) return out;
+    // Each leaf's first triangle in the packed array: leaves by first block (their blocks are
+    // whole and disjoint), then a running sum of their counts.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> leaves;  // (first block, count)
+    leaves.reserve(wide.leaves);
+    for (const WideNode<N>& n : wide.nodes)
+        for (std::size_t c = 0; c < n.children; ++c)
+            if (n.count[c] != 0) leaves.emplace_back(n.child[c], n.count[c]);
+    std::sort(leaves.begin(), leaves.end());
+    std::vector<std::uint32_t> start(wide.blocks.size() + 1, 0);
+    std::size_t total = 0;
+    for (const auto& [first, count] : leaves) {
+        start[first] = std::uint32_t(total);
+        total += count;
+    }
+    out.tris.resize(total);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const auto [first, count] = leaves[i];
+            for (std::uint32_t s = 0; s < count; ++s) {
+                const std::uint32_t prim = wide.prim(std::size_t(first) * N + s);
+                CompactTri& t = out.tris[start[first] + s];
+                for (int k = 0; k < 3; ++k) t.v[k] = tris.indices[3 * std::size_t(prim) + k];
+                t.prim = prim;
+            }
+        }
+    });
+    out.nodes.resize(wide.nodes.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, wide.nodes.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const WideNode<N>& w = wide.nodes[i];
+            CompactNode<N>& n = out.nodes[i];
+            n.children = w.children;
+            for (int k = 0; k < 3; ++k) {
+                float lo = INFINITY, hi = -INFINITY;
+                for (std::size_t c = 0; c < w.children; ++c) {
+                    lo = std::min(lo, w.boxes.b[0][k][c]);
+                    hi = std::max(hi, w.boxes.b[1][k][c]);
+                }
+                const CompactAxis a = CompactAxis::fit(lo, hi);
+                n.origin[k] = a.origin;
+                n.scale[k] = a.scale;
+                for (std::size_t c = 0; c < N; ++c) {
+                    const bool used = c < w.children;
+                    // (Unused slots: an inverted box; the walk masks them out anyway.)
+                    n.q[0][k][c] = used ? a.quantize_lo(w.boxes.b[0][k][c]) : 255;
+                    n.q[1][k][c] = used ? a.quantize_hi(w.boxes.b[1][k][c]) : 0;
+                }
+            }
+            for (std::size_t c = 0; c < N; ++c) {
+                const bool leaf = c < w.children && w.count[c] != 0;
+                n.child[c] = leaf ? start[w.child[c]] : w.child[c];
+                n.count[c] = w.count[c];
+            }
+        }
+    });
+    out.orders = std::move(wide.orders);
+    wide = WideLayout<N>{};
+    return out;
+}
+
+template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&);
+template CompactLayout<8> make_compact_layout<8>(WideLayout<8>&&, const TriangleView&);
+template CompactLayout<16> make_compact_layout<16>(WideLayout<16>&&, const TriangleView&);
+
+}  // namespace arbor::accel

@@ -1,0 +1,80 @@
+#pragma once
+/// CompactLayout<N>: the compact mode's traversal layout (BuildConfig::compact, `--compact`), made
+/// from the N-wide layout (wide_layout.h) of the same tree and then kept instead of it, for about
+/// half the bytes per triangle.
+///
+/// A node holds its children's boxes quantized to 8 bits per plane relative to the node's own
+/// frame (compact_quantize.h: an origin and a power-of-two scale per axis; decoded, each box
+/// contains the true one), the child references and counts as WideNode does: 128 bytes for 8
+/// children, 256 for 16 (WideNode: 256 and 512). A leaf is a run of CompactTri: the three vertex
+/// indices of a triangle into the mesh's own vertex arrays (shared, not copied: the mesh must
+/// outlive the layout) and its number, 16 bytes a triangle with no padding (WideBlock: 40 bytes a
+/// triangle slot, its unused slots included). The walk gathers the ORIGINAL float vertices, so the
+/// watertight test sees bit for bit the inputs it sees on the other layouts. The octant orders of
+/// the N-wide layout are kept as they are.
+#include "accel/core/geometry.h"
+#include "accel/util/uninit_vector.h"
+#include "accel/wide/wide_layout.h"
+
+#include <cstdint>
+
+namespace arbor::accel {
+
+/// One node: per axis the frame (origin, scale: compact_quantize.h) and the children's planes as
+/// steps q[0] (lo) and q[1] (hi), per axis and child; per child either a node (count == 0: node
+/// index in child) or a leaf (count > 0 triangles from CompactLayout::tris[child]). Slots >=
+/// `children` are never taken (the walk masks them out).
+template <std::size_t N> struct alignas(64) CompactNode {
+    float origin[3];
+    float scale[3];
+    std::uint8_t q[2][3][N];
+    std::uint32_t child[N];
+    std::uint16_t count[N];
+    std::uint8_t children;
+
+    bool is_leaf(std::size_t c) const { return count[c] != 0; }
+};
+static_assert(sizeof(CompactNode<4>) == 128 && sizeof(CompactNode<8>) == 128 && sizeof(CompactNode<16>) == 256);
+
+/// A triangle of a compact leaf: its vertex indices into the mesh (TriangleView::x/y/z) and its number.
+struct CompactTri {
+    std::uint32_t v[3];
+    std::uint32_t prim;
+};
+static_assert(sizeof(CompactTri) == 16);
+
+template <std::size_t N> struct CompactLayout {
+    static constexpr std::size_t width = N;
+    UninitVector<CompactNode<N>> nodes;  ///< nodes[0] is the root; none when empty
+    UninitVector<CompactTri> tris;       ///< leaf triangles in leaf order, each leaf in ascending prim order
+    UninitVector<std::uint8_t> orders;   ///< as WideLayout::orders
+    /// The mesh's vertex arrays by axis (not owned).
+    const float* axis[3] = {nullptr, nullptr, nullptr};
+    std::uint32_t depth = 0;
+    std::size_t leaves = 0;
+
+    bool empty() const { return nodes.empty(); }
+    std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1 + N; }
+    /// The layout's own arrays (the mesh's vertices, which it reads, are not counted: they are the
+    /// scene's, as on every structure).
+    std::size_t memory_bytes() const {
+        return nodes.capacity() * sizeof(CompactNode<N>) + tris.capacity() * sizeof(CompactTri) + orders.capacity() +
+               sizeof(CompactLayout);
+    }
+    /// Vertex k of leaf triangle s, and its number.
+    Vec3f vertex(std::size_t s, int k) const {
+        const std::uint32_t i = tris[s].v[k];
+        return {axis[0][i], axis[1][i], axis[2][i]};
+    }
+    std::uint32_t prim(std::size_t s) const { return tris[s].prim; }
+};
+
+/// The compact layout of `wide` (built over `tris`, which it then references): its nodes
+/// quantized, its leaves as vertex indices. `wide` is consumed (its orders are moved).
+template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris);
+
+extern template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&);
+extern template CompactLayout<8> make_compact_layout<8>(WideLayout<8>&&, const TriangleView&);
+extern template CompactLayout<16> make_compact_layout<16>(WideLayout<16>&&, const TriangleView&);
+
+}  // namespace arbor::accel
