@@ -41,8 +41,7 @@ struct BuildConfig {
     /// Compact mode (BVHs only; the other structures ignore it): the SIMD layout is kept as
     /// wide/compact_layout.h's quantized nodes and vertex-index leaves, about half the bytes per
     /// triangle, traced on the `single` path only (packets and the scalar path fall back to it; no
-    /// scalar layout is built). The mesh must outlive the structure (its vertices are read, not
-    /// copied). `--compact`.
+    /// scalar layout is built). `--compact`.
     bool compact = false;
 };
 

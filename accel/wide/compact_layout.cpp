@@ -14,7 +14,6 @@ namespace arbor::accel {
 
 template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris) {
     CompactLayout<N> out;
-    out.axis[0] = tris.x.data(), out.axis[1] = tris.y.data(), out.axis[2] = tris.z.data();
     out.depth = wide.depth;
     out.leaves = wide.leaves;
     if (wide.empty()) return out;
@@ -44,6 +43,23 @@ template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wi
             }
         }
     });
+    // The vertices in the order the leaves first use them (one serial pass: the numbering must
+    // not depend on the thread count).
+    {
+        std::vector<std::uint32_t> renumber(tris.vertex_count(), ~0u);
+        std::uint32_t next = 0;
+        for (CompactTri& t : out.tris)
+            for (std::uint32_t& v : t.v) {
+                if (renumber[v] == ~0u) renumber[v] = next++;
+                v = renumber[v];
+            }
+        out.verts.resize(3 * std::size_t(next));
+        for (std::size_t i = 0; i < renumber.size(); ++i)
+            if (renumber[i] != ~0u) {
+                float* p = out.verts.data() + 3 * std::size_t(renumber[i]);
+                p[0] = tris.x[i], p[1] = tris.y[i], p[2] = tris.z[i];
+            }
+    }
     out.nodes.resize(wide.nodes.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, wide.nodes.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {

@@ -7,11 +7,14 @@
 /// frame (compact_quantize.h: an origin and a power-of-two scale per axis; decoded, each box
 /// contains the true one), the child references and counts as WideNode does: 128 bytes for 8
 /// children, 256 for 16 (WideNode: 256 and 512). A leaf is a run of CompactTri: the three vertex
-/// indices of a triangle into the mesh's own vertex arrays (shared, not copied: the mesh must
-/// outlive the layout) and its number, 16 bytes a triangle with no padding (WideBlock: 40 bytes a
-/// triangle slot, its unused slots included). The walk gathers the ORIGINAL float vertices, so the
-/// watertight test sees bit for bit the inputs it sees on the other layouts. The octant orders of
-/// the N-wide layout are kept as they are.
+/// indices of a triangle and its number, 16 bytes a triangle with no padding (WideBlock: 40 bytes
+/// a triangle slot, its unused slots included). The vertices are the layout's own copy of the
+/// mesh's, interleaved (x, y, z) and in the order the leaves first use them, 12 bytes each: a
+/// leaf's vertices then share a few cache lines (read through the indices from the mesh's own
+/// arrays, three arrays in the mesh's order, the walk took 2-5x as long on 625k triangles). Each
+/// vertex is shared by the triangles that share it, as in the mesh. The walk gathers these
+/// ORIGINAL float vertices, so the watertight test sees bit for bit the inputs it sees on the
+/// other layouts. The octant orders of the N-wide layout are kept as they are.
 #include "accel/core/geometry.h"
 #include "accel/util/uninit_vector.h"
 #include "accel/wide/wide_layout.h"
@@ -36,7 +39,7 @@ template <std::size_t N> struct alignas(64) CompactNode {
 };
 static_assert(sizeof(CompactNode<4>) == 128 && sizeof(CompactNode<8>) == 128 && sizeof(CompactNode<16>) == 256);
 
-/// A triangle of a compact leaf: its vertex indices into the mesh (TriangleView::x/y/z) and its number.
+/// A triangle of a compact leaf: its vertex indices into CompactLayout::verts and its number.
 struct CompactTri {
     std::uint32_t v[3];
     std::uint32_t prim;
@@ -48,29 +51,28 @@ template <std::size_t N> struct CompactLayout {
     UninitVector<CompactNode<N>> nodes;  ///< nodes[0] is the root; none when empty
     UninitVector<CompactTri> tris;       ///< leaf triangles in leaf order, each leaf in ascending prim order
     UninitVector<std::uint8_t> orders;   ///< as WideLayout::orders
-    /// The mesh's vertex arrays by axis (not owned).
-    const float* axis[3] = {nullptr, nullptr, nullptr};
+    /// The vertices the leaves use, x, y, z of vertex i at 3i, 3i + 1, 3i + 2 (first use order).
+    UninitVector<float> verts;
     std::uint32_t depth = 0;
     std::size_t leaves = 0;
 
     bool empty() const { return nodes.empty(); }
     std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1 + N; }
-    /// The layout's own arrays (the mesh's vertices, which it reads, are not counted: they are the
-    /// scene's, as on every structure).
+    /// The layout's arrays, its vertices included.
     std::size_t memory_bytes() const {
         return nodes.capacity() * sizeof(CompactNode<N>) + tris.capacity() * sizeof(CompactTri) + orders.capacity() +
-               sizeof(CompactLayout);
+               verts.capacity() * sizeof(float) + sizeof(CompactLayout);
     }
     /// Vertex k of leaf triangle s, and its number.
     Vec3f vertex(std::size_t s, int k) const {
-        const std::uint32_t i = tris[s].v[k];
-        return {axis[0][i], axis[1][i], axis[2][i]};
+        const float* v = verts.data() + 3 * std::size_t(tris[s].v[k]);
+        return {v[0], v[1], v[2]};
     }
     std::uint32_t prim(std::size_t s) const { return tris[s].prim; }
 };
 
-/// The compact layout of `wide` (built over `tris`, which it then references): its nodes
-/// quantized, its leaves as vertex indices. `wide` is consumed (its orders are moved).
+/// The compact layout of `wide` (built over `tris`): its nodes quantized, its leaves as indices
+/// into its own copy of the vertices they use. `wide` is consumed (its orders are moved).
 template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris);
 
 extern template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&);

@@ -4,7 +4,7 @@
 /// quantized planes with SIMD (8-bit steps to float, compact_decode: per axis one conversion and
 /// one multiply-add for the lo planes and one for the hi planes) and runs the same slab test as
 /// on WideNode, masked to the node's children. A leaf is tested N triangles at a time: their
-/// vertex indices and then their ORIGINAL vertices gathered from the mesh's arrays (only the
+/// vertex indices and then their ORIGINAL vertices gathered from the layout's copy (only the
 /// three axes the ray's permutation needs, in its order), then woop_permuted, the watertight test
 /// of every other path, on bit-identical inputs.
 #include "accel/wide/compact_layout.h"
@@ -17,6 +17,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <type_traits>
 
 namespace arbor::accel {
 
@@ -73,6 +74,42 @@ template <std::size_t N> inline const char* leaf_data(const CompactLayout<N>& la
     return reinterpret_cast<const char*>(layout.tris.data() + first);
 }
 
+/// Lanes<T> values base[index[l]] (int32 or float, as `V`), by the ISA's gather instruction
+/// (xsimd 8.1 emulates AVX-512 gathers lane by lane).
+template <class T, class V> ARBOR_INLINE auto gather_lanes(const V* base, const simd::IntOf<T>& index) {
+    using I = simd::IntOf<T>;
+    using R = std::conditional_t<std::is_same_v<V, float>, T, I>;
+#if XSIMD_WITH_AVX512F
+    if constexpr (T::size == 16) {
+        if constexpr (std::is_same_v<V, float>) return R(_mm512_i32gather_ps(__m512i(index), base, 4));
+        else return R(_mm512_i32gather_epi32(__m512i(index), base, 4));
+    } else
+#endif
+#if XSIMD_WITH_AVX2
+    if constexpr (T::size == 8) {
+        if constexpr (std::is_same_v<V, float>) return R(_mm256_i32gather_ps(base, __m256i(index), 4));
+        else return R(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), __m256i(index), 4));
+    } else
+#endif
+    {
+        alignas(64) std::int32_t at[T::size];
+        alignas(64) V out[T::size];
+        index.store_aligned(at);
+        for (std::size_t l = 0; l < T::size; ++l) out[l] = base[at[l]];
+        return R::load_aligned(out);
+    }
+}
+
+/// Per count n (1..N), the int32 offsets of the four ints of leaf triangle min(l, n - 1) for lane l.
+template <std::size_t N> struct CompactLaneOffsets {
+    alignas(64) std::int32_t at[N + 1][N];
+    constexpr CompactLaneOffsets() : at{} {
+        for (std::size_t n = 1; n <= N; ++n)
+            for (std::size_t l = 0; l < N; ++l) at[n][l] = std::int32_t(4 * (l < n ? l : n - 1));
+    }
+};
+template <std::size_t N> inline constexpr CompactLaneOffsets<N> compact_lane_offsets{};
+
 /// Ray r against the up to N leaf triangles tris[first, first + n) of `layout` (n >= 1; the lanes
 /// past n repeat the last triangle, so they hit only where it does, and never at a lower lane).
 template <class T, std::size_t N>
@@ -80,20 +117,16 @@ ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const 
                                                std::uint32_t n) {
     using I = simd::IntOf<T>;
     static_assert(T::size == N);
-    alignas(64) static constexpr auto iota = [] {
-        std::array<std::int32_t, N> a{};
-        for (std::size_t l = 0; l < N; ++l) a[l] = std::int32_t(l);
-        return a;
-    }();
-    // Lane l reads triangle first + min(l, n - 1): four ints each (v[3], prim).
-    const I lane = xsimd::min(I::load_aligned(iota.data()), I(std::int32_t(n) - 1)) * I(4);
+    const I lane = I::load_aligned(compact_lane_offsets<N>.at[n]);
     const auto* base = reinterpret_cast<const std::int32_t*>(layout.tris.data() + first);
-    const float* ax = layout.axis[r.kx];
-    const float* ay = layout.axis[r.ky];
-    const float* az = layout.axis[r.kz];
+    const float* verts = layout.verts.data();
+    const float* ax = verts + r.kx;
+    const float* ay = verts + r.ky;
+    const float* az = verts + r.kz;
     const auto rel = [&](int k) {
-        const I v = I::gather(base + k, lane);
-        return simd::Vec3<T>{T::gather(ax, v), T::gather(ay, v), T::gather(az, v)} - r.org_perm;
+        const I v = gather_lanes<T>(base + k, lane);
+        const I at = v + v + v;  // (x, y, z interleaved)
+        return simd::Vec3<T>{gather_lanes<T>(ax, at), gather_lanes<T>(ay, at), gather_lanes<T>(az, at)} - r.org_perm;
     };
     return simd::woop_permuted<T, true>(rel(0), rel(1), rel(2), r.sx, r.sy, r.sz, r.tnear, r.tfar);
 }
