@@ -55,11 +55,11 @@ public:
             if (!layout_.empty() && r.traceable) {
                 auto leaf = [&](std::uint32_t first, std::uint32_t n) {
                     for (std::uint32_t b = 0; b < n; b += N) {
-                        const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first + b, std::min<std::uint32_t>(n - b, N));
+                        const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first, n, b);
                         const std::uint32_t used = n - b >= N ? ~0u : (1u << (n - b)) - 1u;  // (not the repeated lanes)
                         for (std::uint32_t bits = simd::to_bits(h.hit) & used; bits != 0; bits &= bits - 1) {
                             const auto l = std::size_t(std::countr_zero(bits));
-                            hits.push_back({simd::lane(h.t, l), layout_.prim(first + b + l), simd::lane(h.u, l), simd::lane(h.v, l)});
+                            hits.push_back({simd::lane(h.t, l), layout_.prim(first, n, b + std::uint32_t(l)), simd::lane(h.u, l), simd::lane(h.v, l)});
                         }
                     }
                     return false;  // never shortened
@@ -76,8 +76,13 @@ public:
         for (std::size_t i = 0; i < points.size(); ++i) {
             PointSearch s(points[i], max_distance);
             if (s.searchable())
-                for (std::size_t t = 0; t < layout_.tris.size(); ++t)
-                    s.offer(layout_.vertex(t, 0), layout_.vertex(t, 1), layout_.vertex(t, 2), layout_.prim(t));
+                for (const CompactNode<N>& node : layout_.nodes)
+                    for (std::size_t c = 0; c < node.children; ++c) {
+                        const std::uint32_t first = node.child[c], n = node.count[c];
+                        for (std::uint32_t t = 0; t < n; ++t)
+                            s.offer(layout_.vertex(first, n, t, 0), layout_.vertex(first, n, t, 1), layout_.vertex(first, n, t, 2),
+                                    layout_.prim(first, n, t));
+                    }
             out[i] = s.result();
         }
     }
@@ -86,20 +91,20 @@ protected:
     double refit_layouts(const TriangleView&, Bounds&) override { return 0.0; }
 
 private:
-    /// Ray r's test of the leaf tris[first, first + n): hits offered to `best`; a kept hit lowers
+    /// Ray r's test of the leaf (first, n): hits offered to `best`; a kept hit lowers
     /// tfar and r.tfar (and ends the leaf for AnyHit). True when one was kept.
     template <bool AnyHit>
     ARBOR_INLINE bool test_leaf(simd::WideRay<T>& r, float& tfar, HitRecord<AnyHit>& best, std::uint32_t first, std::uint32_t n) const {
         bool found = false;
         for (std::uint32_t b = 0; b < n; b += N) {
-            const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first + b, std::min<std::uint32_t>(n - b, N));
+            const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first, n, b);
             const std::uint32_t bits = simd::to_bits(h.hit);
             if (bits == 0) continue;
             // The lowest lane among equal t: the lowest prim (the leaf is in ascending prim order,
             // and a repeated last triangle is never below its own lane).
             const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
             const float t = simd::lane(h.t, std::size_t(lane));
-            if (!best.offer(t, layout_.prim(first + b + std::uint32_t(lane)), simd::lane(h.u, std::size_t(lane)),
+            if (!best.offer(t, layout_.prim(first, n, b + std::uint32_t(lane)), simd::lane(h.u, std::size_t(lane)),
                             simd::lane(h.v, std::size_t(lane))))
                 continue;
             tfar = t;

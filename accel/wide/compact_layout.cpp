@@ -31,15 +31,16 @@ template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wi
         start[first] = std::uint32_t(total);
         total += count;
     }
-    out.tris.resize(total);
+    out.refs.resize(4 * total + N);
+    std::fill(out.refs.end() - N, out.refs.end(), 0u);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             const auto [first, count] = leaves[i];
+            std::uint32_t* leaf = out.refs.data() + 4 * std::size_t(start[first]);
             for (std::uint32_t s = 0; s < count; ++s) {
                 const std::uint32_t prim = wide.prim(std::size_t(first) * N + s);
-                CompactTri& t = out.tris[start[first] + s];
-                for (int k = 0; k < 3; ++k) t.v[k] = tris.indices[3 * std::size_t(prim) + k];
-                t.prim = prim;
+                for (std::size_t k = 0; k < 3; ++k) leaf[k * count + s] = tris.indices[3 * std::size_t(prim) + k];
+                leaf[3 * std::size_t(count) + s] = prim;
             }
         }
     });
@@ -48,11 +49,15 @@ template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wi
     {
         std::vector<std::uint32_t> renumber(tris.vertex_count(), ~0u);
         std::uint32_t next = 0;
-        for (CompactTri& t : out.tris)
-            for (std::uint32_t& v : t.v) {
-                if (renumber[v] == ~0u) renumber[v] = next++;
-                v = renumber[v];
-            }
+        for (const auto& [first, count] : leaves) {
+            std::uint32_t* leaf = out.refs.data() + 4 * std::size_t(start[first]);
+            for (std::uint32_t s = 0; s < count; ++s)  // (triangle by triangle: first use order)
+                for (std::size_t k = 0; k < 3; ++k) {
+                    std::uint32_t& v = leaf[k * count + s];
+                    if (renumber[v] == ~0u) renumber[v] = next++;
+                    v = renumber[v];
+                }
+        }
         out.verts.resize(3 * std::size_t(next));
         for (std::size_t i = 0; i < renumber.size(); ++i)
             if (renumber[i] != ~0u) {

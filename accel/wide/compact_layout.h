@@ -6,9 +6,10 @@
 /// A node holds its children's boxes quantized to 8 bits per plane relative to the node's own
 /// frame (compact_quantize.h: an origin and a power-of-two scale per axis; decoded, each box
 /// contains the true one), the child references and counts as WideNode does: 128 bytes for 8
-/// children, 256 for 16 (WideNode: 256 and 512). A leaf is a run of CompactTri: the three vertex
-/// indices of a triangle and its number, 16 bytes a triangle with no padding (WideBlock: 40 bytes
-/// a triangle slot, its unused slots included). The vertices are the layout's own copy of the
+/// children, 256 for 16 (WideNode: 256 and 512). A leaf of n triangles is 4n words of `refs`: the
+/// first vertex index of each, then the second, the third, then their numbers, 16 bytes a triangle
+/// with no padding (WideBlock: 40 bytes a triangle slot, its unused slots included); the walk loads
+/// N indices at once. The vertices are the layout's own copy of the
 /// mesh's, interleaved (x, y, z) and in the order the leaves first use them, 12 bytes each: a
 /// leaf's vertices then share a few cache lines (read through the indices from the mesh's own
 /// arrays, three arrays in the mesh's order, the walk took 2-5x as long on 625k triangles). Each
@@ -25,7 +26,7 @@ namespace arbor::accel {
 
 /// One node: per axis the frame (origin, scale: compact_quantize.h) and the children's planes as
 /// steps q[0] (lo) and q[1] (hi), per axis and child; per child either a node (count == 0: node
-/// index in child) or a leaf (count > 0 triangles from CompactLayout::tris[child]). Slots >=
+/// index in child) or a leaf (count > 0 triangles whose words start at CompactLayout::refs[4 * child]). Slots >=
 /// `children` are never taken (the walk masks them out).
 template <std::size_t N> struct alignas(64) CompactNode {
     float origin[3];
@@ -39,17 +40,12 @@ template <std::size_t N> struct alignas(64) CompactNode {
 };
 static_assert(sizeof(CompactNode<4>) == 128 && sizeof(CompactNode<8>) == 128 && sizeof(CompactNode<16>) == 256);
 
-/// A triangle of a compact leaf: its vertex indices into CompactLayout::verts and its number.
-struct CompactTri {
-    std::uint32_t v[3];
-    std::uint32_t prim;
-};
-static_assert(sizeof(CompactTri) == 16);
-
 template <std::size_t N> struct CompactLayout {
     static constexpr std::size_t width = N;
     UninitVector<CompactNode<N>> nodes;  ///< nodes[0] is the root; none when empty
-    UninitVector<CompactTri> tris;       ///< leaf triangles in leaf order, each leaf in ascending prim order
+    /// The leaves in leaf order (each in ascending prim order), 4 words a triangle as above, and N
+    /// words of padding at the end (the walk's loads may read past a leaf's words).
+    UninitVector<std::uint32_t> refs;
     UninitVector<std::uint8_t> orders;   ///< as WideLayout::orders
     /// The vertices the leaves use, x, y, z of vertex i at 3i, 3i + 1, 3i + 2 (first use order).
     UninitVector<float> verts;
@@ -60,15 +56,17 @@ template <std::size_t N> struct CompactLayout {
     std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1 + N; }
     /// The layout's arrays, its vertices included.
     std::size_t memory_bytes() const {
-        return nodes.capacity() * sizeof(CompactNode<N>) + tris.capacity() * sizeof(CompactTri) + orders.capacity() +
+        return nodes.capacity() * sizeof(CompactNode<N>) + refs.capacity() * sizeof(std::uint32_t) + orders.capacity() +
                verts.capacity() * sizeof(float) + sizeof(CompactLayout);
     }
-    /// Vertex k of leaf triangle s, and its number.
-    Vec3f vertex(std::size_t s, int k) const {
-        const float* v = verts.data() + 3 * std::size_t(tris[s].v[k]);
+    /// Vertex k of triangle s of the leaf (first, n), and its number.
+    Vec3f vertex(std::uint32_t first, std::uint32_t n, std::uint32_t s, int k) const {
+        const float* v = verts.data() + 3 * std::size_t(refs[4 * std::size_t(first) + std::size_t(k) * n + s]);
         return {v[0], v[1], v[2]};
     }
-    std::uint32_t prim(std::size_t s) const { return tris[s].prim; }
+    std::uint32_t prim(std::uint32_t first, std::uint32_t n, std::uint32_t s) const {
+        return refs[4 * std::size_t(first) + 3 * std::size_t(n) + s];
+    }
 };
 
 /// The compact layout of `wide` (built over `tris`): its nodes quantized, its leaves as indices

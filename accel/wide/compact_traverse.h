@@ -71,7 +71,7 @@ ARBOR_INLINE std::uint32_t node_hits(const simd::WideRay<WideLane<N>>& r, const 
 }
 
 template <std::size_t N> inline const char* leaf_data(const CompactLayout<N>& layout, std::uint32_t first) {
-    return reinterpret_cast<const char*>(layout.tris.data() + first);
+    return reinterpret_cast<const char*>(layout.refs.data() + 4 * std::size_t(first));
 }
 
 /// Lanes<T> values base[index[l]] (int32 or float, as `V`), by the ISA's gather instruction
@@ -100,31 +100,53 @@ template <class T, class V> ARBOR_INLINE auto gather_lanes(const V* base, const 
     }
 }
 
-/// Per count n (1..N), the int32 offsets of the four ints of leaf triangle min(l, n - 1) for lane l.
-template <std::size_t N> struct CompactLaneOffsets {
+/// Per count n (1..N), lane l's source lane min(l, n - 1).
+template <std::size_t N> struct CompactLaneClamp {
     alignas(64) std::int32_t at[N + 1][N];
-    constexpr CompactLaneOffsets() : at{} {
+    constexpr CompactLaneClamp() : at{} {
         for (std::size_t n = 1; n <= N; ++n)
-            for (std::size_t l = 0; l < N; ++l) at[n][l] = std::int32_t(4 * (l < n ? l : n - 1));
+            for (std::size_t l = 0; l < N; ++l) at[n][l] = std::int32_t(l < n ? l : n - 1);
     }
 };
-template <std::size_t N> inline constexpr CompactLaneOffsets<N> compact_lane_offsets{};
+template <std::size_t N> inline constexpr CompactLaneClamp<N> compact_lane_clamp{};
 
-/// Ray r against the up to N leaf triangles tris[first, first + n) of `layout` (n >= 1; the lanes
-/// past n repeat the last triangle, so they hit only where it does, and never at a lower lane).
+/// Lanes<T> words from p, lane l taking word clamp[l] (clamp: compact_lane_clamp).
+template <class T> ARBOR_INLINE simd::IntOf<T> load_clamped(const std::uint32_t* p, const std::int32_t* clamp) {
+    using I = simd::IntOf<T>;
+#if XSIMD_WITH_AVX512F
+    if constexpr (T::size == 16) {
+        return I(_mm512_permutexvar_epi32(_mm512_load_si512(clamp), _mm512_loadu_si512(p)));
+    } else
+#endif
+#if XSIMD_WITH_AVX2
+    if constexpr (T::size == 8) {
+        return I(_mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)),
+                                             _mm256_load_si256(reinterpret_cast<const __m256i*>(clamp))));
+    } else
+#endif
+    {
+        alignas(64) std::int32_t out[T::size];
+        for (std::size_t l = 0; l < T::size; ++l) out[l] = std::int32_t(p[clamp[l]]);
+        return I::load_aligned(out);
+    }
+}
+
+/// Ray r against triangles b .. b + min(N, n - b) - 1 of the leaf (first, n) of `layout`; the
+/// lanes past the leaf's end repeat its last triangle, so they hit only where it does, and never
+/// at a lower lane.
 template <class T, std::size_t N>
 ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactLayout<N>& layout, std::uint32_t first,
-                                               std::uint32_t n) {
+                                               std::uint32_t n, std::uint32_t b) {
     using I = simd::IntOf<T>;
     static_assert(T::size == N);
-    const I lane = I::load_aligned(compact_lane_offsets<N>.at[n]);
-    const auto* base = reinterpret_cast<const std::int32_t*>(layout.tris.data() + first);
+    const std::int32_t* clamp = compact_lane_clamp<N>.at[std::min<std::uint32_t>(n - b, N)];
+    const std::uint32_t* words = layout.refs.data() + 4 * std::size_t(first) + b;
     const float* verts = layout.verts.data();
     const float* ax = verts + r.kx;
     const float* ay = verts + r.ky;
     const float* az = verts + r.kz;
-    const auto rel = [&](int k) {
-        const I v = gather_lanes<T>(base + k, lane);
+    const auto rel = [&](std::size_t k) {
+        const I v = load_clamped<T>(words + k * n, clamp);
         const I at = v + v + v;  // (x, y, z interleaved)
         return simd::Vec3<T>{gather_lanes<T>(ax, at), gather_lanes<T>(ay, at), gather_lanes<T>(az, at)} - r.org_perm;
     };
