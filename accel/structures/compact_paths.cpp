@@ -117,7 +117,9 @@ private:
 
     template <bool AnyHit> Hit walk_ray(simd::WideRay<T>& r, float tfar, WideStack& stack) const {
         HitRecord<AnyHit> best;
-        const auto leaf = [&](std::uint32_t first, std::uint32_t n) { return test_leaf(r, tfar, best, first, n); };
+        // (Forced inline: as a call, the walk's WideRay lived in memory and every node test reloaded it.)
+        const auto leaf = [&](std::uint32_t first, std::uint32_t n)
+                              __attribute__((always_inline)) { return test_leaf(r, tfar, best, first, n); };
         if (r.plain) detail::walk_wide<AnyHit, true, false>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
         else detail::walk_wide<AnyHit, false, false>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
         return best.hit;
