@@ -11,9 +11,9 @@
 /// with no padding (WideBlock: 40 bytes a triangle slot, its unused slots included); the walk loads
 /// N indices at once. The vertices are the layout's own copy of the
 /// mesh's, interleaved (x, y, z) and in the order the leaves first use them, 12 bytes each: a
-/// leaf's vertices then share a few cache lines (read through the indices from the mesh's own
-/// arrays, three arrays in the mesh's order, the walk took 2-5x as long on 625k triangles). Each
-/// vertex is shared by the triangles that share it, as in the mesh. The walk gathers these
+/// leaf's vertices then share a few cache lines (from the mesh's own three arrays, in the mesh's
+/// order, each vertex cost up to three lines of its own). Each vertex is shared by the triangles
+/// that share it, as in the mesh. The walk gathers these
 /// ORIGINAL float vertices, so the watertight test sees bit for bit the inputs it sees on the
 /// other layouts. The octant orders of the N-wide layout are kept as they are.
 #include "accel/core/geometry.h"

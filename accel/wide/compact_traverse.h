@@ -35,7 +35,8 @@ template <class T> ARBOR_INLINE T load_steps(const std::uint8_t* p) {
 #endif
 #if XSIMD_WITH_AVX512F
     else if constexpr (T::size == 16) {
-        return T(_mm512_cvtepi32_ps(_mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))));
+        // (The maskz forms with every lane set: GCC 12 warns of the plain forms' undefined source.)
+        return T(_mm512_maskz_cvtepi32_ps(0xffff, _mm512_maskz_cvtepu8_epi32(0xffff, _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))));
     }
 #endif
     else static_assert(T::size == 4, "no byte conversion for this width");
@@ -81,8 +82,8 @@ template <class T, class V> ARBOR_INLINE auto gather_lanes(const V* base, const 
     using R = std::conditional_t<std::is_same_v<V, float>, T, I>;
 #if XSIMD_WITH_AVX512F
     if constexpr (T::size == 16) {
-        if constexpr (std::is_same_v<V, float>) return R(_mm512_i32gather_ps(__m512i(index), base, 4));
-        else return R(_mm512_i32gather_epi32(__m512i(index), base, 4));
+        if constexpr (std::is_same_v<V, float>) return R(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, __m512i(index), base, 4));
+        else return R(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), 0xffff, __m512i(index), base, 4));
     } else
 #endif
 #if XSIMD_WITH_AVX2
@@ -115,7 +116,7 @@ template <class T> ARBOR_INLINE simd::IntOf<T> load_clamped(const std::uint32_t*
     using I = simd::IntOf<T>;
 #if XSIMD_WITH_AVX512F
     if constexpr (T::size == 16) {
-        return I(_mm512_permutexvar_epi32(_mm512_load_si512(clamp), _mm512_loadu_si512(p)));
+        return I(_mm512_maskz_permutexvar_epi32(0xffff, _mm512_load_si512(clamp), _mm512_loadu_si512(p)));
     } else
 #endif
 #if XSIMD_WITH_AVX2
