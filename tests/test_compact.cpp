@@ -3,19 +3,19 @@
 // decoded in float and in SIMD lanes alike), and its closest hits equal brute force's bit for
 // bit (t, prim, u, v), its any hits brute's hit or miss, on every shared model,
 // procedural shapes, edge- and vertex-aimed rays and a mesh moved 1e5 away; at half the bytes.
-#include "accel/factory/make_accel.h"
-#include "accel/structures/brute_accel.h"
-#include "accel/wide/compact_quantize.h"
-#include "accel/wide/compact_traverse.h"
-#include "engine/obj_loader.h"
-#include "testing.h"
-
 #include <doctest/doctest.h>
 
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <random>
+
+#include "accel/factory/make_accel.h"
+#include "accel/structures/brute_accel.h"
+#include "accel/wide/compact_quantize.h"
+#include "accel/wide/compact_traverse.h"
+#include "engine/obj_loader.h"
+#include "testing.h"
 
 using namespace arbor;
 using accel::Hit;
@@ -170,7 +170,8 @@ TEST_CASE("compact: a node's planes decoded in SIMD lanes are the scalar decode,
         for (int s = 0; s < 2; ++s)
             for (int k = 0; k < 3; ++k) {
                 alignas(16) float got[4];
-                simd::store_lanes(accel::compact_decode(accel::load_steps<T>(n.q[s][k]), T(n.scale[k]), T(n.origin[k])), got);
+                simd::store_lanes(accel::compact_decode(accel::load_steps<T>(n.q[s][k]), T(n.scale[k]), T(n.origin[k])),
+                                  got);
                 CHECK(std::memcmp(got, ref.b[s][k], sizeof got) == 0);
             }
     }
@@ -181,8 +182,10 @@ TEST_CASE("compact: every shared model, closest hits bit for bit with brute forc
         CAPTURE(path);
         engine::Warnings w;
         const engine::Mesh mesh = engine::load_obj(path, w);
-        const std::size_t scalar_differs = check_compact(mesh, stiff_rays(mesh, mesh.triangle_count() > 30000 ? 600 : 1500, 3));
-        if (scalar_differs != 0) MESSAGE("the scalar path differs from brute on " << scalar_differs << " rays of " << path);
+        const std::size_t scalar_differs =
+            check_compact(mesh, stiff_rays(mesh, mesh.triangle_count() > 30000 ? 600 : 1500, 3));
+        if (scalar_differs != 0)
+            MESSAGE("the scalar path differs from brute on " << scalar_differs << " rays of " << path);
     }
 }
 

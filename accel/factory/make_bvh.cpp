@@ -7,7 +7,8 @@ namespace arbor::accel {
 
 std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,
                                       const BuildConfig& cfg, double build_ms) {
-    if (cfg.layouts == Layouts::scalar && !cfg.compact) return std::make_unique<BvhAccel>(kind, bvh, tris, cfg, build_ms);
+    if (cfg.layouts == Layouts::scalar && !cfg.compact)
+        return std::make_unique<BvhAccel>(kind, bvh, tris, cfg, build_ms);
     return make_wide_bvh_accel(kind, bvh, tris, cfg, build_ms);
 }
 

@@ -182,9 +182,12 @@ PathOffer bvh_offer(const BuildConfig& cfg) {
 
 std::vector<std::string> bvh_skipped(const BuildConfig& cfg, std::uint32_t leaf_floor) {
     std::vector<std::string> out;
-    if (cfg.compact) out.push_back("scalar layout and packet path (compact mode traces single rays only)");
-    else if (cfg.layouts == Layouts::scalar) out.push_back("SIMD layouts (only the SIMD paths read them)");
-    else if (cfg.layouts == Layouts::simd) out.push_back("scalar layout (only the scalar path reads it)");
+    if (cfg.compact)
+        out.push_back("scalar layout and packet path (compact mode traces single rays only)");
+    else if (cfg.layouts == Layouts::scalar)
+        out.push_back("SIMD layouts (only the SIMD paths read them)");
+    else if (cfg.layouts == Layouts::simd)
+        out.push_back("scalar layout (only the scalar path reads it)");
     // A BVH built for the SIMD paths only stops splitting at the layout's width.
     if (leaf_floor > 1)
         out.push_back("binary splits of ranges of at most " + std::to_string(leaf_floor) +

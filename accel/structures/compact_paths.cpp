@@ -7,6 +7,9 @@
 // (the path policy's rule for a path not offered), and the counted mode is not offered. All hits
 // use the same walk; closest points test every leaf triangle (no pruning by the tree); winding
 // numbers build their own tree (Accel::make_winding_tree). No refit.
+#include <algorithm>
+#include <vector>
+
 #include "accel/core/hit_record.h"
 #include "accel/structures/bvh_accel.h"
 #include "accel/structures/wide_paths.h"
@@ -15,18 +18,17 @@
 #include "accel/wide/wide_push.h"
 #include "simd/wide_ray_setup.h"
 
-#include <algorithm>
-#include <vector>
-
 namespace arbor::accel {
 
 namespace {
 
-template <std::size_t N> class CompactBvhAccel final : public BvhAccel {
+template <std::size_t N>
+class CompactBvhAccel final : public BvhAccel {
 public:
     using T = WideLane<N>;
 
-    CompactBvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
+    CompactBvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg,
+                    double build_ms)
         : BvhAccel(kind) {
         BuildConfig only = cfg;
         only.layouts = Layouts::simd;  // (the scalar layout would cost more than the compact one saves)
@@ -59,13 +61,18 @@ public:
                         const std::uint32_t used = n - b >= N ? ~0u : (1u << (n - b)) - 1u;  // (not the repeated lanes)
                         for (std::uint32_t bits = simd::to_bits(h.hit) & used; bits != 0; bits &= bits - 1) {
                             const auto l = std::size_t(std::countr_zero(bits));
-                            hits.push_back({simd::lane(h.t, l), layout_.prim(first, n, b + std::uint32_t(l)), simd::lane(h.u, l), simd::lane(h.v, l)});
+                            hits.push_back({simd::lane(h.t, l), layout_.prim(first, n, b + std::uint32_t(l)),
+                                            simd::lane(h.u, l), simd::lane(h.v, l)});
                         }
                     }
                     return false;  // never shortened
                 };
-                if (r.plain) detail::walk_wide<false, true, false>(layout_, r, ray.tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
-                else detail::walk_wide<false, false, false>(layout_, r, ray.tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
+                if (r.plain)
+                    detail::walk_wide<false, true, false>(layout_, r, ray.tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr,
+                                                          leaf);
+                else
+                    detail::walk_wide<false, false, false>(layout_, r, ray.tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr,
+                                                           leaf);
             }
             sort_unique_hits(hits);
             sink.take(i, hits);
@@ -80,8 +87,8 @@ public:
                     for (std::size_t c = 0; c < node.children; ++c) {
                         const std::uint32_t first = node.child[c], n = node.count[c];
                         for (std::uint32_t t = 0; t < n; ++t)
-                            s.offer(layout_.vertex(first, n, t, 0), layout_.vertex(first, n, t, 1), layout_.vertex(first, n, t, 2),
-                                    layout_.prim(first, n, t));
+                            s.offer(layout_.vertex(first, n, t, 0), layout_.vertex(first, n, t, 1),
+                                    layout_.vertex(first, n, t, 2), layout_.prim(first, n, t));
                     }
             out[i] = s.result();
         }
@@ -94,7 +101,8 @@ private:
     /// Ray r's test of the leaf (first, n): hits offered to `best`; a kept hit lowers
     /// tfar and r.tfar (and ends the leaf for AnyHit). True when one was kept.
     template <bool AnyHit>
-    ARBOR_INLINE bool test_leaf(simd::WideRay<T>& r, float& tfar, HitRecord<AnyHit>& best, std::uint32_t first, std::uint32_t n) const {
+    ARBOR_INLINE bool test_leaf(simd::WideRay<T>& r, float& tfar, HitRecord<AnyHit>& best, std::uint32_t first,
+                                std::uint32_t n) const {
         bool found = false;
         for (std::uint32_t b = 0; b < n; b += N) {
             const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first, n, b);
@@ -115,17 +123,22 @@ private:
         return found;
     }
 
-    template <bool AnyHit> Hit walk_ray(simd::WideRay<T>& r, float tfar, WideStack& stack) const {
+    template <bool AnyHit>
+    Hit walk_ray(simd::WideRay<T>& r, float tfar, WideStack& stack) const {
         HitRecord<AnyHit> best;
         // (Forced inline: as a call, the walk's WideRay lived in memory and every node test reloaded it.)
-        const auto leaf = [&](std::uint32_t first, std::uint32_t n)
-                              __attribute__((always_inline)) { return test_leaf(r, tfar, best, first, n); };
-        if (r.plain) detail::walk_wide<AnyHit, true, false>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
-        else detail::walk_wide<AnyHit, false, false>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
+        const auto leaf = [&](std::uint32_t first, std::uint32_t n) __attribute__((always_inline)) {
+            return test_leaf(r, tfar, best, first, n);
+        };
+        if (r.plain)
+            detail::walk_wide<AnyHit, true, false>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
+        else
+            detail::walk_wide<AnyHit, false, false>(layout_, r, tfar, stack, 0, 0, 0, T(0.0f), 0, nullptr, leaf);
         return best.hit;
     }
 
-    template <bool AnyHit> void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
+    template <bool AnyHit>
+    void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
         if (layout_.empty()) {
             std::fill(hits.begin(), hits.end(), Hit{});
             return;
@@ -143,10 +156,14 @@ private:
         }
     }
 
-    void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath, TraceCounters* counters) const override {
-        if (counters) return BvhAccel::run(rays, hits, query, TracePath::scalar, counters);  // (check_counts threw before)
-        if (query == Query::any) trace_single<true>(rays, hits);
-        else trace_single<false>(rays, hits);
+    void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath,
+             TraceCounters* counters) const override {
+        if (counters)
+            return BvhAccel::run(rays, hits, query, TracePath::scalar, counters);  // (check_counts threw before)
+        if (query == Query::any)
+            trace_single<true>(rays, hits);
+        else
+            trace_single<false>(rays, hits);
     }
 
     CompactLayout<N> layout_;
@@ -156,16 +173,19 @@ private:
 
 namespace kset {
 
-std::unique_ptr<Accel> make_compact_bvh_accel(std::uint32_t width, AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
-                                              const BuildConfig& cfg, double build_ms) {
+std::unique_ptr<Accel> make_compact_bvh_accel(std::uint32_t width, AccelKind kind, const BinaryBvh& bvh,
+                                              const TriangleView& tris, const BuildConfig& cfg, double build_ms) {
     switch (width) {
 #if XSIMD_WITH_AVX2
-    case 8: return std::make_unique<CompactBvhAccel<8>>(kind, bvh, tris, cfg, build_ms);
+        case 8:
+            return std::make_unique<CompactBvhAccel<8>>(kind, bvh, tris, cfg, build_ms);
 #endif
 #if XSIMD_WITH_AVX512F
-    case 16: return std::make_unique<CompactBvhAccel<16>>(kind, bvh, tris, cfg, build_ms);
+        case 16:
+            return std::make_unique<CompactBvhAccel<16>>(kind, bvh, tris, cfg, build_ms);
 #endif
-    default: break;
+        default:
+            break;
     }
     return std::make_unique<CompactBvhAccel<4>>(kind, bvh, tris, cfg, build_ms);
 }

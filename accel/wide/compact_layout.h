@@ -16,11 +16,11 @@
 /// that share it, as in the mesh. The walk gathers these
 /// ORIGINAL float vertices, so the watertight test sees bit for bit the inputs it sees on the
 /// other layouts. The octant orders of the N-wide layout are kept as they are.
+#include <cstdint>
+
 #include "accel/core/geometry.h"
 #include "accel/util/uninit_vector.h"
 #include "accel/wide/wide_layout.h"
-
-#include <cstdint>
 
 namespace arbor::accel {
 
@@ -28,7 +28,8 @@ namespace arbor::accel {
 /// steps q[0] (lo) and q[1] (hi), per axis and child; per child either a node (count == 0: node
 /// index in child) or a leaf (count > 0 triangles whose words start at CompactLayout::refs[4 * child]). Slots >=
 /// `children` are never taken (the walk masks them out).
-template <std::size_t N> struct alignas(64) CompactNode {
+template <std::size_t N>
+struct alignas(64) CompactNode {
     float origin[3];
     float scale[3];
     std::uint8_t q[2][3][N];
@@ -40,13 +41,14 @@ template <std::size_t N> struct alignas(64) CompactNode {
 };
 static_assert(sizeof(CompactNode<4>) == 128 && sizeof(CompactNode<8>) == 128 && sizeof(CompactNode<16>) == 256);
 
-template <std::size_t N> struct CompactLayout {
+template <std::size_t N>
+struct CompactLayout {
     static constexpr std::size_t width = N;
     UninitVector<CompactNode<N>> nodes;  ///< nodes[0] is the root; none when empty
     /// The leaves in leaf order (each in ascending prim order), 4 words a triangle as above, and N
     /// words of padding at the end (the walk's loads may read past a leaf's words).
     UninitVector<std::uint32_t> refs;
-    UninitVector<std::uint8_t> orders;   ///< as WideLayout::orders
+    UninitVector<std::uint8_t> orders;  ///< as WideLayout::orders
     /// The vertices the leaves use, x, y, z of vertex i at 3i, 3i + 1, 3i + 2 (first use order).
     UninitVector<float> verts;
     std::uint32_t depth = 0;
@@ -71,7 +73,8 @@ template <std::size_t N> struct CompactLayout {
 
 /// The compact layout of `wide` (built over `tris`): its nodes quantized, its leaves as indices
 /// into its own copy of the vertices they use. `wide` is consumed (its orders are moved).
-template <std::size_t N> CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris);
+template <std::size_t N>
+CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris);
 
 extern template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&);
 extern template CompactLayout<8> make_compact_layout<8>(WideLayout<8>&&, const TriangleView&);

@@ -10,17 +10,20 @@
 /// decoded value is <= the true lo, hi the smallest whose decoded value is >= the true hi. With
 /// the scale an exact power of two in [2^-126, 2^127] and q <= 255, float(q) * scale is exact (or
 /// +inf, which only widens a hi plane), so a fused multiply-add would give the same value too.
-#include "accel/core/ray.h"
-#include "simd/simd.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
+#include "accel/core/ray.h"
+#include "simd/simd.h"
+
 namespace arbor::accel {
 
 /// A decoded plane: origin + float(q) * scale (T = float, or a lane type with q converted to float).
-template <class T> ARBOR_INLINE T compact_decode(const T& q, const T& scale, const T& origin) { return origin + q * scale; }
+template <class T>
+ARBOR_INLINE T compact_decode(const T& q, const T& scale, const T& origin) {
+    return origin + q * scale;
+}
 
 /// The quantization frame of one axis of a node: the children's lowest lo is the origin, the
 /// scale the smallest power of two (at least 2^-126, at most 2^127) whose 255 steps reach the

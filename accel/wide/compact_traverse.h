@@ -7,22 +7,23 @@
 /// vertex indices and then their ORIGINAL vertices gathered from the layout's copy (only the
 /// three axes the ray's permutation needs, in its order), then woop_permuted, the watertight test
 /// of every other path, on bit-identical inputs.
-#include "accel/wide/compact_layout.h"
-#include "accel/wide/compact_quantize.h"
-#include "accel/wide/wide_traverse.h"
-#include "simd/box_kernels.h"
-#include "simd/tri_kernels.h"
-
 #include <immintrin.h>
 
 #include <bit>
 #include <cstdint>
 #include <type_traits>
 
+#include "accel/wide/compact_layout.h"
+#include "accel/wide/compact_quantize.h"
+#include "accel/wide/wide_traverse.h"
+#include "simd/box_kernels.h"
+#include "simd/tri_kernels.h"
+
 namespace arbor::accel {
 
 /// lanes<T> bytes at p, each converted to float.
-template <class T> ARBOR_INLINE T load_steps(const std::uint8_t* p) {
+template <class T>
+ARBOR_INLINE T load_steps(const std::uint8_t* p) {
     if constexpr (T::size == 4) {
         std::int32_t w;
         __builtin_memcpy(&w, p, 4);
@@ -36,19 +37,23 @@ template <class T> ARBOR_INLINE T load_steps(const std::uint8_t* p) {
 #if XSIMD_WITH_AVX512F
     else if constexpr (T::size == 16) {
         // (The maskz forms with every lane set: GCC 12 warns of the plain forms' undefined source.)
-        return T(_mm512_maskz_cvtepi32_ps(0xffff, _mm512_maskz_cvtepu8_epi32(0xffff, _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))));
+        return T(_mm512_maskz_cvtepi32_ps(
+            0xffff, _mm512_maskz_cvtepu8_epi32(0xffff, _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))));
     }
 #endif
-    else static_assert(T::size == 4, "no byte conversion for this width");
+    else
+        static_assert(T::size == 4, "no byte conversion for this width");
 }
 
 /// The decoded boxes of the children of `n`, lo planes in b[0] and hi planes in b[1] as in
 /// simd::BoxesSoA (by compact_decode: each contains the child's true box).
-template <std::size_t N> inline simd::BoxesSoA<N> decode_boxes(const CompactNode<N>& n) {
+template <std::size_t N>
+inline simd::BoxesSoA<N> decode_boxes(const CompactNode<N>& n) {
     simd::BoxesSoA<N> out;
     for (int s = 0; s < 2; ++s)
         for (int k = 0; k < 3; ++k)
-            for (std::size_t c = 0; c < N; ++c) out.b[s][k][c] = compact_decode(float(n.q[s][k][c]), n.scale[k], n.origin[k]);
+            for (std::size_t c = 0; c < N; ++c)
+                out.b[s][k][c] = compact_decode(float(n.q[s][k][c]), n.scale[k], n.origin[k]);
     return out;
 }
 
@@ -67,29 +72,40 @@ ARBOR_INLINE std::uint32_t node_hits(const simd::WideRay<WideLane<N>>& r, const 
     }
     const std::uint32_t used = (1u << n.children) - 1u;
     if constexpr (Plain)
-        return simd::to_bits(simd::slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) & used;
-    else return simd::to_bits(simd::slab_test<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) & used;
+        return simd::to_bits(
+                   simd::slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) &
+               used;
+    else
+        return simd::to_bits(
+                   simd::slab_test<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) &
+               used;
 }
 
-template <std::size_t N> inline const char* leaf_data(const CompactLayout<N>& layout, std::uint32_t first) {
+template <std::size_t N>
+inline const char* leaf_data(const CompactLayout<N>& layout, std::uint32_t first) {
     return reinterpret_cast<const char*>(layout.refs.data() + 4 * std::size_t(first));
 }
 
 /// Lanes<T> values base[index[l]] (int32 or float, as `V`), by the ISA's gather instruction
 /// (xsimd 8.1 emulates AVX-512 gathers lane by lane).
-template <class T, class V> ARBOR_INLINE auto gather_lanes(const V* base, const simd::IntOf<T>& index) {
+template <class T, class V>
+ARBOR_INLINE auto gather_lanes(const V* base, const simd::IntOf<T>& index) {
     using I = simd::IntOf<T>;
     using R = std::conditional_t<std::is_same_v<V, float>, T, I>;
 #if XSIMD_WITH_AVX512F
     if constexpr (T::size == 16) {
-        if constexpr (std::is_same_v<V, float>) return R(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, __m512i(index), base, 4));
-        else return R(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), 0xffff, __m512i(index), base, 4));
+        if constexpr (std::is_same_v<V, float>)
+            return R(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, __m512i(index), base, 4));
+        else
+            return R(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), 0xffff, __m512i(index), base, 4));
     } else
 #endif
 #if XSIMD_WITH_AVX2
-    if constexpr (T::size == 8) {
-        if constexpr (std::is_same_v<V, float>) return R(_mm256_i32gather_ps(base, __m256i(index), 4));
-        else return R(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), __m256i(index), 4));
+        if constexpr (T::size == 8) {
+        if constexpr (std::is_same_v<V, float>)
+            return R(_mm256_i32gather_ps(base, __m256i(index), 4));
+        else
+            return R(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), __m256i(index), 4));
     } else
 #endif
     {
@@ -102,17 +118,20 @@ template <class T, class V> ARBOR_INLINE auto gather_lanes(const V* base, const 
 }
 
 /// Per count n (1..N), lane l's source lane min(l, n - 1).
-template <std::size_t N> struct CompactLaneClamp {
+template <std::size_t N>
+struct CompactLaneClamp {
     alignas(64) std::int32_t at[N + 1][N];
     constexpr CompactLaneClamp() : at{} {
         for (std::size_t n = 1; n <= N; ++n)
             for (std::size_t l = 0; l < N; ++l) at[n][l] = std::int32_t(l < n ? l : n - 1);
     }
 };
-template <std::size_t N> inline constexpr CompactLaneClamp<N> compact_lane_clamp{};
+template <std::size_t N>
+inline constexpr CompactLaneClamp<N> compact_lane_clamp{};
 
 /// Lanes<T> words from p, lane l taking word clamp[l] (clamp: compact_lane_clamp).
-template <class T> ARBOR_INLINE simd::IntOf<T> load_clamped(const std::uint32_t* p, const std::int32_t* clamp) {
+template <class T>
+ARBOR_INLINE simd::IntOf<T> load_clamped(const std::uint32_t* p, const std::int32_t* clamp) {
     using I = simd::IntOf<T>;
 #if XSIMD_WITH_AVX512F
     if constexpr (T::size == 16) {
@@ -120,7 +139,7 @@ template <class T> ARBOR_INLINE simd::IntOf<T> load_clamped(const std::uint32_t*
     } else
 #endif
 #if XSIMD_WITH_AVX2
-    if constexpr (T::size == 8) {
+        if constexpr (T::size == 8) {
         return I(_mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)),
                                              _mm256_load_si256(reinterpret_cast<const __m256i*>(clamp))));
     } else
@@ -136,8 +155,8 @@ template <class T> ARBOR_INLINE simd::IntOf<T> load_clamped(const std::uint32_t*
 /// lanes past the leaf's end repeat its last triangle, so they hit only where it does, and never
 /// at a lower lane.
 template <class T, std::size_t N>
-ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactLayout<N>& layout, std::uint32_t first,
-                                               std::uint32_t n, std::uint32_t b) {
+ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactLayout<N>& layout,
+                                               std::uint32_t first, std::uint32_t n, std::uint32_t b) {
     using I = simd::IntOf<T>;
     static_assert(T::size == N);
     const std::int32_t* clamp = compact_lane_clamp<N>.at[std::min<std::uint32_t>(n - b, N)];
