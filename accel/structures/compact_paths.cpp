@@ -58,8 +58,7 @@ public:
                 auto leaf = [&](std::uint32_t first, std::uint32_t n) {
                     for (std::uint32_t b = 0; b < n; b += N) {
                         const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first, n, b);
-                        const std::uint32_t used = n - b >= N ? ~0u : (1u << (n - b)) - 1u;  // (not the repeated lanes)
-                        for (std::uint32_t bits = simd::to_bits(h.hit) & used; bits != 0; bits &= bits - 1) {
+                        for (std::uint32_t bits = simd::to_bits(h.hit); bits != 0; bits &= bits - 1) {
                             const auto l = std::size_t(std::countr_zero(bits));
                             hits.push_back({simd::lane(h.t, l), layout_.prim(first, n, b + std::uint32_t(l)),
                                             simd::lane(h.u, l), simd::lane(h.v, l)});
@@ -108,8 +107,8 @@ private:
             const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first, n, b);
             const std::uint32_t bits = simd::to_bits(h.hit);
             if (bits == 0) continue;
-            // The lowest lane among equal t: the lowest prim (the leaf is in ascending prim order,
-            // and a repeated last triangle is never below its own lane).
+            // The lowest lane among equal t: the lowest prim (the leaf is in ascending prim order;
+            // the lanes past its end are NaN padding, which never hits).
             const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
             const float t = simd::lane(h.t, std::size_t(lane));
             if (!best.offer(t, layout_.prim(first, n, b + std::uint32_t(lane)), simd::lane(h.u, std::size_t(lane)),

@@ -10,8 +10,8 @@
 #include <immintrin.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
-#include <type_traits>
 
 #include "accel/wide/compact_layout.h"
 #include "accel/wide/compact_quantize.h"
@@ -86,89 +86,54 @@ inline const char* leaf_data(const CompactLayout<N>& layout, std::uint32_t first
     return reinterpret_cast<const char*>(layout.refs.data() + 4 * std::size_t(first));
 }
 
-/// Lanes<T> values base[index[l]] (int32 or float, as `V`), by the ISA's gather instruction
-/// (xsimd 8.1 emulates AVX-512 gathers lane by lane).
-template <class T, class V>
-ARBOR_INLINE auto gather_lanes(const V* base, const simd::IntOf<T>& index) {
-    using I = simd::IntOf<T>;
-    using R = std::conditional_t<std::is_same_v<V, float>, T, I>;
+/// Lanes<T> floats base[index[l]] for the lanes set in `lanes`, NaN in the others (never read:
+/// the watertight test's padding, which never hits and never reaches its double-precision
+/// fallback), by the ISA's masked gather (xsimd 8.1 emulates AVX-512 gathers lane by lane; a
+/// masked gather loads only its lanes).
+template <class T>
+ARBOR_INLINE T gather_lanes(const float* base, const simd::IntOf<T>& index, std::uint32_t lanes) {
 #if XSIMD_WITH_AVX512F
     if constexpr (T::size == 16) {
-        if constexpr (std::is_same_v<V, float>)
-            return R(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, __m512i(index), base, 4));
-        else
-            return R(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), 0xffff, __m512i(index), base, 4));
+        return T(_mm512_mask_i32gather_ps(_mm512_set1_ps(NAN), __mmask16(lanes), __m512i(index), base, 4));
     } else
 #endif
 #if XSIMD_WITH_AVX2
-        if constexpr (T::size == 8) {
-        if constexpr (std::is_same_v<V, float>)
-            return R(_mm256_i32gather_ps(base, __m256i(index), 4));
-        else
-            return R(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), __m256i(index), 4));
+    if constexpr (T::size == 8) {
+        const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        const __m256 mask = _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(lanes)), bit), bit));
+        return T(_mm256_mask_i32gather_ps(_mm256_set1_ps(NAN), base, __m256i(index), mask, 4));
     } else
 #endif
     {
         alignas(64) std::int32_t at[T::size];
-        alignas(64) V out[T::size];
+        alignas(64) float out[T::size];
         index.store_aligned(at);
-        for (std::size_t l = 0; l < T::size; ++l) out[l] = base[at[l]];
-        return R::load_aligned(out);
-    }
-}
-
-/// Per count n (1..N), lane l's source lane min(l, n - 1).
-template <std::size_t N>
-struct CompactLaneClamp {
-    alignas(64) std::int32_t at[N + 1][N];
-    constexpr CompactLaneClamp() : at{} {
-        for (std::size_t n = 1; n <= N; ++n)
-            for (std::size_t l = 0; l < N; ++l) at[n][l] = std::int32_t(l < n ? l : n - 1);
-    }
-};
-template <std::size_t N>
-inline constexpr CompactLaneClamp<N> compact_lane_clamp{};
-
-/// Lanes<T> words from p, lane l taking word clamp[l] (clamp: compact_lane_clamp).
-template <class T>
-ARBOR_INLINE simd::IntOf<T> load_clamped(const std::uint32_t* p, const std::int32_t* clamp) {
-    using I = simd::IntOf<T>;
-#if XSIMD_WITH_AVX512F
-    if constexpr (T::size == 16) {
-        return I(_mm512_maskz_permutexvar_epi32(0xffff, _mm512_load_si512(clamp), _mm512_loadu_si512(p)));
-    } else
-#endif
-#if XSIMD_WITH_AVX2
-        if constexpr (T::size == 8) {
-        return I(_mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)),
-                                             _mm256_load_si256(reinterpret_cast<const __m256i*>(clamp))));
-    } else
-#endif
-    {
-        alignas(64) std::int32_t out[T::size];
-        for (std::size_t l = 0; l < T::size; ++l) out[l] = std::int32_t(p[clamp[l]]);
-        return I::load_aligned(out);
+        for (std::size_t l = 0; l < T::size; ++l) out[l] = (lanes >> l) & 1u ? base[at[l]] : NAN;
+        return T::load_aligned(out);
     }
 }
 
 /// Ray r against triangles b .. b + min(N, n - b) - 1 of the leaf (first, n) of `layout`; the
-/// lanes past the leaf's end repeat its last triangle, so they hit only where it does, and never
-/// at a lower lane.
+/// lanes past the leaf's end hold NaN vertices, which never hit.
 template <class T, std::size_t N>
-ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactLayout<N>& layout,
-                                               std::uint32_t first, std::uint32_t n, std::uint32_t b) {
+ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactLayout<N>& layout, std::uint32_t first,
+                                               std::uint32_t n, std::uint32_t b) {
     using I = simd::IntOf<T>;
     static_assert(T::size == N);
-    const std::int32_t* clamp = compact_lane_clamp<N>.at[std::min<std::uint32_t>(n - b, N)];
+    const std::uint32_t rest = n - b;
+    const std::uint32_t lanes = rest >= N ? std::uint32_t((1ull << N) - 1) : (1u << rest) - 1u;
+    // (The loads may read past the leaf's words, into the next leaf's or the padding at the end
+    // of refs: those lanes are masked out of the gathers.)
     const std::uint32_t* words = layout.refs.data() + 4 * std::size_t(first) + b;
     const float* verts = layout.verts.data();
     const float* ax = verts + r.kx;
     const float* ay = verts + r.ky;
     const float* az = verts + r.kz;
     const auto rel = [&](std::size_t k) {
-        const I v = load_clamped<T>(words + k * n, clamp);
+        const I v = I::load_unaligned(reinterpret_cast<const std::int32_t*>(words + k * n));
         const I at = v + v + v;  // (x, y, z interleaved)
-        return simd::Vec3<T>{gather_lanes<T>(ax, at), gather_lanes<T>(ay, at), gather_lanes<T>(az, at)} - r.org_perm;
+        return simd::Vec3<T>{gather_lanes<T>(ax, at, lanes), gather_lanes<T>(ay, at, lanes), gather_lanes<T>(az, at, lanes)} -
+               r.org_perm;
     };
     return simd::woop_permuted<T, true>(rel(0), rel(1), rel(2), r.sx, r.sy, r.sz, r.tnear, r.tfar);
 }
