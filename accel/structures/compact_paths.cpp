@@ -8,6 +8,7 @@
 // use the same walk; closest points test every leaf triangle (no pruning by the tree); winding
 // numbers build their own tree (Accel::make_winding_tree). No refit.
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "accel/core/hit_record.h"
@@ -32,10 +33,18 @@ public:
         : BvhAccel(kind) {
         BuildConfig only = cfg;
         only.layouts = Layouts::simd;  // (the scalar layout would cost more than the compact one saves)
+        std::size_t wide_bytes = 0;
         init(bvh, tris, only, build_ms, [&] {
-            layout_ = make_compact_layout<N>(make_wide_layout<N>(bvh, tris, cfg.wide), tris);
+            WideLayout<N> wide = make_wide_layout<N>(bvh, tris, cfg.wide);
+            wide_bytes = wide.memory_bytes();
+            layout_ = make_compact_layout<N>(std::move(wide), tris);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });
+        // The conversion holds the binary tree, the wide layout and the compact one at once (the
+        // peak init worked out counts the compact layout only).
+        const std::size_t binary_bytes =
+            bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
+        stats_.build_peak_bytes = std::max(stats_.build_peak_bytes, binary_bytes + wide_bytes + stats_.memory_bytes);
         offer_.add(TracePath::single);
         offer_.packets_pay = false;
     }
