@@ -160,6 +160,7 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
         ready = true;
         return;
     }
+    cfg.compact = o.compact;  // (after the instances: their meshes are views the compact layout would outlive)
     const accel::TriangleView view = mesh.view();
     accel::AccelPick pick;
     arena->execute([&] {

@@ -222,6 +222,7 @@ void Scene::update_vertices(std::uint32_t geom, const float* vertices, std::size
             accel::BuildConfig cfg;
             cfg.max_memory = s.options.max_memory;
             cfg.layouts = accel::Layouts::simd;  // as build() makes it
+            cfg.compact = s.options.compact;
             s.ready = false;
             s.accel.reset();
             update_bounds(nullptr);

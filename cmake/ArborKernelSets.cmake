@@ -22,6 +22,7 @@ set(ARBOR_KERNEL_SOURCES
   structures/wide_paths4.cpp
   structures/wide_paths8.cpp
   structures/wide_paths16.cpp
+  structures/compact_paths.cpp
 )
 set(ARBOR_KERNEL_SETS sse4 avx2 avx512)
 set(ARBOR_KERNEL_MARCH_sse4 x86-64-v2)

@@ -163,15 +163,17 @@ PYBIND11_MODULE(_arbor, m) {
              "    int: the mesh's geometry id (0, 1, 2, ... in the order added).\n" ARBOR_RAISES_DOC)
         .def(
             "build",
-            [](PyScene& s, py::object accel, py::object threads, py::object max_memory) {
+            [](PyScene& s, py::object accel, py::object threads, py::object max_memory, py::object compact) {
                 const std::string name = arbor::python::str_arg(accel, "accel", structures);
                 const int t = arbor::python::threads_arg(threads, "all cores");
                 const auto budget = std::uint64_t(arbor::python::count_arg(
                     max_memory, "max_memory", "a number of bytes >= 0 (0 = no limit)", LLONG_MAX));
-                const arbor::BuildOptions o{name, t, budget};
+                if (!py::isinstance<py::bool_>(compact))
+                    throw py::type_error("compact: expected True or False, got " + std::string(py::str(compact.get_type())));
+                const arbor::BuildOptions o{name, t, budget, compact.cast<bool>()};
                 run<true>(s, [&] { s.scene.build(o); });
             },
-            "accel"_a = "auto", "threads"_a = 0, "max_memory"_a = 0,
+            "accel"_a = "auto", "threads"_a = 0, "max_memory"_a = 0, "compact"_a = false,
             "Builds the acceleration structure (again, after add_mesh); a query on a scene never built\n"
             "builds it first with the defaults.\n\n"
             "Args:\n"
@@ -179,7 +181,9 @@ PYBIND11_MODULE(_arbor, m) {
             "        (arbor picks by predicted build + trace time; accel_reason says why).\n"
             "    threads: threads for the build and, by default, for every query: 0 = all cores; more\n"
             "        than the cores = all cores.\n"
-            "    max_memory: a budget in bytes for the build (0 = no limit).\n\n"
+            "    max_memory: a budget in bytes for the build (0 = no limit).\n"
+            "    compact: the BVHs' compact mode: about half the bytes per triangle, single-ray\n"
+            "        traversal (docs/structures.md).\n\n"
             "Raises:\n"
             "    MemoryError: the build would exceed max_memory.\n"
             "    TypeError, ValueError: an argument of the wrong type or value; the message names it.\n")

@@ -7,12 +7,13 @@ namespace arbor::accel {
 
 std::unique_ptr<Accel> make_bvh_accel(AccelKind kind, BinaryBvh&& bvh, const TriangleView& tris,
                                       const BuildConfig& cfg, double build_ms) {
-    if (cfg.layouts == Layouts::scalar) return std::make_unique<BvhAccel>(kind, bvh, tris, cfg, build_ms);
+    if (cfg.layouts == Layouts::scalar && !cfg.compact)
+        return std::make_unique<BvhAccel>(kind, bvh, tris, cfg, build_ms);
     return make_wide_bvh_accel(kind, bvh, tris, cfg, build_ms);
 }
 
 std::uint32_t bvh_leaf_floor(const BuildConfig& cfg) {
-    if (cfg.layouts != Layouts::simd) return 0;
+    if (cfg.layouts != Layouts::simd && !cfg.compact) return 0;
     if (cfg.bvh.simd_leaf_floor != 0) return cfg.bvh.simd_leaf_floor;
     return wide_width_or_default(cfg.wide.width);
 }

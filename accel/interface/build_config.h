@@ -38,6 +38,11 @@ struct BuildConfig {
     /// MemoryLimitError (factory/memory_estimate.h): checked from the triangle count before building,
     /// by the kd-tree builder as it grows, and against the measured peak afterwards. `--max-memory`.
     std::uint64_t max_memory = 0;
+    /// Compact mode (BVHs only; the other structures ignore it): the SIMD layout is kept as
+    /// wide/compact_layout.h's quantized nodes and vertex-index leaves, about half the bytes per
+    /// triangle, traced on the `single` path only (packets and the scalar path fall back to it; no
+    /// scalar layout is built). `--compact`.
+    bool compact = false;
 };
 
 }  // namespace arbor::accel

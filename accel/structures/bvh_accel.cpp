@@ -169,6 +169,10 @@ void BvhAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query 
 
 PathOffer bvh_offer(const BuildConfig& cfg) {
     PathOffer o;
+    if (cfg.compact) {  // (the compact layout: `single` only, structures/compact_paths.cpp)
+        o.add(TracePath::single);
+        return o;
+    }
     const bool simd = cfg.layouts != Layouts::scalar, scalar = cfg.layouts != Layouts::simd;
     if (scalar) o.add(TracePath::scalar);
     o.counts = scalar, o.simd_skipped = !simd;
@@ -178,8 +182,12 @@ PathOffer bvh_offer(const BuildConfig& cfg) {
 
 std::vector<std::string> bvh_skipped(const BuildConfig& cfg, std::uint32_t leaf_floor) {
     std::vector<std::string> out;
-    if (cfg.layouts == Layouts::scalar) out.push_back("SIMD layouts (only the SIMD paths read them)");
-    if (cfg.layouts == Layouts::simd) out.push_back("scalar layout (only the scalar path reads it)");
+    if (cfg.compact)
+        out.push_back("scalar layout and packet path (compact mode traces single rays only)");
+    else if (cfg.layouts == Layouts::scalar)
+        out.push_back("SIMD layouts (only the SIMD paths read them)");
+    else if (cfg.layouts == Layouts::simd)
+        out.push_back("scalar layout (only the scalar path reads it)");
     // A BVH built for the SIMD paths only stops splitting at the layout's width.
     if (leaf_floor > 1)
         out.push_back("binary splits of ranges of at most " + std::to_string(leaf_floor) +

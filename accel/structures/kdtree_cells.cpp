@@ -134,6 +134,7 @@ public:
                          (prims.x.capacity() * 3 + prims.indices.capacity()) * sizeof(float);
             BuildConfig wide_cfg = cfg;
             wide_cfg.layouts = Layouts::simd;
+            wide_cfg.compact = false;  // (compact mode is the BVHs'; its leaves would read `prims`' arrays)
             cells_ = paths.make(cells, prims.view(), wide_cfg);
         }
         stats_.build_ms += timer.ms();

@@ -24,6 +24,9 @@ bool wide_width_supported(std::uint32_t width) {
 
 std::unique_ptr<Accel> make_wide_bvh_accel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
                                            const BuildConfig& cfg, double build_ms) {
+    if (cfg.compact)
+        return make_compact_bvh_accel(wide_width_supported(cfg.wide.width) ? cfg.wide.width : default_wide_width(),
+                                      kind, bvh, tris, cfg, build_ms);
     switch (wide_width_supported(cfg.wide.width) ? cfg.wide.width : default_wide_width()) {
 #if XSIMD_WITH_AVX2
     case 8: return make_wide_bvh_accel_n<8>(kind, bvh, tris, cfg, build_ms);

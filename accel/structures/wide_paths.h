@@ -22,4 +22,9 @@ bool wide_width_supported(std::uint32_t width);
 std::unique_ptr<Accel> make_wide_bvh_accel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris,
                                            const BuildConfig& cfg, double build_ms);
 
+/// The compact mode's BVH (BuildConfig::compact; structures/compact_paths.cpp) of width `width`
+/// (supported by the kernel set).
+std::unique_ptr<Accel> make_compact_bvh_accel(std::uint32_t width, AccelKind kind, const BinaryBvh& bvh,
+                                              const TriangleView& tris, const BuildConfig& cfg, double build_ms);
+
 }  // namespace arbor::accel::kset

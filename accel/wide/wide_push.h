@@ -37,8 +37,8 @@ private:
 /// Pushes the children of `n` whose bit is set in `bits` at stack position sp, in the order
 /// `order` (N lanes, far to near; wide_order.h), with their entry distances d[lane]; returns the
 /// new top. Writes entries sp .. sp + N - 1 whatever `bits` holds.
-template <std::size_t N>
-inline std::size_t push_ordered(std::uint32_t bits, const std::uint8_t* order, const WideNode<N>& n, const float* d,
+template <std::size_t N, class Node>
+inline std::size_t push_ordered(std::uint32_t bits, const std::uint8_t* order, const Node& n, const float* d,
                                 WideStack& s, std::size_t sp) {
     std::uint32_t* child = s.child();
     std::uint32_t* count = s.count();
@@ -57,8 +57,9 @@ inline std::size_t push_ordered(std::uint32_t bits, const std::uint8_t* order, c
 /// push_ordered for 16-wide nodes with the distances in a 16-lane register. (Forced inline, as
 /// push_hits below: GCC 12 stopped inlining them into the single walk once the packet path's
 /// set-up changed in the same translation unit, wide_paths16.cpp; any-hit single rays 0.84-0.88x.)
-ARBOR_INLINE std::size_t push_ordered16(std::uint32_t bits, const std::uint8_t* order, const WideNode<16>& n, __m512 d,
-                                  WideStack& s, std::size_t sp) {
+template <class Node>
+ARBOR_INLINE std::size_t push_ordered16(std::uint32_t bits, const std::uint8_t* order, const Node& n, __m512 d,
+                                        WideStack& s, std::size_t sp) {
     // (The maskz forms with every lane set: GCC 12 warns of the plain forms' undefined source.)
     constexpr __mmask16 all = 0xffff;
     const __m512i perm = _mm512_maskz_cvtepu8_epi32(all, _mm_loadu_si128(reinterpret_cast<const __m128i*>(order)));
@@ -94,8 +95,9 @@ inline constexpr Compress8 compress8{};
 
 /// push_ordered for 8-wide nodes with the distances in an 8-lane register (AVX2): the hit bits in
 /// the octant's order, then one permute per field by the composed order-and-compress index.
-inline std::size_t push_ordered8(std::uint32_t bits, const std::uint8_t* order, const WideNode<8>& n, __m256 d,
-                                 WideStack& s, std::size_t sp) {
+template <class Node>
+inline std::size_t push_ordered8(std::uint32_t bits, const std::uint8_t* order, const Node& n, __m256 d, WideStack& s,
+                                 std::size_t sp) {
     const __m256i perm = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(order)));
     const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane_bit), lane_bit);
@@ -114,9 +116,9 @@ inline std::size_t push_ordered8(std::uint32_t bits, const std::uint8_t* order, 
 
 /// The push for lane type T of width N: push_ordered16 / push_ordered8 where the build has them,
 /// else push_ordered.
-template <std::size_t N, class T>
-ARBOR_INLINE std::size_t push_hits(std::uint32_t bits, const std::uint8_t* order, const WideNode<N>& n, const T& t, WideStack& s,
-                                   std::size_t sp) {
+template <std::size_t N, class T, class Node>
+ARBOR_INLINE std::size_t push_hits(std::uint32_t bits, const std::uint8_t* order, const Node& n, const T& t,
+                                   WideStack& s, std::size_t sp) {
 #if XSIMD_WITH_AVX512F
     if constexpr (N == 16) {
         return push_ordered16(bits, order, n, __m512(t), s, sp);

@@ -11,6 +11,7 @@
 #include "simd/wide_ray.h"
 
 #include <bit>
+#include <type_traits>
 
 namespace arbor::accel {
 
@@ -33,21 +34,40 @@ template <std::size_t N> constexpr bool wide_width_available() {
     else return false;
 }
 
+/// Ray r's test of the N children of `n` at once: the hit bits, the entry distances in t.
+template <bool Plain, std::size_t N>
+ARBOR_INLINE std::uint32_t node_hits(const simd::WideRay<WideLane<N>>& r, const WideNode<N>& n, WideLane<N>& t) {
+    if constexpr (Plain)
+        return simd::to_bits(simd::ray_boxes_plain<WideLane<N>>(r, &n.boxes.b[0][0][0], t));
+    else
+        return simd::to_bits(simd::ray_boxes<WideLane<N>>(r, &n.boxes.b[0][0][0], t));
+}
+
+/// Where the leaf starting at block `first` begins (the walk prefetches it).
+template <std::size_t N>
+inline const char* leaf_data(const WideLayout<N>& layout, std::uint32_t first) {
+    return reinterpret_cast<const char*>(layout.blocks.data() + first);
+}
+
 namespace detail {
 /// The walk of traverse_wide and traverse_wide_root: from (child, count); Root: with the root's
 /// children `root_rest` (entry distances `root_t`) deferred first, pushed as a node's hit
 /// children are (the root test done by the caller, wide_root.h), and when (child, count) is a
 /// node, its test's outcome given too (`first_bits`, distances at `first_t`: test_root's).
+/// `Layout` is WideLayout<N> or CompactLayout<N> (compact_traverse.h): the walk reads its
+/// `nodes` and `orders`, tests a node by node_hits and prefetches a leaf at leaf_data, both
+/// overloaded per node type.
 /// Count: the counted walk (WideBvhAccel::trace_counted), which adds one to `*node_tests` per node
 /// whose N boxes it tests; its own instantiation, so the timed walks carry no counter code.
-template <bool AnyHit, bool Plain, bool Root, bool Count = false, std::size_t N, class LeafFn>
-ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<N>>& r, const float& tfar,
-                            WideStack& stack, std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
+template <bool AnyHit, bool Plain, bool Root, bool Count = false, class Layout, class LeafFn,
+          std::size_t N = Layout::width>
+ARBOR_INLINE void walk_wide(const Layout& layout, simd::WideRay<WideLane<N>>& r, const float& tfar, WideStack& stack,
+                            std::uint32_t child, std::uint32_t count, std::uint32_t root_rest,
                             const WideLane<N>& root_t, std::uint32_t first_bits, const float* first_t, LeafFn&& leaf,
                             std::uint64_t* node_tests = nullptr) {
     using T = WideLane<N>;
-    const WideNode<N>* nodes = layout.nodes.data();
-    const WideBlock<N>* blocks = layout.blocks.data();
+    using Node = std::remove_cvref_t<decltype(layout.nodes[0])>;
+    const Node* nodes = layout.nodes.data();
     const std::uint8_t* orders = layout.orders.data() + std::size_t(ray_octant(r.near_is_hi)) * N;
     const std::uint32_t* stack_child = stack.child();
     const std::uint32_t* stack_count = stack.count();
@@ -74,14 +94,14 @@ ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<
     bool first = Root;  // Root: the first node's test is done (first_bits, first_t)
     for (;;) {
         if (count == 0) {
-            const WideNode<N>& n = nodes[child];
+            const Node& n = nodes[child];
             T t;
             std::uint32_t bits;
             if (first) {
                 bits = first_bits;
                 t = simd::load_lanes<T>(first_t);
-            } else if constexpr (Plain) bits = simd::to_bits(simd::ray_boxes_plain<T>(r, &n.boxes.b[0][0][0], t));
-            else bits = simd::to_bits(simd::ray_boxes<T>(r, &n.boxes.b[0][0][0], t));
+            } else
+                bits = node_hits<Plain>(r, n, t);
             if constexpr (Count) *node_tests += first ? 0u : 1u;
             first = false;
             if (bits != 0) {
@@ -95,9 +115,9 @@ ARBOR_INLINE void walk_wide(const WideLayout<N>& layout, simd::WideRay<WideLane<
                 // the vertex lines of a block's first 8 of 9 arrays; 1.0-1.1x on random rays).
                 for (std::uint32_t m = bits; m != 0; m &= m - 1) {
                     const int c = std::countr_zero(m);
-                    const char* p = n.count[c] ? reinterpret_cast<const char*>(blocks + n.child[c])
-                                               : reinterpret_cast<const char*>(nodes + n.child[c]);
-                    for (std::size_t q = 0; q < sizeof(WideNode<N>) / 64; ++q) _mm_prefetch(p + 64 * q, _MM_HINT_T0);
+                    const char* p =
+                        n.count[c] ? leaf_data(layout, n.child[c]) : reinterpret_cast<const char*>(nodes + n.child[c]);
+                    for (std::size_t q = 0; q < sizeof(Node) / 64; ++q) _mm_prefetch(p + 64 * q, _MM_HINT_T0);
                 }
             }
         } else {

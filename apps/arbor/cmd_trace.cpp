@@ -90,7 +90,12 @@ int run_trace(const TraceOptions& o) {
     j["threads"] = active_threads();
     j["leaf_size"] = o.build.bvh.max_leaf_size;
     const bool has_layouts = kind != accel::AccelKind::brute;
-    j["layouts"] = has_layouts ? (build.layouts == accel::Layouts::scalar ? "scalar" : "simd") : "none";
+    const bool compact = build.compact && (kind == accel::AccelKind::bvh_median || kind == accel::AccelKind::bvh_sah ||
+                                           kind == accel::AccelKind::lbvh);
+    j["layouts"] = has_layouts ? (compact                                   ? "compact"
+                                  : build.layouts == accel::Layouts::scalar ? "scalar"
+                                                                            : "simd")
+                               : "none";
     const std::vector<std::string> skipped = accel::skipped_by_build(kind, build);
     j["skipped"] = skipped;
     put_stats(j, structure->stats());

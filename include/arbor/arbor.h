@@ -173,6 +173,11 @@ struct BuildOptions {
     /// Upper bound on the build's memory in bytes (0 = no limit); a build that would exceed it
     /// throws Error(out_of_memory) before allocating.
     std::uint64_t max_memory = 0;
+    /// Compact mode (the BVHs; ignored by the other structures and by scenes of instances): about
+    /// half the structure's bytes per triangle, quantized node boxes and triangles as vertex
+    /// indices into the scene's own arrays, traced as single rays (docs/structures.md, "Compact
+    /// mode"). The command line's --compact.
+    bool compact = false;
 };
 
 /// Options of Scene::update_vertices.

@@ -1,0 +1,141 @@
+#pragma once
+/// The single-ray walk of the compact layout (compact_layout.h): the walk of wide_traverse.h
+/// (walk_wide) with this layout's node test and leaf test. A node's test decodes its children's
+/// quantized planes with SIMD (8-bit steps to float, compact_decode: per axis one conversion and
+/// one multiply-add for the lo planes and one for the hi planes) and runs the same slab test as
+/// on WideNode, masked to the node's children. A leaf is tested N triangles at a time: their
+/// vertex indices and then their ORIGINAL vertices gathered from the layout's copy (only the
+/// three axes the ray's permutation needs, in its order), then woop_permuted, the watertight test
+/// of every other path, on bit-identical inputs.
+#include <immintrin.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "accel/wide/compact_layout.h"
+#include "accel/wide/compact_quantize.h"
+#include "accel/wide/wide_traverse.h"
+#include "simd/box_kernels.h"
+#include "simd/tri_kernels.h"
+
+namespace arbor::accel {
+
+/// lanes<T> bytes at p, each converted to float.
+template <class T>
+ARBOR_INLINE T load_steps(const std::uint8_t* p) {
+    if constexpr (T::size == 4) {
+        std::int32_t w;
+        __builtin_memcpy(&w, p, 4);
+        return T(_mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(w))));
+    }
+#if XSIMD_WITH_AVX2
+    else if constexpr (T::size == 8) {
+        return T(_mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)))));
+    }
+#endif
+#if XSIMD_WITH_AVX512F
+    else if constexpr (T::size == 16) {
+        // (The maskz forms with every lane set: GCC 12 warns of the plain forms' undefined source.)
+        return T(_mm512_maskz_cvtepi32_ps(
+            0xffff, _mm512_maskz_cvtepu8_epi32(0xffff, _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))));
+    }
+#endif
+    else
+        static_assert(T::size == 4, "no byte conversion for this width");
+}
+
+/// The decoded boxes of the children of `n`, lo planes in b[0] and hi planes in b[1] as in
+/// simd::BoxesSoA (by compact_decode: each contains the child's true box).
+template <std::size_t N>
+inline simd::BoxesSoA<N> decode_boxes(const CompactNode<N>& n) {
+    simd::BoxesSoA<N> out;
+    for (int s = 0; s < 2; ++s)
+        for (int k = 0; k < 3; ++k)
+            for (std::size_t c = 0; c < N; ++c)
+                out.b[s][k][c] = compact_decode(float(n.q[s][k][c]), n.scale[k], n.origin[k]);
+    return out;
+}
+
+/// node_hits (wide_traverse.h) for a compact node: its planes decoded, then the slab test of
+/// ray_boxes / ray_boxes_plain; only the node's children can hit.
+template <bool Plain, std::size_t N>
+ARBOR_INLINE std::uint32_t node_hits(const simd::WideRay<WideLane<N>>& r, const CompactNode<N>& n, WideLane<N>& t) {
+    using T = WideLane<N>;
+    simd::Vec3<T> near_plane, far_plane;
+    for (int k = 0; k < 3; ++k) {
+        const T scale(n.scale[k]), origin(n.origin[k]);
+        const T lo = compact_decode(load_steps<T>(n.q[0][k]), scale, origin);
+        const T hi = compact_decode(load_steps<T>(n.q[1][k]), scale, origin);
+        near_plane[k] = r.near_is_hi[k] ? hi : lo;
+        far_plane[k] = r.near_is_hi[k] ? lo : hi;
+    }
+    const std::uint32_t used = (1u << n.children) - 1u;
+    if constexpr (Plain)
+        return simd::to_bits(
+                   simd::slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) &
+               used;
+    else
+        return simd::to_bits(
+                   simd::slab_test<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) &
+               used;
+}
+
+template <std::size_t N>
+inline const char* leaf_data(const CompactLayout<N>& layout, std::uint32_t first) {
+    return reinterpret_cast<const char*>(layout.refs.data() + 4 * std::size_t(first));
+}
+
+/// Lanes<T> floats base[index[l]] for the lanes set in `lanes`, NaN in the others (never read:
+/// the watertight test's padding, which never hits and never reaches its double-precision
+/// fallback), by the ISA's masked gather (xsimd 8.1 emulates AVX-512 gathers lane by lane; a
+/// masked gather loads only its lanes).
+template <class T>
+ARBOR_INLINE T gather_lanes(const float* base, const simd::IntOf<T>& index, std::uint32_t lanes) {
+#if XSIMD_WITH_AVX512F
+    if constexpr (T::size == 16) {
+        return T(_mm512_mask_i32gather_ps(_mm512_set1_ps(NAN), __mmask16(lanes), __m512i(index), base, 4));
+    } else
+#endif
+#if XSIMD_WITH_AVX2
+    if constexpr (T::size == 8) {
+        const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        const __m256 mask = _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(lanes)), bit), bit));
+        return T(_mm256_mask_i32gather_ps(_mm256_set1_ps(NAN), base, __m256i(index), mask, 4));
+    } else
+#endif
+    {
+        alignas(64) std::int32_t at[T::size];
+        alignas(64) float out[T::size];
+        index.store_aligned(at);
+        for (std::size_t l = 0; l < T::size; ++l) out[l] = (lanes >> l) & 1u ? base[at[l]] : NAN;
+        return T::load_aligned(out);
+    }
+}
+
+/// Ray r against triangles b .. b + min(N, n - b) - 1 of the leaf (first, n) of `layout`; the
+/// lanes past the leaf's end hold NaN vertices, which never hit.
+template <class T, std::size_t N>
+ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactLayout<N>& layout, std::uint32_t first,
+                                               std::uint32_t n, std::uint32_t b) {
+    using I = simd::IntOf<T>;
+    static_assert(T::size == N);
+    const std::uint32_t rest = n - b;
+    const std::uint32_t lanes = rest >= N ? std::uint32_t((1ull << N) - 1) : (1u << rest) - 1u;
+    // (The loads may read past the leaf's words, into the next leaf's or the padding at the end
+    // of refs: those lanes are masked out of the gathers.)
+    const std::uint32_t* words = layout.refs.data() + 4 * std::size_t(first) + b;
+    const float* verts = layout.verts.data();
+    const float* ax = verts + r.kx;
+    const float* ay = verts + r.ky;
+    const float* az = verts + r.kz;
+    const auto rel = [&](std::size_t k) {
+        const I v = I::load_unaligned(reinterpret_cast<const std::int32_t*>(words + k * n));
+        const I at = v + v + v;  // (x, y, z interleaved)
+        return simd::Vec3<T>{gather_lanes<T>(ax, at, lanes), gather_lanes<T>(ay, at, lanes), gather_lanes<T>(az, at, lanes)} -
+               r.org_perm;
+    };
+    return simd::woop_permuted<T, true>(rel(0), rel(1), rel(2), r.sx, r.sy, r.sz, r.tnear, r.tfar);
+}
+
+}  // namespace arbor::accel
