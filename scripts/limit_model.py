@@ -229,16 +229,18 @@ def main():
 
     git = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
+    # Quiet when the load average before and after stayed below 2 on the 2 threads (only the run's own).
+    state = "quiet" if max(float(load_before.split()[0]), float(load_after.split()[0])) < 2.0 else "loaded"
     out = []
-    out.append(f"# Distance to the limit ({date.today().isoformat()}, loaded)\n")
-    out.append(f"- machine: {cpu}, {os.cpu_count()} hardware threads, shared with other builds (loaded); "
+    out.append(f"# Distance to the limit ({date.today().isoformat()}, {state})\n")
+    out.append(f"- machine: {cpu}, {os.cpu_count()} hardware threads ({state}); "
                f"load average before {load_before}, after {load_after}; git {git}")
     out.append(f"- command: `scripts/limit_model.py` ({a.rays} rays per file, `arbor rays --scene MODEL --kind KIND "
                f"--count {a.rays}` with the recipes of scripts/bench_heldout.sh; achieved: `arbor trace --threads "
                f"{a.threads} --repeat {a.repeat}`, the best repeat (rays / trace_ms_min), on the default path and on `--path single`)")
     out.append(f"- TSC {machine['tsc_ghz']:.3f} GHz (cycles below are TSC cycles: the VM has no core cycle counter)")
     out.append("")
-    out.append("Kernels with hot caches (loaded; best of 101 timings, median in brackets; independent tests back to back; "
+    out.append(f"Kernels with hot caches ({state}; best of 101 timings, median in brackets; independent tests back to back; "
                "`chain`: each node test chosen by the last one's outcome, as in one ray's walk):\n")
     out.append("| width | node test ns (TSC cycles) | chained node test ns | block test ns (TSC cycles) | node + order row bytes | block bytes | lanes checked against the scalar oracles |")
     out.append("|---:|---:|---:|---:|---:|---:|---:|")
@@ -249,10 +251,10 @@ def main():
                    f"{k['block_ns']:.2f} [{k['block_ns_median']:.2f}] ({k['block_tsc_cycles']:.1f}) | "
                    f"{b['node'] + b['node_order_row']} | {b['block']} | {k['checked_lanes']} |")
     out.append("")
-    out.append(f"Streaming read (loaded): memory ({bw['buffer_mib']} MiB, best of 15) {bw['gbs_1_thread']:.1f} GB/s on 1 thread, "
+    out.append(f"Streaming read ({state}): memory ({bw['buffer_mib']} MiB, best of 15) {bw['gbs_1_thread']:.1f} GB/s on 1 thread, "
                f"{bw['gbs_2_threads']:.1f} GB/s on 2; last-level cache ({bw['cache_mib']} MiB, read 16 times, best of 51) "
                f"{bw['cache_gbs_1_thread']:.1f} GB/s on 1 thread, {bw['cache_gbs_2_threads']:.1f} GB/s on 2.\n")
-    out.append(f"Per ray, {a.threads} threads (loaded). nodes, blocks, tris: per ray, of the counted single-ray walk "
+    out.append(f"Per ray, {a.threads} threads ({state}). nodes, blocks, tris: per ray, of the counted single-ray walk "
                "(wide node tests, triangle blocks tested, the triangles in them); layout: MiB of the wide layout; "
                "compute: ns per ray with hot caches (1 thread); bytes: node and block bytes per ray (cold traffic, an "
                "upper bound); limit: the roofline min(compute rate, bytes rate of the level that holds the layout), "
