@@ -33,7 +33,9 @@ void check_frame(const std::vector<std::pair<float, float>>& boxes) {
     for (const auto& [l, h] : boxes) lo = std::min(lo, l), hi = std::max(hi, h);
     const accel::CompactAxis a = accel::CompactAxis::fit(lo, hi);
     CHECK(a.decode(255) >= hi);
-    for (const auto& [l, h] : boxes) {
+    for (const auto& box : boxes) {
+        // (Named copies, not structured bindings: clang 14's CAPTURE cannot take those.)
+        const float l = box.first, h = box.second;
         CAPTURE(l);
         CAPTURE(h);
         const std::uint8_t ql = a.quantize_lo(l), qh = a.quantize_hi(h);
