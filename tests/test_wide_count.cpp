@@ -93,6 +93,9 @@ TEST_CASE("counted wide walk: the single path's hits bit for bit, plausible coun
         CAPTURE(int(kind));
         accel::BuildConfig cfg;
         cfg.layouts = accel::Layouts::simd;
+        // The widest layout this file can name (a portable build compiles it without AVX-512 or
+        // AVX2, while the kernel set it runs may have them).
+        cfg.wide.width = XSIMD_WITH_AVX512F ? 16u : (XSIMD_WITH_AVX2 ? 8u : 4u);
         const auto acc = accel::make_accel(kind, mesh.view(), cfg);
         const accel::Accel* target = acc.get();
         if (const auto* kd = dynamic_cast<const accel::KdTreeAccel*>(target); kd && kd->cell_paths())
