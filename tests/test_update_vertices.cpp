@@ -13,6 +13,7 @@
 
 #include <bit>
 #include <cstring>
+#include <memory>
 
 using namespace arbor;
 
@@ -89,6 +90,21 @@ TEST_CASE("update_vertices: a deforming bunny, every structure and mode, bit for
     // auto with the rays the scene measured, auto told of no rays (refits) and of very many (the
     // loss of every deformed pose outweighs a rebuild), and the two forced modes.
     const Mode modes[] = {{"auto", -1.0}, {"auto", 0.0}, {"auto", 1e15}, {"refit", -1.0}, {"rebuild", -1.0}};
+    // The fresh scenes of each step's pose (bvh-sah, or brute for the brute scenes), built once and
+    // shared by every structure and mode: the pose of a step is the same for all of them.
+    constexpr int steps = 3;
+    std::unique_ptr<Scene> fresh_scenes[steps + 1][2];
+    const auto fresh_at = [&](int step, bool brute) -> const Scene& {
+        std::unique_ptr<Scene>& f = fresh_scenes[step][brute];
+        if (!f) {
+            f = std::make_unique<Scene>();
+            f->add_mesh(testing::packed(pose), pose.indices);
+            BuildOptions fo;
+            fo.accel = brute ? "brute" : "bvh-sah";
+            f->build(fo);
+        }
+        return *f;
+    };
     for (const char* accel_name : {"bvh-sah", "bvh-median", "lbvh", "kdtree", "brute", "auto"}) {
         for (const Mode& mode : modes) {
             CAPTURE(accel_name);
@@ -104,7 +120,7 @@ TEST_CASE("update_vertices: a deforming bunny, every structure and mode, bit for
             const bool brute = built == "brute";
             // brute traces every triangle: fewer rays keep the test short.
             const std::size_t n = brute ? 24 : 200;
-            for (int step = 1; step <= 3; ++step) {
+            for (int step = 1; step <= steps; ++step) {
                 CAPTURE(step);
                 testing::deform(rest, pose, step);
                 UpdateOptions uo;
@@ -120,11 +136,7 @@ TEST_CASE("update_vertices: a deforming bunny, every structure and mode, bit for
                 else if (mode.rays > 1e14 && !brute) CHECK(action == "rebuild");
                 else CHECK((action == "refit" || action == "rebuild"));
                 if (built == "kdtree") CHECK(scene.update_reason().find("split planes") != std::string::npos);
-                Scene fresh;
-                fresh.add_mesh(testing::packed(pose), pose.indices);
-                BuildOptions fo;
-                fo.accel = brute ? "brute" : "bvh-sah";
-                fresh.build(fo);
+                const Scene& fresh = fresh_at(step, brute);
                 float lo[3], hi[3], flo[3], fhi[3];
                 scene.bounds(lo, hi), fresh.bounds(flo, fhi);
                 for (int k = 0; k < 3; ++k) CHECK((lo[k] == flo[k] && hi[k] == fhi[k]));
