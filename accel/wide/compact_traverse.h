@@ -57,6 +57,18 @@ inline simd::BoxesSoA<N> decode_boxes(const CompactNode<N>& n) {
     return out;
 }
 
+/// node_boxes (wide_packet.h) for a compact node: its planes decoded once for every lane of the
+/// packet walk, in SIMD as node_hits decodes them (the same bits as decode_boxes).
+template <std::size_t N>
+ARBOR_INLINE simd::BoxesSoA<N> node_boxes(const CompactNode<N>& n) {
+    using T = WideLane<N>;
+    simd::BoxesSoA<N> out;
+    for (int s = 0; s < 2; ++s)
+        for (int k = 0; k < 3; ++k)
+            simd::store_lanes(compact_decode(load_steps<T>(n.q[s][k]), T(n.scale[k]), T(n.origin[k])), out.b[s][k]);
+    return out;
+}
+
 /// node_hits (wide_traverse.h) for a compact node: its planes decoded, then the slab test of
 /// ray_boxes / ray_boxes_plain; only the node's children can hit.
 template <bool Plain, std::size_t N>
@@ -110,6 +122,24 @@ ARBOR_INLINE T gather_lanes(const float* base, const simd::IntOf<T>& index, std:
         index.store_aligned(at);
         for (std::size_t l = 0; l < T::size; ++l) out[l] = (lanes >> l) & 1u ? base[at[l]] : NAN;
         return T::load_aligned(out);
+    }
+}
+
+/// Triangles b .. b + min(N, n - b) - 1 of the leaf (first, n) of `layout` as a TrisSoA block
+/// (their original vertices, gathered), for the packet walk; NaN in the lanes past the leaf's end.
+template <std::size_t N>
+ARBOR_INLINE void compact_block(const CompactLayout<N>& layout, std::uint32_t first, std::uint32_t n, std::uint32_t b,
+                                simd::TrisSoA<N>& out) {
+    using T = WideLane<N>;
+    using I = simd::IntOf<T>;
+    const std::uint32_t rest = n - b;
+    const std::uint32_t lanes = rest >= N ? std::uint32_t((1ull << N) - 1) : (1u << rest) - 1u;
+    const std::uint32_t* words = layout.refs.data() + 4 * std::size_t(first) + b;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const I v = I::load_unaligned(reinterpret_cast<const std::int32_t*>(words + k * n));
+        const I at = v + v + v;
+        for (std::size_t a = 0; a < 3; ++a)
+            simd::store_lanes(gather_lanes<T>(layout.verts.data() + a, at, lanes), out.v[k][a]);
     }
 }
 

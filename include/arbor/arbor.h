@@ -175,7 +175,7 @@ struct BuildOptions {
     std::uint64_t max_memory = 0;
     /// Compact mode (the BVHs; ignored by the other structures and by scenes of instances): about
     /// half the structure's bytes per triangle, quantized node boxes and triangles as vertex
-    /// indices into the scene's own arrays, traced as single rays (docs/structures.md, "Compact
+    /// indices into the scene's own arrays, traced as single rays or packets (docs/structures.md, "Compact
     /// mode"). The command line's --compact.
     bool compact = false;
 };
