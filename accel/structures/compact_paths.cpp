@@ -76,14 +76,13 @@ public:
             simd::WideRay<T> r = simd::wide_ray<T>(ray.org, ray.dir, ray.tnear, ray.tfar);
             if (!layout_.empty() && r.traceable) {
                 auto leaf = [&](std::uint32_t first, std::uint32_t n) {
-                    for (std::uint32_t b = 0; b < n; b += N) {
-                        const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first, n, b);
+                    layout_.for_blocks(first, n, [&](const CompactBlock& blk, std::uint32_t) {
+                        const simd::TriHit<T> h = compact_triangles<T>(r, blk);
                         for (std::uint32_t bits = simd::to_bits(h.hit); bits != 0; bits &= bits - 1) {
-                            const auto l = std::size_t(std::countr_zero(bits));
-                            hits.push_back({simd::lane(h.t, l), layout_.prim(first, n, b + std::uint32_t(l)),
-                                            simd::lane(h.u, l), simd::lane(h.v, l)});
+                            const auto l = std::uint32_t(std::countr_zero(bits));
+                            hits.push_back({simd::lane(h.t, l), blk.prim(l), simd::lane(h.u, l), simd::lane(h.v, l)});
                         }
-                    }
+                    });
                     return false;  // never shortened
                 };
                 if (r.plain)
@@ -104,10 +103,11 @@ public:
             if (s.searchable())
                 for (const CompactNode<N>& node : layout_.nodes)
                     for (std::size_t c = 0; c < node.children; ++c) {
-                        const std::uint32_t first = node.child[c], n = node.count[c];
-                        for (std::uint32_t t = 0; t < n; ++t)
-                            s.offer(layout_.vertex(first, n, t, 0), layout_.vertex(first, n, t, 1),
-                                    layout_.vertex(first, n, t, 2), layout_.prim(first, n, t));
+                        if (node.count[c] == 0) continue;
+                        layout_.for_blocks(node.child[c], node.count[c], [&](const CompactBlock& blk, std::uint32_t) {
+                            for (std::uint32_t t = 0; t < blk.nb; ++t)
+                                s.offer(blk.vertex(t, 0), blk.vertex(t, 1), blk.vertex(t, 2), blk.prim(t));
+                        });
                     }
             out[i] = s.result();
         }
@@ -123,23 +123,27 @@ private:
     ARBOR_INLINE bool test_leaf(simd::WideRay<T>& r, float& tfar, HitRecord<AnyHit>& best, std::uint32_t first,
                                 std::uint32_t n) const {
         bool found = false;
-        for (std::uint32_t b = 0; b < n; b += N) {
-            const simd::TriHit<T> h = compact_triangles<T>(r, layout_, first, n, b);
+        CompactBlock blk = layout_.block(first, n);
+        for (std::uint32_t b = 0;;) {
+            const simd::TriHit<T> h = compact_triangles<T>(r, blk);
             const std::uint32_t bits = simd::to_bits(h.hit);
-            if (bits == 0) continue;
-            // The lowest lane among equal t: the lowest prim (the leaf is in ascending prim order;
-            // the lanes past its end are NaN padding, which never hits).
-            const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
-            const float t = simd::lane(h.t, std::size_t(lane));
-            if (!best.offer(t, layout_.prim(first, n, b + std::uint32_t(lane)), simd::lane(h.u, std::size_t(lane)),
-                            simd::lane(h.v, std::size_t(lane))))
-                continue;
-            tfar = t;
-            r.tfar = T(t);
-            found = true;
-            if constexpr (AnyHit) return true;
+            if (bits != 0) {
+                // The lowest lane among equal t: the lowest prim (the leaf is in ascending prim
+                // order; the lanes past its end are NaN padding, which never hits).
+                const int lane = AnyHit ? std::countr_zero(bits) : simd::closest_lane<T>(h.hit, h.t);
+                const float t = simd::lane(h.t, std::size_t(lane));
+                if (best.offer(t, blk.prim(std::uint32_t(lane)), simd::lane(h.u, std::size_t(lane)),
+                               simd::lane(h.v, std::size_t(lane)))) {
+                    tfar = t;
+                    r.tfar = T(t);
+                    found = true;
+                    if constexpr (AnyHit) return true;
+                }
+            }
+            b += blk.nb;
+            if (b >= n) return found;
+            blk = blk.next(std::min<std::uint32_t>(n - b, N));
         }
-        return found;
     }
 
     /// Ray `r` (traceable, far distance `tfar`) through the subtree (child, count) (Root false; the
@@ -247,9 +251,11 @@ private:
                 simd::PacketHit<P> rec = best;
                 std::uint32_t found = 0;
                 simd::TrisSoA<N> blk;
+                CompactBlock at = layout_.block(first, count);
                 for (std::uint32_t b = 0; b < count; b += N) {
-                    compact_block(layout_, first, count, b, blk);
-                    const std::uint32_t used = std::min<std::uint32_t>(count - b, N);
+                    if (b != 0) at = at.next(std::min<std::uint32_t>(count - b, N));
+                    compact_block(at, blk);
+                    const std::uint32_t used = at.nb;
                     std::uint32_t maybe = simd::to_bits(simd::bounds_triangles<T>(bounds, tfar_hi, &blk.v[0][0][0]));
                     maybe &= used == 32 ? ~0u : (1u << used) - 1u;
                     for (; maybe != 0; maybe &= maybe - 1) {
@@ -259,8 +265,7 @@ private:
                         const Vec3f v2{blk.v[2][0][l], blk.v[2][1][l], blk.v[2][2][l]};
                         const simd::TriHit<P> h = simd::packet_triangle(p, tfar, v0, v1, v2);
                         const auto take = simd::offer_lanes<AnyHit>(
-                            rec, h.hit & live, h.t,
-                            IntP(std::int32_t(layout_.prim(first, count, b + std::uint32_t(l)))), h.u, h.v);
+                            rec, h.hit & live, h.t, IntP(std::int32_t(at.prim(std::uint32_t(l)))), h.u, h.v);
                         const std::uint32_t bits = simd::to_bits(take);
                         if (bits == 0) continue;
                         tfar = simd::select(take, h.t, tfar);

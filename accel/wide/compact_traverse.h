@@ -3,10 +3,10 @@
 /// (walk_wide) with this layout's node test and leaf test. A node's test decodes its children's
 /// quantized planes with SIMD (8-bit steps to float, compact_decode: per axis one conversion and
 /// one multiply-add for the lo planes and one for the hi planes) and runs the same slab test as
-/// on WideNode, masked to the node's children. A leaf is tested N triangles at a time: their
-/// vertex indices and then their ORIGINAL vertices gathered from the layout's copy (only the
-/// three axes the ray's permutation needs, in its order), then woop_permuted, the watertight test
-/// of every other path, on bit-identical inputs.
+/// on WideNode, masked to the node's children. A leaf is tested a block (up to N triangles) at a
+/// time: the block's corner numbers and then its ORIGINAL vertices gathered from the block's own
+/// copy (only the three axes the ray's permutation needs, in its order), then woop_permuted, the
+/// watertight test of every other path, on bit-identical inputs.
 #include <immintrin.h>
 
 #include <bit>
@@ -95,7 +95,29 @@ ARBOR_INLINE std::uint32_t node_hits(const simd::WideRay<WideLane<N>>& r, const 
 
 template <std::size_t N>
 inline const char* leaf_data(const CompactLayout<N>& layout, std::uint32_t first) {
-    return reinterpret_cast<const char*>(layout.refs.data() + 4 * std::size_t(first));
+    return reinterpret_cast<const char*>(layout.refs.data() + first);
+}
+
+/// lanes<I> bytes at p, each zero-extended to a lane of I.
+template <class I>
+ARBOR_INLINE I load_corners(const std::uint8_t* p) {
+    if constexpr (I::size == 4) {
+        std::int32_t w;
+        __builtin_memcpy(&w, p, 4);
+        return I(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(w)));
+    }
+#if XSIMD_WITH_AVX2
+    else if constexpr (I::size == 8) {
+        return I(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+    }
+#endif
+#if XSIMD_WITH_AVX512F
+    else if constexpr (I::size == 16) {
+        return I(_mm512_maskz_cvtepu8_epi32(0xffff, _mm_loadu_si128(reinterpret_cast<const __m128i*>(p))));
+    }
+#endif
+    else
+        static_assert(I::size == 4, "no byte conversion for this width");
 }
 
 /// Lanes<T> floats base[index[l]] for the lanes set in `lanes`, NaN in the others (never read:
@@ -125,43 +147,44 @@ ARBOR_INLINE T gather_lanes(const float* base, const simd::IntOf<T>& index, std:
     }
 }
 
-/// Triangles b .. b + min(N, n - b) - 1 of the leaf (first, n) of `layout` as a TrisSoA block
-/// (their original vertices, gathered), for the packet walk; NaN in the lanes past the leaf's end.
+/// Where vertex k of each triangle of block `blk` starts among the block's floats (3 x its number;
+/// lanes past the block's end read whatever follows its corners: the gathers mask them out).
+template <class T>
+ARBOR_INLINE simd::IntOf<T> corner_offsets(const CompactBlock& blk, std::size_t k) {
+    const auto v = load_corners<simd::IntOf<T>>(blk.corners() + k * blk.nb);
+    return v + v + v;  // (x, y, z interleaved)
+}
+
+/// The lanes of block `blk` that hold a triangle.
 template <std::size_t N>
-ARBOR_INLINE void compact_block(const CompactLayout<N>& layout, std::uint32_t first, std::uint32_t n, std::uint32_t b,
-                                simd::TrisSoA<N>& out) {
+ARBOR_INLINE std::uint32_t block_lanes(const CompactBlock& blk) {
+    return blk.nb >= N ? std::uint32_t((1ull << N) - 1) : (1u << blk.nb) - 1u;
+}
+
+/// The triangles of block `blk` as a TrisSoA block (their original vertices, gathered), for the
+/// packet walk; NaN in the lanes past the block's end.
+template <std::size_t N>
+ARBOR_INLINE void compact_block(const CompactBlock& blk, simd::TrisSoA<N>& out) {
     using T = WideLane<N>;
-    using I = simd::IntOf<T>;
-    const std::uint32_t rest = n - b;
-    const std::uint32_t lanes = rest >= N ? std::uint32_t((1ull << N) - 1) : (1u << rest) - 1u;
-    const std::uint32_t* words = layout.refs.data() + 4 * std::size_t(first) + b;
+    const std::uint32_t lanes = block_lanes<N>(blk);
+    const float* verts = blk.verts();
     for (std::size_t k = 0; k < 3; ++k) {
-        const I v = I::load_unaligned(reinterpret_cast<const std::int32_t*>(words + k * n));
-        const I at = v + v + v;
-        for (std::size_t a = 0; a < 3; ++a)
-            simd::store_lanes(gather_lanes<T>(layout.verts.data() + a, at, lanes), out.v[k][a]);
+        const auto at = corner_offsets<T>(blk, k);
+        for (std::size_t a = 0; a < 3; ++a) simd::store_lanes(gather_lanes<T>(verts + a, at, lanes), out.v[k][a]);
     }
 }
 
-/// Ray r against triangles b .. b + min(N, n - b) - 1 of the leaf (first, n) of `layout`; the
-/// lanes past the leaf's end hold NaN vertices, which never hit.
-template <class T, std::size_t N>
-ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactLayout<N>& layout, std::uint32_t first,
-                                               std::uint32_t n, std::uint32_t b) {
-    using I = simd::IntOf<T>;
-    static_assert(T::size == N);
-    const std::uint32_t rest = n - b;
-    const std::uint32_t lanes = rest >= N ? std::uint32_t((1ull << N) - 1) : (1u << rest) - 1u;
-    // (The loads may read past the leaf's words, into the next leaf's or the padding at the end
-    // of refs: those lanes are masked out of the gathers.)
-    const std::uint32_t* words = layout.refs.data() + 4 * std::size_t(first) + b;
-    const float* verts = layout.verts.data();
+/// Ray r against the triangles of block `blk`; the lanes past the block's end hold NaN vertices,
+/// which never hit.
+template <class T>
+ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactBlock& blk) {
+    const std::uint32_t lanes = block_lanes<T::size>(blk);
+    const float* verts = blk.verts();
     const float* ax = verts + r.kx;
     const float* ay = verts + r.ky;
     const float* az = verts + r.kz;
     const auto rel = [&](std::size_t k) {
-        const I v = I::load_unaligned(reinterpret_cast<const std::int32_t*>(words + k * n));
-        const I at = v + v + v;  // (x, y, z interleaved)
+        const auto at = corner_offsets<T>(blk, k);
         return simd::Vec3<T>{gather_lanes<T>(ax, at, lanes), gather_lanes<T>(ay, at, lanes), gather_lanes<T>(az, at, lanes)} -
                r.org_perm;
     };
