@@ -19,85 +19,80 @@ CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& t
     out.depth = wide.depth;
     out.leaves = wide.leaves;
     if (wide.empty()) return out;
-    // The leaves by first block (their blocks are whole and disjoint). Per block: its vertices
-    // (global numbers in first-use order) and its corners as numbers into them, worked out in
-    // parallel; then each leaf's first word by a running sum over the leaves, and the blocks written.
+    // The leaves by first block (their blocks are whole and disjoint). A block's vertices (global
+    // numbers, first use order) and its corners as numbers into them are worked out twice, in
+    // parallel: first for the leaves' sizes, whose running sum places them, then to write them
+    // (cheaper than keeping them: at most 3N vertices a block, found by a short search).
     std::vector<std::pair<std::uint32_t, std::uint32_t>> leaves;  // (first block, count)
     leaves.reserve(wide.leaves);
     for (const WideNode<N>& n : wide.nodes)
         for (std::size_t c = 0; c < n.children; ++c)
             if (n.count[c] != 0) leaves.emplace_back(n.child[c], n.count[c]);
     std::sort(leaves.begin(), leaves.end());
-    const std::size_t block_count = wide.blocks.size();
-    std::vector<std::uint32_t> verts(block_count * 3 * N);   // per block: its vertices' global numbers
-    std::vector<std::uint8_t> corners(block_count * 3 * N);  // per block: corner k of slot s at k N + s
-    std::vector<std::uint8_t> vert_count(block_count);       // per block: m
+    // Block `block`'s nb triangles: its vertices into v (global numbers), its corners into
+    // corners[k * nb + s]; returns their count.
+    const auto block_vertices = [&](std::size_t block, std::uint32_t nb, std::uint32_t* v, std::uint8_t* corners) {
+        std::uint32_t m = 0;
+        for (std::uint32_t s = 0; s < nb; ++s) {  // (triangle by triangle: first use order)
+            const std::uint32_t prim = wide.prim(block * N + s);
+            for (std::size_t k = 0; k < 3; ++k) {
+                const std::uint32_t g = tris.indices[3 * std::size_t(prim) + k];
+                std::uint32_t at = 0;
+                while (at < m && v[at] != g) ++at;
+                if (at == m) v[m++] = g;
+                corners[k * nb + s] = std::uint8_t(at);
+            }
+        }
+        return m;
+    };
     std::vector<std::size_t> leaf_words(leaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::uint32_t v[3 * N];
+                          std::uint8_t corners[3 * N];
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
                               const auto [first, count] = leaves[i];
                               std::size_t words = 0;
                               for (std::uint32_t b = 0; b < count; b += N) {
-                                  const std::size_t block = std::size_t(first) + b / N;
                                   const std::uint32_t nb = std::min<std::uint32_t>(count - b, N);
-                                  std::uint32_t* v = verts.data() + block * 3 * N;
-                                  std::uint32_t m = 0;
-                                  for (std::uint32_t s = 0; s < nb; ++s) {  // (triangle by triangle: first use order)
-                                      const std::uint32_t prim = wide.prim(block * N + s);
-                                      for (std::size_t k = 0; k < 3; ++k) {
-                                          const std::uint32_t g = tris.indices[3 * std::size_t(prim) + k];
-                                          std::uint32_t at = 0;
-                                          while (at < m && v[at] != g) ++at;
-                                          if (at == m) v[m++] = g;
-                                          corners[block * 3 * N + k * N + s] = std::uint8_t(at);
-                                      }
-                                  }
-                                  vert_count[block] = std::uint8_t(m);
-                                  words += CompactBlock::words(nb, m);
+                                  words += CompactBlock::words(nb, block_vertices(first + b / N, nb, v, corners));
                               }
                               leaf_words[i] = words;
                           }
                       });
-    std::vector<std::size_t> leaf_start(leaves.size());
-    std::vector<std::uint32_t> start(block_count + 1, 0);  // by first block: the leaf's first word
+    std::vector<std::uint32_t> start(wide.blocks.size() + 1, 0);  // by first block: the leaf's first word
     std::size_t total = 0;
     for (std::size_t i = 0; i < leaves.size(); ++i) {
-        leaf_start[i] = total;
         if (total > 0xffffffffu) throw std::length_error("compact layout: more than 2^32 words of leaves");
         start[leaves[i].first] = std::uint32_t(total);
         total += leaf_words[i];
     }
     out.refs.resize(total + 8);
     std::fill(out.refs.end() - 8, out.refs.end(), 0u);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                              const auto [first, count] = leaves[i];
-                              std::uint32_t* w = out.refs.data() + leaf_start[i];
-                              for (std::uint32_t b = 0; b < count; b += N) {
-                                  const std::size_t block = std::size_t(first) + b / N;
-                                  const std::uint32_t nb = std::min<std::uint32_t>(count - b, N);
-                                  const std::uint32_t m = vert_count[block];
-                                  w[0] = m;
-                                  for (std::uint32_t s = 0; s < nb; ++s) w[1 + s] = wide.prim(block * N + s);
-                                  const std::size_t corner_words = (3 * std::size_t(nb) + 3) / 4;
-                                  std::fill(w + 1 + nb, w + 1 + nb + corner_words, 0u);
-                                  auto* c = reinterpret_cast<std::uint8_t*>(w + 1 + nb);
-                                  for (std::size_t k = 0; k < 3; ++k)
-                                      for (std::uint32_t s = 0; s < nb; ++s)
-                                          c[k * nb + s] = corners[block * 3 * N + k * N + s];
-                                  std::uint32_t* v = w + 1 + nb + corner_words;
-                                  for (std::uint32_t j = 0; j < m; ++j) {
-                                      const std::uint32_t g = verts[block * 3 * N + j];
-                                      v[3 * j] = std::bit_cast<std::uint32_t>(tris.x[g]);
-                                      v[3 * j + 1] = std::bit_cast<std::uint32_t>(tris.y[g]);
-                                      v[3 * j + 2] = std::bit_cast<std::uint32_t>(tris.z[g]);
-                                  }
-                                  w += CompactBlock::words(nb, m);
-                              }
-                          }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, leaves.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::uint32_t v[3 * N];
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const auto [first, count] = leaves[i];
+                std::uint32_t* w = out.refs.data() + start[first];
+                for (std::uint32_t b = 0; b < count; b += N) {
+                    const std::size_t block = std::size_t(first) + b / N;
+                    const std::uint32_t nb = std::min<std::uint32_t>(count - b, N);
+                    const std::size_t corner_words = (3 * std::size_t(nb) + 3) / 4;
+                    std::fill(w + 1 + nb, w + 1 + nb + corner_words, 0u);
+                    const std::uint32_t m = block_vertices(block, nb, v, reinterpret_cast<std::uint8_t*>(w + 1 + nb));
+                    w[0] = m;
+                    for (std::uint32_t s = 0; s < nb; ++s) w[1 + s] = wide.prim(block * N + s);
+                    std::uint32_t* x = w + 1 + nb + corner_words;
+                    for (std::uint32_t j = 0; j < m; ++j) {
+                        x[3 * j] = std::bit_cast<std::uint32_t>(tris.x[v[j]]);
+                        x[3 * j + 1] = std::bit_cast<std::uint32_t>(tris.y[v[j]]);
+                        x[3 * j + 2] = std::bit_cast<std::uint32_t>(tris.z[v[j]]);
+                    }
+                    w += CompactBlock::words(nb, m);
+                }
+            }
+        });
     out.nodes.resize(wide.nodes.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, wide.nodes.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {
