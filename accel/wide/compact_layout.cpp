@@ -85,9 +85,9 @@ CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& t
                     for (std::uint32_t s = 0; s < nb; ++s) w[1 + s] = wide.prim(block * N + s);
                     std::uint32_t* x = w + 1 + nb + corner_words;
                     for (std::uint32_t j = 0; j < m; ++j) {
-                        x[3 * j] = std::bit_cast<std::uint32_t>(tris.x[v[j]]);
-                        x[3 * j + 1] = std::bit_cast<std::uint32_t>(tris.y[v[j]]);
-                        x[3 * j + 2] = std::bit_cast<std::uint32_t>(tris.z[v[j]]);
+                        x[j] = std::bit_cast<std::uint32_t>(tris.x[v[j]]);
+                        x[m + j] = std::bit_cast<std::uint32_t>(tris.y[v[j]]);
+                        x[2 * m + j] = std::bit_cast<std::uint32_t>(tris.z[v[j]]);
                     }
                     w += CompactBlock::words(nb, m);
                 }

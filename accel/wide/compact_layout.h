@@ -9,7 +9,7 @@
 /// children, 256 for 16 (WideNode: 256 and 512). A leaf of n triangles is ceil(n / N) blocks of
 /// up to N triangles, back to back in `refs` (CompactBlock below): per block its triangles'
 /// numbers, per triangle three one-byte corner numbers, and the block's own copy of the ORIGINAL
-/// float vertices its triangles use, each once (x, y, z interleaved, in first-use order): a
+/// float vertices its triangles use, each once (by axis, in first-use order): a
 /// block's vertices lie beside its other words, so the walk's prefetch of a leaf brings them too
 /// and a leaf test is one chain of loads, not an index load and then vertex gathers elsewhere.
 /// The walk gathers those vertices, so the watertight test sees bit for bit the inputs it sees on
@@ -45,7 +45,9 @@ static_assert(sizeof(CompactNode<4>) == 128 && sizeof(CompactNode<8>) == 128 && 
 ///   w[1 .. 1 + nb)         the triangles' numbers, ascending
 ///   3 nb bytes             the corners: byte k nb + s is the block's number of vertex k of
 ///                          triangle s (padded to whole words)
-///   3 m floats             the block's vertices, x, y, z of vertex i at 3i, 3i + 1, 3i + 2
+///   3 m floats             the block's vertices by axis: x of vertex i at i, y at m + i, z at 2m + i
+///                          (so that one axis of up to 32 vertices fits two registers of 16 lanes,
+///                          which a permute reads instead of a gather: compact_traverse.h)
 struct CompactBlock {
     const std::uint32_t* w;
     std::uint32_t nb;
@@ -55,10 +57,13 @@ struct CompactBlock {
     }
     std::uint32_t prim(std::uint32_t s) const { return w[1 + s]; }
     const std::uint8_t* corners() const { return reinterpret_cast<const std::uint8_t*>(w + 1 + nb); }
-    const float* verts() const { return reinterpret_cast<const float*>(w + 1 + nb + (3 * std::size_t(nb) + 3) / 4); }
+    std::uint32_t vertex_count() const { return w[0]; }
+    /// Axis a of the block's vertices (vertex_count() floats).
+    const float* axis(int a) const { return reinterpret_cast<const float*>(w + words(nb, 0) + std::size_t(a) * w[0]); }
     Vec3f vertex(std::uint32_t s, int k) const {
-        const std::uint32_t* v = w + (words(nb, 0) + 3 * std::size_t(corners()[std::size_t(k) * nb + s]));
-        return {std::bit_cast<float>(v[0]), std::bit_cast<float>(v[1]), std::bit_cast<float>(v[2])};
+        const std::uint32_t* v = w + (words(nb, 0) + std::size_t(corners()[std::size_t(k) * nb + s]));
+        return {std::bit_cast<float>(v[0]), std::bit_cast<float>(v[w[0]]),
+                std::bit_cast<float>(v[2 * std::size_t(w[0])])};
     }
     /// The next block of the leaf, holding `nb_next` triangles.
     CompactBlock next(std::uint32_t nb_next) const { return {w + words(nb, w[0]), nb_next}; }

@@ -147,12 +147,33 @@ ARBOR_INLINE T gather_lanes(const float* base, const simd::IntOf<T>& index, std:
     }
 }
 
-/// Where vertex k of each triangle of block `blk` starts among the block's floats (3 x its number;
-/// lanes past the block's end read whatever follows its corners: the gathers mask them out).
+/// The block's numbers of vertex k of each of its triangles (lanes past the block's end read
+/// whatever follows its corners: block_axis masks them out).
 template <class T>
-ARBOR_INLINE simd::IntOf<T> corner_offsets(const CompactBlock& blk, std::size_t k) {
-    const auto v = load_corners<simd::IntOf<T>>(blk.corners() + k * blk.nb);
-    return v + v + v;  // (x, y, z interleaved)
+ARBOR_INLINE simd::IntOf<T> corner_numbers(const CompactBlock& blk, std::size_t k) {
+    return load_corners<simd::IntOf<T>>(blk.corners() + k * blk.nb);
+}
+
+/// Lanes<T> floats axis[index[l]] of a block's axis of m floats, for the lanes set in `lanes`, NaN
+/// in the others. 16 lanes (AVX-512): up to 32 vertices from one or two registers by a permute,
+/// more by the masked gather; else the masked gather.
+template <class T>
+ARBOR_INLINE T block_axis(const float* axis, std::uint32_t m, const simd::IntOf<T>& index, std::uint32_t lanes) {
+#if XSIMD_WITH_AVX512F
+    if constexpr (T::size == 16) {
+        const __m512 nan = _mm512_set1_ps(NAN);
+        if (m <= 16) {
+            const __m512 v = _mm512_maskz_loadu_ps(__mmask16((1u << m) - 1u), axis);
+            return T(_mm512_mask_mov_ps(nan, __mmask16(lanes), _mm512_permutexvar_ps(__m512i(index), v)));
+        }
+        if (m <= 32) {
+            const __m512 lo = _mm512_loadu_ps(axis);
+            const __m512 hi = _mm512_maskz_loadu_ps(__mmask16((1u << (m - 16)) - 1u), axis + 16);
+            return T(_mm512_mask_mov_ps(nan, __mmask16(lanes), _mm512_permutex2var_ps(lo, __m512i(index), hi)));
+        }
+    }
+#endif
+    return gather_lanes<T>(axis, index, lanes);
 }
 
 /// The lanes of block `blk` that hold a triangle.
@@ -166,11 +187,10 @@ ARBOR_INLINE std::uint32_t block_lanes(const CompactBlock& blk) {
 template <std::size_t N>
 ARBOR_INLINE void compact_block(const CompactBlock& blk, simd::TrisSoA<N>& out) {
     using T = WideLane<N>;
-    const std::uint32_t lanes = block_lanes<N>(blk);
-    const float* verts = blk.verts();
+    const std::uint32_t lanes = block_lanes<N>(blk), m = blk.vertex_count();
     for (std::size_t k = 0; k < 3; ++k) {
-        const auto at = corner_offsets<T>(blk, k);
-        for (std::size_t a = 0; a < 3; ++a) simd::store_lanes(gather_lanes<T>(verts + a, at, lanes), out.v[k][a]);
+        const auto at = corner_numbers<T>(blk, k);
+        for (int a = 0; a < 3; ++a) simd::store_lanes(block_axis<T>(blk.axis(a), m, at, lanes), out.v[k][a]);
     }
 }
 
@@ -178,14 +198,14 @@ ARBOR_INLINE void compact_block(const CompactBlock& blk, simd::TrisSoA<N>& out) 
 /// which never hit.
 template <class T>
 ARBOR_INLINE simd::TriHit<T> compact_triangles(const simd::WideRay<T>& r, const CompactBlock& blk) {
-    const std::uint32_t lanes = block_lanes<T::size>(blk);
-    const float* verts = blk.verts();
-    const float* ax = verts + r.kx;
-    const float* ay = verts + r.ky;
-    const float* az = verts + r.kz;
+    const std::uint32_t lanes = block_lanes<T::size>(blk), m = blk.vertex_count();
+    const float* ax = blk.axis(r.kx);
+    const float* ay = blk.axis(r.ky);
+    const float* az = blk.axis(r.kz);
     const auto rel = [&](std::size_t k) {
-        const auto at = corner_offsets<T>(blk, k);
-        return simd::Vec3<T>{gather_lanes<T>(ax, at, lanes), gather_lanes<T>(ay, at, lanes), gather_lanes<T>(az, at, lanes)} -
+        const auto at = corner_numbers<T>(blk, k);
+        return simd::Vec3<T>{block_axis<T>(ax, m, at, lanes), block_axis<T>(ay, m, at, lanes),
+                             block_axis<T>(az, m, at, lanes)} -
                r.org_perm;
     };
     return simd::woop_permuted<T, true>(rel(0), rel(1), rel(2), r.sx, r.sy, r.sz, r.tnear, r.tfar);
