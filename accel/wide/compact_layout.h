@@ -12,8 +12,8 @@
 /// float vertices its triangles use, each once (by axis, in first-use order): a
 /// block's vertices lie beside its other words, so the walk's prefetch of a leaf brings them too
 /// and a leaf test is one chain of loads, not an index load and then vertex gathers elsewhere.
-/// The walk gathers those vertices, so the watertight test sees bit for bit the inputs it sees on
-/// the other layouts. The octant orders of the N-wide layout are kept as they are.
+/// The walk reads those very floats (permuted or gathered), so the watertight test sees bit for
+/// bit the inputs it sees on the other layouts. The octant orders of the N-wide layout are kept as they are.
 #include <bit>
 #include <cstdint>
 

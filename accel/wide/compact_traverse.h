@@ -4,9 +4,10 @@
 /// quantized planes with SIMD (8-bit steps to float, compact_decode: per axis one conversion and
 /// one multiply-add for the lo planes and one for the hi planes) and runs the same slab test as
 /// on WideNode, masked to the node's children. A leaf is tested a block (up to N triangles) at a
-/// time: the block's corner numbers and then its ORIGINAL vertices gathered from the block's own
-/// copy (only the three axes the ray's permutation needs, in its order), then woop_permuted, the
-/// watertight test of every other path, on bit-identical inputs.
+/// time: the block's corner numbers and then its ORIGINAL vertices read from the block's own copy
+/// through them (block_axis: a permute of one or two registers, or a gather; only the three axes
+/// the ray's permutation needs, in its order), then woop_permuted, the watertight test of every
+/// other path, on bit-identical inputs.
 #include <immintrin.h>
 
 #include <bit>
