@@ -55,7 +55,8 @@ std::vector<Hit> trace(const accel::Accel& a, const std::vector<Ray>& rays, acce
 }
 
 /// Rays at the mesh's edges' midpoints and vertices from random origins around it (the
-/// watertight test's ties), and random rays through its box.
+/// watertight test's ties), random rays through its box, and for the packet path coherent ones:
+/// a camera grid and rays from the centres of consecutive triangles towards one light.
 std::vector<Ray> stiff_rays(const engine::Mesh& mesh, std::size_t n, std::uint32_t seed) {
     const auto v = mesh.view();
     std::mt19937 rng(seed);
@@ -70,11 +71,20 @@ std::vector<Ray> stiff_rays(const engine::Mesh& mesh, std::size_t n, std::uint32
         const Vec3f o = c + Vec3f{u(rng) * e.x, u(rng) * e.y, u(rng) * e.z} * 1.5f;
         rays.push_back({o, 0.0f, target - o, INFINITY});
     }
+    const auto camera = testing::camera_rays(mesh.bounds, 40, 40);
+    rays.insert(rays.end(), camera.begin(), camera.end());
+    const Vec3f light = c + Vec3f{0.2f, 1.0f, 0.3f} * (2.0f * simd::length(e));
+    const std::size_t start = v.triangle_count() != 0 ? rng() % v.triangle_count() : 0;
+    for (std::size_t i = 0; i < n && v.triangle_count() != 0; ++i) {
+        const std::size_t t = (start + i) % v.triangle_count();
+        const Vec3f p = (v.corner(t, 0) + v.corner(t, 1) + v.corner(t, 2)) * (1.0f / 3.0f);
+        rays.push_back({p, 1e-4f, light - p, 1.0f});
+    }
     return rays;
 }
 
 /// Compact builds (every width, bvh-sah and lbvh) against brute force, the oracle: closest hits
-/// bit for bit, asked for `best` and for `packet` (traced as single rays), except a few
+/// bit for bit on the `single` and the `packet` path (and `best`, their choice), except a few
 /// vertex-aimed rays whose nearest triangles' t differ by at most 4 ulps; any hits by hit or miss.
 /// Returns how many closest hits of the bvh-sah scalar path differ from brute's (the scalar path's
 /// own business: reported, not checked here).
@@ -90,8 +100,9 @@ std::size_t check_compact(const engine::Mesh& mesh, const std::vector<Ray>& rays
             CAPTURE(accel::to_string(kind));
             const auto compact = accel::make_accel(kind, mesh.view(), cfg);
             CHECK(compact->offer().runs(accel::TracePath::single, accel::Query::closest));
-            CHECK(!compact->offer().runs(accel::TracePath::packet, accel::Query::closest));
-            for (const auto path : {accel::TracePath::best, accel::TracePath::packet}) {
+            CHECK(compact->offer().runs(accel::TracePath::packet, accel::Query::closest));
+            for (const auto path : {accel::TracePath::best, accel::TracePath::single, accel::TracePath::packet}) {
+                CAPTURE(accel::to_string(path));
                 const auto got = trace(*compact, rays, accel::Query::closest, path);
                 std::size_t bad = 0, ties = 0;
                 for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -118,8 +129,11 @@ std::size_t check_compact(const engine::Mesh& mesh, const std::vector<Ray>& rays
                 CHECK(bad == 0);
                 CHECK(ties <= rays.size() / 200);
             }
-            const auto any = trace(*compact, rays, accel::Query::any);
-            CHECK(testing::count_occlusion_disagreements(any, closest) == 0);
+            for (const auto path : {accel::TracePath::best, accel::TracePath::single, accel::TracePath::packet}) {
+                CAPTURE(accel::to_string(path));
+                const auto any = trace(*compact, rays, accel::Query::any, path);
+                CHECK(testing::count_occlusion_disagreements(any, closest) == 0);
+            }
         }
     }
     accel::BuildConfig scalar_cfg;
@@ -213,4 +227,5 @@ TEST_CASE("compact: about half the bytes of the default layout, and what it leav
     CHECK(!compact->refit_unsupported().empty());
     const accel::PathOffer expected = accel::expected_offer(accel::AccelKind::bvh_sah, compact_cfg);
     CHECK(std::memcmp(expected.queries, compact->offer().queries, sizeof expected.queries) == 0);
+    CHECK(expected.packets_pay == compact->offer().packets_pay);
 }

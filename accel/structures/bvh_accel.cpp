@@ -169,8 +169,8 @@ void BvhAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query 
 
 PathOffer bvh_offer(const BuildConfig& cfg) {
     PathOffer o;
-    if (cfg.compact) {  // (the compact layout: `single` only, structures/compact_paths.cpp)
-        o.add(TracePath::single);
+    if (cfg.compact) {  // (the compact layout: `single` and `packet`, structures/compact_paths.cpp)
+        o.add(TracePath::single), o.add(TracePath::packet), o.packets_pay = true;
         return o;
     }
     const bool simd = cfg.layouts != Layouts::scalar, scalar = cfg.layouts != Layouts::simd;
@@ -183,7 +183,7 @@ PathOffer bvh_offer(const BuildConfig& cfg) {
 std::vector<std::string> bvh_skipped(const BuildConfig& cfg, std::uint32_t leaf_floor) {
     std::vector<std::string> out;
     if (cfg.compact)
-        out.push_back("scalar layout and packet path (compact mode traces single rays only)");
+        out.push_back("scalar layout (compact mode traces the SIMD paths only)");
     else if (cfg.layouts == Layouts::scalar)
         out.push_back("SIMD layouts (only the SIMD paths read them)");
     else if (cfg.layouts == Layouts::simd)

@@ -221,30 +221,6 @@ private:
         this->trace_simd(rays, hits, query, path);
     }
 
-    /// The direction octant (ray_octant) that the active lanes of `p` share, or -1 when they do not
-    /// share one (or there are none).
-    template <class P> static int packet_octant(const simd::RayPacket<P>& p) {
-        const std::uint32_t active = simd::to_bits(p.active);
-        if (active == 0) return -1;
-        int octant = 0;
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t neg = simd::to_bits(p.near_is_hi[k]) & active;
-            if (neg != 0 && neg != active) return -1;
-            octant |= int(neg != 0) << k;
-        }
-        return octant;
-    }
-
-    /// Whether the traceable rays of a set-up group do not all share one direction octant.
-    template <class P> static bool mixed_octants(const simd::WideRaySetup<P>& s) {
-        bool mixed = false;
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t neg = s.near_is_hi[k] & s.traceable;
-            mixed |= neg != 0 && neg != s.traceable;
-        }
-        return mixed;
-    }
-
     /// The rays' set-up in groups (simd/wide_ray_setup.h), then each ray's walk. For a group whose
     /// rays go in different octants (incoherent rays), the group's root tests first (wide_root.h),
     /// each ray's walk then on from its root test: on random rays the root's outcome differs from

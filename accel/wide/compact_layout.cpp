@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -18,56 +19,80 @@ CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& t
     out.depth = wide.depth;
     out.leaves = wide.leaves;
     if (wide.empty()) return out;
-    // Each leaf's first triangle in the packed array: leaves by first block (their blocks are
-    // whole and disjoint), then a running sum of their counts.
+    // The leaves by first block (their blocks are whole and disjoint). A block's vertices (global
+    // numbers, first use order) and its corners as numbers into them are worked out twice, in
+    // parallel: first for the leaves' sizes, whose running sum places them, then to write them
+    // (cheaper than keeping them: at most 3N vertices a block, found by a short search).
     std::vector<std::pair<std::uint32_t, std::uint32_t>> leaves;  // (first block, count)
     leaves.reserve(wide.leaves);
     for (const WideNode<N>& n : wide.nodes)
         for (std::size_t c = 0; c < n.children; ++c)
             if (n.count[c] != 0) leaves.emplace_back(n.child[c], n.count[c]);
     std::sort(leaves.begin(), leaves.end());
-    std::vector<std::uint32_t> start(wide.blocks.size() + 1, 0);
-    std::size_t total = 0;
-    for (const auto& [first, count] : leaves) {
-        start[first] = std::uint32_t(total);
-        total += count;
-    }
-    out.refs.resize(4 * total + N);
-    std::fill(out.refs.end() - N, out.refs.end(), 0u);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096),
+    // Block `block`'s nb triangles: its vertices into v (global numbers), its corners into
+    // corners[k * nb + s]; returns their count.
+    const auto block_vertices = [&](std::size_t block, std::uint32_t nb, std::uint32_t* v, std::uint8_t* corners) {
+        std::uint32_t m = 0;
+        for (std::uint32_t s = 0; s < nb; ++s) {  // (triangle by triangle: first use order)
+            const std::uint32_t prim = wide.prim(block * N + s);
+            for (std::size_t k = 0; k < 3; ++k) {
+                const std::uint32_t g = tris.indices[3 * std::size_t(prim) + k];
+                std::uint32_t at = 0;
+                while (at < m && v[at] != g) ++at;
+                if (at == m) v[m++] = g;
+                corners[k * nb + s] = std::uint8_t(at);
+            }
+        }
+        return m;
+    };
+    std::vector<std::size_t> leaf_words(leaves.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::uint32_t v[3 * N];
+                          std::uint8_t corners[3 * N];
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
                               const auto [first, count] = leaves[i];
-                              std::uint32_t* leaf = out.refs.data() + 4 * std::size_t(start[first]);
-                              for (std::uint32_t s = 0; s < count; ++s) {
-                                  const std::uint32_t prim = wide.prim(std::size_t(first) * N + s);
-                                  for (std::size_t k = 0; k < 3; ++k)
-                                      leaf[k * count + s] = tris.indices[3 * std::size_t(prim) + k];
-                                  leaf[3 * std::size_t(count) + s] = prim;
+                              std::size_t words = 0;
+                              for (std::uint32_t b = 0; b < count; b += N) {
+                                  const std::uint32_t nb = std::min<std::uint32_t>(count - b, N);
+                                  words += CompactBlock::words(nb, block_vertices(first + b / N, nb, v, corners));
                               }
+                              leaf_words[i] = words;
                           }
                       });
-    // The vertices in the order the leaves first use them (one serial pass: the numbering must
-    // not depend on the thread count).
-    {
-        std::vector<std::uint32_t> renumber(tris.vertex_count(), ~0u);
-        std::uint32_t next = 0;
-        for (const auto& [first, count] : leaves) {
-            std::uint32_t* leaf = out.refs.data() + 4 * std::size_t(start[first]);
-            for (std::uint32_t s = 0; s < count; ++s)  // (triangle by triangle: first use order)
-                for (std::size_t k = 0; k < 3; ++k) {
-                    std::uint32_t& v = leaf[k * count + s];
-                    if (renumber[v] == ~0u) renumber[v] = next++;
-                    v = renumber[v];
-                }
-        }
-        out.verts.resize(3 * std::size_t(next));
-        for (std::size_t i = 0; i < renumber.size(); ++i)
-            if (renumber[i] != ~0u) {
-                float* p = out.verts.data() + 3 * std::size_t(renumber[i]);
-                p[0] = tris.x[i], p[1] = tris.y[i], p[2] = tris.z[i];
-            }
+    std::vector<std::uint32_t> start(wide.blocks.size() + 1, 0);  // by first block: the leaf's first word
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        if (total > 0xffffffffu) throw std::length_error("compact layout: more than 2^32 words of leaves");
+        start[leaves[i].first] = std::uint32_t(total);
+        total += leaf_words[i];
     }
+    out.refs.resize(total + 8);
+    std::fill(out.refs.end() - 8, out.refs.end(), 0u);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, leaves.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::uint32_t v[3 * N];
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const auto [first, count] = leaves[i];
+                std::uint32_t* w = out.refs.data() + start[first];
+                for (std::uint32_t b = 0; b < count; b += N) {
+                    const std::size_t block = std::size_t(first) + b / N;
+                    const std::uint32_t nb = std::min<std::uint32_t>(count - b, N);
+                    const std::size_t corner_words = (3 * std::size_t(nb) + 3) / 4;
+                    std::fill(w + 1 + nb, w + 1 + nb + corner_words, 0u);
+                    const std::uint32_t m = block_vertices(block, nb, v, reinterpret_cast<std::uint8_t*>(w + 1 + nb));
+                    w[0] = m;
+                    for (std::uint32_t s = 0; s < nb; ++s) w[1 + s] = wide.prim(block * N + s);
+                    std::uint32_t* x = w + 1 + nb + corner_words;
+                    for (std::uint32_t j = 0; j < m; ++j) {
+                        x[j] = std::bit_cast<std::uint32_t>(tris.x[v[j]]);
+                        x[m + j] = std::bit_cast<std::uint32_t>(tris.y[v[j]]);
+                        x[2 * m + j] = std::bit_cast<std::uint32_t>(tris.z[v[j]]);
+                    }
+                    w += CompactBlock::words(nb, m);
+                }
+            }
+        });
     out.nodes.resize(wide.nodes.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, wide.nodes.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {

@@ -9,7 +9,11 @@
 /// that very decode, so a decoded box always contains the true one: lo is the largest step whose
 /// decoded value is <= the true lo, hi the smallest whose decoded value is >= the true hi. With
 /// the scale an exact power of two in [2^-126, 2^127] and q <= 255, float(q) * scale is exact (or
-/// +inf, which only widens a hi plane), so a fused multiply-add would give the same value too.
+/// +inf, which only widens a hi plane). A fused multiply-add would NOT always give the same value:
+/// where float(q) * scale overflows (scales near 2^121: frames spanning most of the float range)
+/// the plain decode is +inf, while origin + q * scale rounded once can be finite and below the hi
+/// plane it was chosen for (origin -FLT_MAX, scale 2^121, q 128: 2.0e31 fused, +inf plain, the
+/// step a hi of 1e38 gets). Hence the plain form.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

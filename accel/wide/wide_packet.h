@@ -18,13 +18,14 @@
 /// take the children in node order). See Wald et al., "Interactive Rendering with Coherent
 /// Ray Tracing", EG 2001 (packets), and Benthin et al., "Combining Single and Packet-Ray Tracing
 /// for Arbitrary Ray Distributions on the Intel MIC Architecture", TVCG 2012 (switching to single rays).
+#include <bit>
+#include <type_traits>
+
 #include "accel/wide/wide_layout.h"
 #include "accel/wide/wide_traverse.h"
 #include "simd/box_kernels.h"
 #include "simd/lane_order.h"
 #include "simd/packet_bounds.h"
-
-#include <bit>
 
 namespace arbor::accel {
 
@@ -34,6 +35,12 @@ template <class P> struct PacketStackEntry {
     P t;
     std::uint32_t child, count;
 };
+
+/// The child boxes of `n` as the packet walk reads them (CompactNode: compact_traverse.h).
+template <std::size_t N>
+ARBOR_INLINE const simd::BoxesSoA<N>& node_boxes(const WideNode<N>& n) {
+    return n.boxes;
+}
 
 /// The bits of `hits` (one per node lane) in the order `order` (N lanes, far to near; wide_order.h):
 /// bit j is set when lane order[j] is in `hits`.
@@ -51,6 +58,21 @@ template <std::size_t N> inline std::uint32_t ordered_bits(std::uint32_t hits, c
     return bits;
 }
 
+/// The direction octant (ray_octant) that the active lanes of `p` share, or -1 when they do not
+/// share one (or there are none).
+template <class P>
+inline int packet_octant(const simd::RayPacket<P>& p) {
+    const std::uint32_t active = simd::to_bits(p.active);
+    if (active == 0) return -1;
+    int octant = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t neg = simd::to_bits(p.near_is_hi[k]) & active;
+        if (neg != 0 && neg != active) return -1;
+        octant |= int(neg != 0) << k;
+    }
+    return octant;
+}
+
 /// Walks `layout` from the root with packet `p`, whose active lanes `bounds` bounds
 /// (simd::packet_bounds). `leaf(first_block, count, lanes)` tests a leaf
 /// for the lanes in the bit mask `lanes` and lowers p.tfar where it finds closer hits; it returns
@@ -62,12 +84,16 @@ template <std::size_t N> inline std::uint32_t ordered_bits(std::uint32_t hits, c
 /// hit children, as on the single path; -1: they are sorted by their smallest entry distance over
 /// the lanes. Closest hit visits them nearest first, any hit farthest first. `stack` holds
 /// layout.stack_size() entries.
-template <bool AnyHit, std::size_t N, class P, class LeafFn, class SingleFn>
-inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, const simd::PacketBounds& bounds,
-                            PacketStackEntry<P>* stack, int switch_lanes, int octant, LeafFn&& leaf, SingleFn&& single) {
+/// `Layout` is WideLayout<N> or CompactLayout<N> (compact_traverse.h): the walk reads its `nodes`
+/// and `orders` and a node's child boxes through node_boxes, overloaded per node type.
+template <bool AnyHit, class Layout, class P, class LeafFn, class SingleFn, std::size_t N = Layout::width>
+inline void traverse_packet(const Layout& layout, simd::RayPacket<P>& p, const simd::PacketBounds& bounds,
+                            PacketStackEntry<P>* stack, int switch_lanes, int octant, LeafFn&& leaf,
+                            SingleFn&& single) {
+    using Node = std::remove_cvref_t<decltype(layout.nodes[0])>;
     std::uint32_t lanes = simd::to_bits(p.active);
     if (lanes == 0 || layout.empty()) return;
-    const WideNode<N>* nodes = layout.nodes.data();
+    const Node* nodes = layout.nodes.data();
     const std::uint8_t* orders = layout.orders.data() + std::size_t(octant < 0 ? 0 : octant) * N;
     const P inf(INFINITY), nan(NAN);
     std::size_t sp = 0;
@@ -94,7 +120,9 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
             finish(done);
             if (AnyHit && simd::to_bits(p.active) == 0) return;
         } else if (count == 0) {
-            const WideNode<N>& n = nodes[child];
+            const Node& n = nodes[child];
+            // (A WideNode's own boxes, by reference; a CompactNode's decoded once for all lanes.)
+            const simd::BoxesSoA<N>& boxes = node_boxes(n);
             const auto live = simd::from_bits<P>(lanes);
             alignas(64) float tmin[N];
             P tc[N];
@@ -102,11 +130,11 @@ inline void traverse_packet(const WideLayout<N>& layout, simd::RayPacket<P>& p, 
             std::uint32_t hit_children = 0;
             const bool by_distance = octant < 0;
             const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, inf));
-            std::uint32_t maybe = simd::to_bits(simd::bounds_boxes<WideLane<N>>(bounds, tfar_hi, &n.boxes.b[0][0][0]));
+            std::uint32_t maybe = simd::to_bits(simd::bounds_boxes<WideLane<N>>(bounds, tfar_hi, &boxes.b[0][0][0]));
             maybe &= (1u << n.children) - 1u;
             for (; maybe != 0; maybe &= maybe - 1) {
                 const int c = std::countr_zero(maybe);
-                const Vec3f lo = n.boxes.lo(c), hi = n.boxes.hi(c);
+                const Vec3f lo = boxes.lo(c), hi = boxes.hi(c);
                 P t;
                 const auto m = (p.plain ? simd::packet_box_plain(p, lo, hi, t) : simd::packet_box(p, lo, hi, t)) & live;
                 lanes_of[c] = simd::to_bits(m);

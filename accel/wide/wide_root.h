@@ -20,6 +20,18 @@
 
 namespace arbor::accel {
 
+/// Whether the traceable rays of a set-up group do not all share one direction octant (the single
+/// paths take the group's root tests first for such groups).
+template <class P>
+inline bool mixed_octants(const simd::WideRaySetup<P>& s) {
+    bool mixed = false;
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t neg = s.near_is_hi[k] & s.traceable;
+        mixed |= neg != 0 && neg != s.traceable;
+    }
+    return mixed;
+}
+
 /// Per ray of a group of up to `Rays`: where its walk starts after the root. The first child it
 /// visits (child, count; `live` false: none, the walk ends) and the other hit children it defers
 /// (`rest`, with their entry distances t), as the walk's own root test would have left them; and
@@ -47,23 +59,27 @@ template <std::size_t N, std::size_t Rays> struct RootTests {
 /// of several, the children pushed in the root's order for the ray's octant (wide_order.h) and
 /// popped nearest first, those farther than the ray's tfar (by slab_accept, the walk's pop rule: room
 /// for a negative tfar) would be popped and skipped (tfar only drops), so the first visited is the
-/// nearest in that order within tfar, and the others within tfar are the deferred ones. Then, for the rays whose first child is a node, that node's test
-/// (the walk's first step, with the same operands: no hit can have lowered tfar before it): the
-/// group's tests are independent, so they overlap, while in the walk the node's loads and slab
-/// test were a chain of their own at the head of each ray. Only the test moves here; what the walk
-/// does with its outcome (one child or several, push, pop) stays in the walk, on predicted
-/// branches (done here as well, branch-free, it cost more than it saved: 0.86x on random rays).
+/// nearest in that order within tfar, and the others within tfar are the deferred ones. Then, for the rays whose first
+/// child is a node, that node's test (the walk's first step, with the same operands: no hit can have lowered tfar
+/// before it): the group's tests are independent, so they overlap, while in the walk the node's loads and slab test
+/// were a chain of their own at the head of each ray. Only the test moves here; what the walk does with its outcome
+/// (one child or several, push, pop) stays in the walk, on predicted branches (done here as well, branch-free, it cost
+/// more than it saved: 0.86x on random rays).
 ///
 /// Skip: `skip` holds per ray the root children its walk must not visit (their leaves were
 /// tested for it already, test_shared_leaves in wide_shared_leaves.h); they count as missed.
-template <bool Skip = false, std::size_t N, class P, std::size_t Rays>
-__attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd::WideRaySetup<P>& setup, std::size_t count,
-                      RootTests<N, Rays>& out, const std::uint32_t* skip = nullptr) {
+///
+/// `Layout` is WideLayout<N> or CompactLayout<N>: a node's boxes are read through node_boxes
+/// (wide_packet.h; a compact node's decoded as its walk decodes them, the root's once per group).
+template <bool Skip = false, class Layout, class P, std::size_t Rays, std::size_t N = Layout::width>
+__attribute__((noinline)) void test_root(const Layout& layout, const simd::WideRaySetup<P>& setup, std::size_t count,
+                                         RootTests<N, Rays>& out, const std::uint32_t* skip = nullptr) {
     using S = simd::WideRaySetup<P>;
     static_assert(Rays >= S::size);
     using T = WideLane<N>;
     constexpr std::size_t n = N;
-    const WideNode<N>& root = layout.nodes[0];
+    const auto& root = layout.nodes[0];
+    const simd::BoxesSoA<N>& root_boxes = node_boxes(root);
     // Ray i's slab test of the node whose boxes are at `soa`: the hit bits, distances in t.
     const auto test = [&setup](std::size_t i, const float* soa, T& t) {
         const auto v = [&setup, i](typename S::Field k) { return T(setup.f[k][i]); };
@@ -86,7 +102,7 @@ __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd
         int near_is_hi[3];
         for (int k = 0; k < 3; ++k) near_is_hi[k] = int((setup.near_is_hi[k] >> i) & 1u);
         T t;
-        const std::uint32_t bits = test(i, &root.boxes.b[0][0][0], t);
+        const std::uint32_t bits = test(i, &root_boxes.b[0][0][0], t);
         // (Masks and |1 instead of conditions: as branches, they were mispredicted on incoherent
         // rays, and made the group's root tests cost three times as much.)
         std::uint32_t hit = bits & (0u - ((setup.traceable >> i) & 1u));
@@ -112,7 +128,8 @@ __attribute__((noinline)) void test_root(const WideLayout<N>& layout, const simd
     for (std::uint32_t m = deeper; m != 0; m &= m - 1) {
         const std::size_t i = std::size_t(std::countr_zero(m));
         T t2;
-        out.bits2[i] = test(i, &layout.nodes[out.child[i]].boxes.b[0][0][0], t2);
+        const simd::BoxesSoA<N>& boxes = node_boxes(layout.nodes[out.child[i]]);
+        out.bits2[i] = test(i, &boxes.b[0][0][0], t2);
         simd::store_lanes(t2, out.t2[i]);
     }
 }

@@ -63,8 +63,9 @@ void add_build_options(CLI::App& cmd, accel::BuildConfig& cfg) {
     cmd.add_option("--bvh-width", cfg.wide.width, "children per node of the BVHs' SIMD layout: 4, 8 or 16 (default: the measured best)")
         ->check(CLI::IsMember({4u, 8u, 16u}));
     cmd.add_flag("--compact", cfg.compact,
-                 "BVHs: keep the compact layout (8-bit quantized child boxes, triangles as vertex indices into the "
-                 "mesh): about half the bytes per triangle, traced on the single path only (docs/structures.md)");
+                 "BVHs: keep the compact layout (8-bit quantized child boxes, leaves as blocks of triangles with their "
+                 "own vertex copies): about half the bytes per triangle, traced on the single and packet paths "
+                 "(docs/structures.md)");
     cmd.add_option("--kd-walk", cfg.kd_blocks.walk,
                    "the kd-tree's SIMD paths: tight-cells (default: its non-empty cells as a wide BVH, boxes cut to "
                    "their triangles, the BVHs' walks), cells (the pure cells) or ropes (its nodes, rope and stack walks)")

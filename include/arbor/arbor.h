@@ -174,9 +174,9 @@ struct BuildOptions {
     /// throws Error(out_of_memory) before allocating.
     std::uint64_t max_memory = 0;
     /// Compact mode (the BVHs; ignored by the other structures and by scenes of instances): about
-    /// half the structure's bytes per triangle, quantized node boxes and triangles as vertex
-    /// indices into the scene's own arrays, traced as single rays (docs/structures.md, "Compact
-    /// mode"). The command line's --compact.
+    /// half the structure's bytes per triangle, quantized node boxes and leaves as blocks of
+    /// triangles with their own vertex copies, traced as single rays or packets
+    /// (docs/structures.md, "Compact mode"). The command line's --compact.
     bool compact = false;
 };
 
