@@ -3,9 +3,16 @@
 #include "accel/factory/make_accel.h"
 #include "accel/util/timer.h"
 
+#include <stdexcept>
+
 namespace arbor::view {
 
 StructureCache::Entry StructureCache::get(accel::AccelKind kind, bool counting) {
+    // The two-level structure of a scene of instances has no counting walk: say so before building
+    // one only to have the cost integrator's first pass refuse it.
+    if (counting && placed_)
+        throw std::logic_error("cost integrator: a scene of instances cannot count (its two-level structure has no "
+                               "counting walk); choose another integrator");
     const std::lock_guard lock(mutex_);
     Slot& slot = slots_[{kind, counting}];
     if (auto live = slot.accel.lock()) return {std::move(live), slot.build_ms, true};
