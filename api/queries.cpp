@@ -8,6 +8,7 @@
 
 #include "accel/interface/inside.h"
 #include "accel/interface/path_policy.h"
+#include "accel/interface/path_race.h"
 #include "api/batch.h"
 #include "api/point_order.h"
 #include "api/scene_impl.h"
@@ -54,13 +55,18 @@ std::span<const accel::Ray> load_rays(const RayArrays& r, std::size_t begin, std
 /// offers and the rays' coherence say), read from the few rays the policy looks at. No path is
 /// pinned: a scene's auto pick saw no rays, and a path it guessed would send camera and shadow
 /// batches down the single-ray path at half the packet path's speed. Every chunk then runs on
-/// that path: the chunks do not each ask the policy, and the answer does not depend on where the
-/// chunk boundaries fall relative to the policy's sample.
-accel::TraceRequest batch_request(const accel::Accel& a, const RayArrays& r, accel::Query q) {
+/// that path (a raced batch: on the race's winner, after its race chunks): the chunks do not each
+/// ask the policy, and the answer does not depend on where the chunk boundaries fall relative to
+/// the policy's sample.
+/// A batch the measure cannot call (diffuse rays) is raced instead (accel/interface/path_race.h):
+/// `race` says so.
+accel::TraceRequest batch_request(const accel::Accel& a, const RayArrays& r, accel::Query q, bool& race) {
     accel::TraceRequest req{q, accel::TracePath::best, accel::RayHint::unknown, accel::TracePath::best};
     std::vector<accel::Ray> sample;
     for (const std::size_t i : accel::policy_sample(a.offer(), r.count)) sample.push_back(ray_at(r, i));
-    req.path = accel::choose_path(a.offer(), sample, req).path;
+    const accel::PathChoice choice = accel::choose_path(a.offer(), sample, req);
+    race = accel::race_settles(choice, a.offer(), req) && accel::race_pairs((r.count + ray_chunk - 1) / ray_chunk) != 0;
+    req.path = choice.path;
     return req;
 }
 
@@ -97,14 +103,34 @@ private:
 template <class Store>
 void trace_batch(Scene::Impl& s, CallArena& arena, const RayArrays& rays, accel::Query q, Store&& store) {
     const accel::Accel& a = s.structure();
-    const accel::TraceRequest req = batch_request(a, rays, q);
-    for_chunks(arena, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) {
+    bool race = false;
+    const accel::TraceRequest req = batch_request(a, rays, q, race);
+    const auto run = [&](std::size_t b, std::size_t e, const accel::TraceRequest& r) {
         const auto in = load_rays(rays, b, e);
         thread_local std::vector<accel::Hit> out;
         out.resize(in.size());
-        a.trace(in, out, req);
+        a.trace(in, out, r);
         for (std::size_t i = b; i < e; ++i) store(i, out[i - b]);
-    });
+    };
+    if (race) {
+        const auto start = std::chrono::steady_clock::now();
+        const std::size_t chunks = (rays.count + ray_chunk - 1) / ray_chunk;
+        arena.execute([&] {
+            accel::race_chunks(chunks, accel::race_pairs(chunks), [&](std::size_t k, accel::TracePath path) {
+                accel::TraceRequest forced = req;
+                forced.path = path;
+                const std::size_t b = k * ray_chunk, e = std::min(rays.count, b + ray_chunk);
+                run(b, e, forced);
+                return e - b;
+            });
+        });
+        arena.answered(
+            rays.count,
+            std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
+                              .count()));
+        return;
+    }
+    for_chunks(arena, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) { run(b, e, req); });
 }
 
 }  // namespace

@@ -165,6 +165,28 @@ PY
   done
 done
 
+# Diffuse rays (groups that start together without sharing an octant) are raced on the first
+# pass (accel/interface/path_race.h): the JSON says so, `path` is the winner, and the hits are
+# those of either path alone, byte for byte.
+"$ARBOR" rays --scene builtin:default --kind diffuse --count 40000 -o "$WORK/diffuse.rays" >/dev/null 2>"$WORK/err" \
+  || fail "rays --kind diffuse exited $?: $(cat "$WORK/err")"
+"$ARBOR" trace --scene builtin:default --rays "$WORK/diffuse.rays" --repeat 2 --hits "$WORK/race.hits" --json >"$WORK/out" 2>"$WORK/err" \
+  || fail "trace diffuse exited $?: $(cat "$WORK/err")"
+python3 - "$WORK/out" <<'PY' || fail "trace diffuse JSON should report the race: $(cat "$WORK/out")"
+import json, sys
+j = json.loads(open(sys.argv[1]).read())
+r = j["path_race"]
+assert r["winner"] == j["path"] and j["path"] in ("single", "packet"), j
+assert r["chunk_pairs"] == 4 and r["single_ns_per_ray"] > 0 and r["packet_ns_per_ray"] > 0, r
+assert "raced on 4 chunk pairs" in j["path_reason"] and "\n" not in j["path_reason"], j["path_reason"]
+PY
+for p in single packet; do
+  "$ARBOR" trace --scene builtin:default --rays "$WORK/diffuse.rays" --path $p --hits "$WORK/race-$p.hits" --json >"$WORK/out" 2>"$WORK/err" \
+    || fail "trace diffuse --path $p exited $?: $(cat "$WORK/err")"
+  grep -q path_race "$WORK/out" && fail "trace --path $p should not race: $(cat "$WORK/out")"
+  cmp -s "$WORK/race.hits" "$WORK/race-$p.hits" || fail "trace diffuse: the raced hits differ from --path $p's"
+done
+
 # --accel auto: names the structure it picked and says why in one line.
 if "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/primary.rays" --accel auto --json >"$WORK/out" 2>"$WORK/err"; then
   python3 - "$WORK/out" <<'PY' || fail "trace --accel auto JSON: $(cat "$WORK/out")"

@@ -6,9 +6,19 @@
 
 namespace arbor::accel {
 
-void trace_parallel(const Accel& accel, std::span<const Ray> rays, std::span<Hit> hits, const TraceRequest& req,
-                    std::size_t chunk) {
+RaceOutcome trace_parallel(const Accel& accel, std::span<const Ray> rays, std::span<Hit> hits, const TraceRequest& req,
+                           std::size_t chunk) {
     const std::size_t n = std::min(rays.size(), hits.size()), c = std::max<std::size_t>(chunk, 1);
+    const std::size_t chunks = (n + c - 1) / c;
+    if (req.path == TracePath::best && !req.counters && race_pairs(chunks) != 0 &&
+        race_settles(choose_path(accel.offer(), rays.first(n), req), accel.offer(), req))
+        return race_chunks(chunks, race_pairs(chunks), [&](std::size_t k, TracePath path) {
+            const std::size_t b = k * c, e = std::min(n, b + c);
+            TraceRequest forced = req;
+            forced.path = path;
+            accel.trace(rays.subspan(b, e - b), hits.subspan(b, e - b), forced);
+            return e - b;
+        });
     tbb::enumerable_thread_specific<TraceCounters> counts;
     // Chunk k is rays [k*c, (k+1)*c): the boundaries do not depend on how TBB splits the range, so
     // rays of one image tile stay in one chunk (and in one packet) whatever the thread count.
@@ -22,6 +32,7 @@ void trace_parallel(const Accel& accel, std::span<const Ray> rays, std::span<Hit
     });
     if (req.counters)
         for (const TraceCounters& t : counts) *req.counters += t;
+    return {};
 }
 
 }  // namespace arbor::accel

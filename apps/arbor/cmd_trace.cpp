@@ -50,16 +50,27 @@ int run_trace(const TraceOptions& o) {
 
     // The one path decision, for the whole file: what was asked, else auto's calibrated path, else
     // what the structure has and the rays' coherence say (accel/interface/path_policy.h).
-    const accel::PathChoice choice = accel::choose_path(structure->offer(), rays, {query, asked, accel::RayHint::unknown, pick.path});
-    const accel::TracePath path = choice.path;
-    const std::string path_reason = accel::path_reason(choice);
+    // A batch the policy's measure cannot call (diffuse rays: accel/interface/path_race.h) is raced
+    // on the first pass; the other passes take the winner.
+    const accel::TraceRequest asked_req{query, asked, accel::RayHint::unknown, pick.path};
+    const accel::PathChoice choice = accel::choose_path(structure->offer(), rays, asked_req);
+    accel::TracePath path = choice.path;
+    std::string path_reason = accel::path_reason(choice);
+    const bool race = accel::race_settles(choice, structure->offer(), asked_req) &&
+                      accel::race_pairs((rays.size() + 1023) / 1024) != 0;
+    accel::RaceOutcome raced;
     const accel::AccelKind kind = pick.kind;
 
     std::vector<accel::Hit> hits(rays.size());
     std::vector<double> times;
     for (int k = 0; k < o.repeat; ++k) {
         const accel::Timer t;
-        accel::trace_parallel(*structure, rays, hits, query, path);
+        if (k == 0 && race) {
+            raced = accel::trace_parallel(*structure, rays, hits, query, accel::TracePath::best);
+            if (raced.raced()) path = raced.path, path_reason += "; " + accel::race_reason(raced);
+        } else {
+            accel::trace_parallel(*structure, rays, hits, query, path);
+        }
         times.push_back(t.ms());
     }
     std::sort(times.begin(), times.end());
@@ -77,6 +88,11 @@ int run_trace(const TraceOptions& o) {
     }
     j["path"] = accel::to_string(path);
     j["path_reason"] = path_reason;
+    if (raced.raced())
+        j["path_race"] = {{"chunk_pairs", raced.chunks_each},
+                          {"single_ns_per_ray", raced.single_ns},
+                          {"packet_ns_per_ray", raced.packet_ns},
+                          {"winner", accel::to_string(raced.path)}};
     j["query"] = o.occluded ? "any" : "closest";
     j["triangles"] = mesh.triangle_count();
     j["rays"] = rays.size();
