@@ -39,6 +39,7 @@ template <class P> struct WideRaySetup {
         r.rcp_far = {v(rf_x), v(rf_y), v(rf_z)};
         r.tnear = v(tnear);
         r.tfar = v(tfar);
+        r.tbox = T(box_tfar(f[tfar][i]));
         r.sx = v(sx);
         r.sy = v(sy);
         r.sz = v(sz);

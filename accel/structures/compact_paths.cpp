@@ -245,7 +245,7 @@ private:
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
                 need_woop();
                 auto live = simd::from_bits<P>(lanes);
-                const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
+                const float tfar_hi = -simd::hmin(simd::select(live, -p.tbox, P(INFINITY)));  // (box_tfar: ray_box.h)
                 // (Locals, written back once: see WideBvhAccel::trace_packets.)
                 P tfar = p.tfar;
                 simd::PacketHit<P> rec = best;
