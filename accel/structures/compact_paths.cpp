@@ -294,6 +294,7 @@ private:
                 simd::WideRay<T> r;
                 setup.get(std::size_t(i), r);
                 r.tfar = T(tfar);
+                r.tbox = T(simd::box_tfar(tfar));
                 const Hit h = walk_ray<AnyHit>(r, tfar, sstack, child, count);
                 if (!h.is_hit()) return false;
                 return offer(simd::from_bits<P>(1u << i), P(h.t), IntP(std::int32_t(h.prim)), P(h.u), P(h.v)) != 0;

@@ -86,8 +86,8 @@ __attribute__((noinline)) void test_root(const Layout& layout, const simd::WideR
         const simd::Vec3<T> org{v(S::org_x), v(S::org_y), v(S::org_z)};
         const simd::Vec3<T> rcp_near{v(S::rn_x), v(S::rn_y), v(S::rn_z)};
         const simd::Vec3<T> rcp_far{v(S::rf_x), v(S::rf_y), v(S::rf_z)};
-        // (The walk's box tests cull against box_tfar of the ray's tfar, ray_box.h: so does this one.)
-        const T tnear = v(S::tnear), tfar(simd::box_tfar(setup.f[S::tfar][i]));
+        // (Against box_tfar of the ray's tfar, ray_box.h, as the walk's box tests.)
+        const T tnear = v(S::tnear), tfar = v(S::tbox);
         simd::Vec3<T> near_plane, far_plane;
         for (int k = 0; k < 3; ++k) {
             const std::size_t hi = (setup.near_is_hi[k] >> i) & 1u;
@@ -111,8 +111,7 @@ __attribute__((noinline)) void test_root(const Layout& layout, const simd::WideR
         const std::uint32_t lone = 0u - std::uint32_t(std::popcount(hit) == 1);
         // The walk's pop rule, slab_accept(t, tfar), with its bound worked out once per ray in scalar
         // (the same operations: bit-identical; as a vector it cost 5% on random rays).
-        const std::uint32_t live =
-            hit & (simd::to_bits(t <= T(simd::slab_accept_bound(simd::box_tfar(setup.f[S::tfar][i])))) | lone);
+        const std::uint32_t live = hit & (simd::to_bits(t <= T(simd::slab_accept_bound(setup.f[S::tbox][i]))) | lone);
         const std::uint8_t* order = layout.orders.data() + std::size_t(ray_octant(near_is_hi)) * N;
         const std::uint32_t ranked = ordered_bits<N>(live, order);
         const unsigned first = order[31 - std::countl_zero(ranked | 1u)];  // (order[0] when none)

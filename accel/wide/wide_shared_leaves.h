@@ -101,7 +101,7 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
     for (int k = 0; k < 3; ++k) box.near_is_hi[k] = simd::from_bits<P>(setup.near_is_hi[k]);
     box.tnear = ld(S::tnear);
     box.tfar = ld(S::tfar);
-    box.tbox = simd::box_tfar(box.tfar);
+    box.tbox = ld(S::tbox);
     const std::uint32_t active = setup.plain;  // (traceable and plain)
     box.active = simd::from_bits<P>(active);
     // The leaves to test, and for each the rays that test it.
@@ -137,6 +137,7 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
         for (std::uint32_t r = lanes_of[c]; r != 0; r &= r - 1) skip[std::countr_zero(r)] |= 1u << c;
     }
     simd::store_lanes(tfar, setup.f[S::tfar]);
+    simd::store_lanes(simd::box_tfar(tfar), setup.f[S::tbox]);
     simd::store_lanes(rec.t, out.t);
     simd::store_lanes(rec.u, out.u);
     simd::store_lanes(rec.v, out.v);
