@@ -2,7 +2,8 @@
 /// Ray/box kernels over the lane type T, all built on the one slab_test template of ray_box.h:
 ///   - packet_box:  a RayPacket (lanes<T> rays) against one box, e.g. a node in packet traversal;
 ///   - ray_boxes:   one WideRay against lanes<T> boxes in SoA form, e.g. the children of a wide node.
-/// Both return the lanes that hit and the entry distance per lane (valid where hit).
+/// Both return the lanes that hit and the entry distance per lane (valid where hit). Both cull
+/// against the ray's tbox (box_tfar of its tfar, ray_box.h), not tfar itself.
 #include "simd/ray_packet.h"
 #include "simd/wide_ray.h"
 
@@ -46,7 +47,7 @@ template <class T>
 ARBOR_INLINE Mask<T> packet_box(const RayPacket<T>& p, const Vec3f& lo, const Vec3f& hi, T& t_entry) {
     Vec3<T> n, f;
     detail::packet_planes(p, lo, hi, n, f);
-    return slab_test<T>(n, f, p.org, p.rcp_near, p.rcp_far, p.tnear, p.tfar, t_entry) & p.active;
+    return slab_test<T>(n, f, p.org, p.rcp_near, p.rcp_far, p.tnear, p.tbox, t_entry) & p.active;
 }
 
 /// The same for a packet with RayPacket::plain set, by slab_test_plain (ray_box.h: the same hits,
@@ -57,13 +58,13 @@ template <class T>
 ARBOR_INLINE Mask<T> packet_box_plain(const RayPacket<T>& p, const Vec3f& lo, const Vec3f& hi, T& t_entry) {
     Vec3<T> n, f;
     detail::packet_planes(p, lo, hi, n, f);
-    return slab_test_plain<T>(n, f, p.org, p.rcp_near, p.rcp_far, p.tnear, p.tfar, t_entry) & p.active;
+    return slab_test_plain<T>(n, f, p.org, p.rcp_near, p.rcp_far, p.tnear, p.tbox, t_entry) & p.active;
 }
 
 /// One ray against lanes<T> boxes already sorted into near and far planes.
 template <class T>
 inline Mask<T> ray_boxes_sorted(const WideRay<T>& r, const Vec3<T>& near_plane, const Vec3<T>& far_plane, T& t_entry) {
-    return slab_test<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t_entry);
+    return slab_test<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tbox, t_entry);
 }
 
 /// One ray against lanes<T> boxes stored as BoxesSoA<lanes<T>> (`soa` points at its b[0][0]): the
@@ -89,7 +90,7 @@ template <class T> ARBOR_INLINE Mask<T> ray_boxes(const WideRay<T>& r, const flo
 template <class T> ARBOR_INLINE Mask<T> ray_boxes_plain(const WideRay<T>& r, const float* soa, T& t_entry) {
     Vec3<T> near_plane, far_plane;
     detail::node_planes(r, soa, near_plane, far_plane);
-    return slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t_entry);
+    return slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tbox, t_entry);
 }
 
 template <class T, std::size_t N> inline Mask<T> ray_boxes(const WideRay<T>& r, const BoxesSoA<N>& boxes, T& t_entry) {

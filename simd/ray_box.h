@@ -164,6 +164,26 @@ inline SlabRay slab_ray(const Vec3f& o, const Vec3f& d) {
 template <class T> inline T slab_accept_bound(const T& t_exit) { return t_exit + rmin(t_exit, T(0.0f)) * T(-0x1p-17f); }
 template <class T> inline Mask<T> slab_accept(const T& t_entry, const T& t_exit) { return t_entry <= slab_accept_bound(t_exit); }
 
+/// The far distance a closest-hit walk tests boxes against while its closest hit so far (or the
+/// ray's own tfar) is at t: t raised by 2^-18 of itself, t * (1 + 2^-18) (negative t as it is:
+/// slab_accept's room covers it). The triangle tests keep t itself, so no answer can get farther;
+/// only culling changes. Why: a ray through a vertex (or along a flat box's face) meets the box of
+/// a triangle there exactly at that triangle's hit point, and the two computed distances round
+/// apart. The entry, (plane - org) * (1/d), is off by up to 3 roundings (3 * 2^-24 relative); the
+/// triangle's t, a convex combination of its corners' sheared distances divided by det
+/// (ray_triangle.h), by about 10 more where the corners lie on one side of the origin, and its
+/// point moves with the sheared frame by a few ulps of the distance travelled (~2^-21.4, the bound
+/// the kd-tree's point_tolerance, kdtree_traverse.h, takes 2^-18 for): together about 2^-19.5, so
+/// 2^-18 leaves a margin of ~3. Without it the nearer of two triangles meeting at a vertex could
+/// round below its box's entry while the other one's t, an ulp or a few above it, became tfar: the
+/// box was culled and the farther triangle returned (tests/test_vertex_aimed.cpp). One multiply
+/// and one max (on the chain from a leaf's hit to the next pop); recomputed only when a leaf
+/// lowers tfar. inf stays inf, NaN stays NaN; monotone in t.
+template <class T>
+inline T box_tfar(const T& t) {
+    return rmax(t * T(1.0f + 0x1p-18f), t);
+}
+
 /// The flat-slab rule (lanes where it holds are culled by slab_test): on an axis the ray does not
 /// move along (reciprocal +-inf by slab_rcp's zero-direction rule), a box of no thickness whose
 /// plane holds the origin gives NaN for both its slab distances (0 * inf). Every triangle in that

@@ -75,6 +75,7 @@ template <class T> struct RayPacket {
     Vec3<T> rcp_far;        ///< 1/d padded by 2 ulps (Ize)
     Mask<T> near_is_hi[3];  ///< sign bit of d per axis: the near plane is the box's max
     T tnear, tfar;
+    T tbox;  ///< box_tfar(tfar) (ray_box.h): what the box tests cull against; a walk that lowers tfar keeps it
     Mask<T> active;
     WoopLanes<T> woop;
     /// The lanes that would be plain rays (WideRay::plain: tnear >= 0, all reciprocals finite and
@@ -108,6 +109,7 @@ inline RayPacket<T> make_packet(const Vec3<T>& org, const Vec3<T>& dir, const T&
     p.active = active & traceable(org, dir, tnear, tfar);
     p.tnear = select(p.active, tnear, T(INFINITY));
     p.tfar = select(p.active, tfar, T(-INFINITY));
+    p.tbox = box_tfar(p.tfar);
     const T dmax = rmax(vabs(dir.x), rmax(vabs(dir.y), vabs(dir.z)));
     if constexpr (!Woop) p.rcp_near = slab_rcps(dir, dmax);
     for (int k = 0; k < 3; ++k) {

@@ -15,6 +15,7 @@ template <class T> struct WideRay {
     Vec3<T> rcp_near;       ///< 1/d
     Vec3<T> rcp_far;        ///< 1/d padded by 2 ulps (Ize)
     T tnear, tfar;          ///< tfar may be lowered by the caller as hits are found
+    T tbox;                 ///< box_tfar(tfar), what the box tests cull against (walk_wide keeps it)
     T sx, sy, sz;           ///< Woop shear
     int near_is_hi[3] = {}; ///< 1 when d[k] has its sign bit set: the near plane is the box's max
     int kx = 0, ky = 1, kz = 2;
@@ -51,6 +52,7 @@ template <class T> inline WideRay<T> wide_ray(const Vec3f& o, const Vec3f& d, fl
     r.rcp_far = {T(s.rcp_far.x), T(s.rcp_far.y), T(s.rcp_far.z)};
     r.tnear = T(ok ? tnear : INFINITY);
     r.tfar = T(ok ? tfar : -INFINITY);
+    r.tbox = T(box_tfar(ok ? tfar : -INFINITY));
     r.sx = T(w.sx);
     r.sy = T(w.sy);
     r.sz = T(w.sz);

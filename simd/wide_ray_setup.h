@@ -24,7 +24,27 @@ using SetupLane = Float4;
 
 template <class P> struct WideRaySetup {
     static constexpr std::size_t size = lanes<P>;
-    enum Field { org_x, org_y, org_z, perm_x, perm_y, perm_z, rn_x, rn_y, rn_z, rf_x, rf_y, rf_z, tnear, tfar, sx, sy, sz, fields };
+    enum Field {
+        org_x,
+        org_y,
+        org_z,
+        perm_x,
+        perm_y,
+        perm_z,
+        rn_x,
+        rn_y,
+        rn_z,
+        rf_x,
+        rf_y,
+        rf_z,
+        tnear,
+        tfar,
+        tbox,
+        sx,
+        sy,
+        sz,
+        fields
+    };
     alignas(64) float f[fields][size];
     alignas(64) std::int32_t axis[3][size];  ///< kx, ky, kz per lane
     std::uint32_t traceable = 0, plain = 0;  ///< per lane, as bits
@@ -39,6 +59,7 @@ template <class P> struct WideRaySetup {
         r.rcp_far = {v(rf_x), v(rf_y), v(rf_z)};
         r.tnear = v(tnear);
         r.tfar = v(tfar);
+        r.tbox = v(tbox);
         r.sx = v(sx);
         r.sy = v(sy);
         r.sz = v(sz);
@@ -65,6 +86,7 @@ template <class P> inline void wide_ray_setup(const RayPacket<P>& p, WideRaySetu
     for (int k = 0; k < 3; ++k) store_lanes(perm[k], s.f[S::perm_x + k]);
     store_lanes(p.tnear, s.f[S::tnear]);
     store_lanes(p.tfar, s.f[S::tfar]);
+    store_lanes(p.tbox, s.f[S::tbox]);
     store_lanes(p.woop.sx, s.f[S::sx]);
     store_lanes(p.woop.sy, s.f[S::sy]);
     store_lanes(p.woop.sz, s.f[S::sz]);

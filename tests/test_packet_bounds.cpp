@@ -60,7 +60,7 @@ template <class P> void check_all(const std::vector<Ray>& rays, const std::vecto
             const PacketBounds pb = packet_bounds(p, lanes);
             float tfar_hi = -INFINITY;
             for (std::size_t l = 0; l < K; ++l)
-                if ((lb >> l) & 1u) tfar_hi = std::max(tfar_hi, lane(p.tfar, l));
+                if ((lb >> l) & 1u) tfar_hi = std::max(tfar_hi, lane(p.tbox, l));  // (packet_box's far distance)
             for (std::size_t first = 0; first < bx.size(); ++first) {
                 alignas(64) BoxesSoA<1> soa;
                 soa.set(0, bx[first].lo, bx[first].hi);
@@ -164,7 +164,7 @@ TEST_CASE_TEMPLATE("packet bounds: never drop a triangle that a lane of the pack
         const PacketBounds pb = packet_bounds(p, p.active);
         float tfar_hi = -INFINITY;
         for (std::size_t l = 0; l < packet8; ++l)
-            if (lane(p.active, l)) tfar_hi = std::max(tfar_hi, lane(p.tfar, l));
+            if (lane(p.active, l)) tfar_hi = std::max(tfar_hi, lane(p.tbox, l));  // (as the packet walks' leaves)
         for (std::size_t first = 0; first < tris.size(); first += n) {
             TrisSoA<n> block;
             for (std::size_t c = 0; c < n; ++c) {

@@ -104,8 +104,9 @@ TriHit<float> oracle_tri(const Ray& r, const Tri& t) {
     h.hit = h.hit && ray_is_traceable(r);
     return h;
 }
+/// (Against box_tfar(tfar): the far distance the box kernels cull against, ray_box.h.)
 bool oracle_box(const Ray& r, const Box& b, float& t) {
-    return slab_test(slab_ray(r.org, r.dir), b.lo, b.hi, r.tnear, r.tfar, t) && ray_is_traceable(r);
+    return slab_test(slab_ray(r.org, r.dir), b.lo, b.hi, r.tnear, box_tfar(r.tfar), t) && ray_is_traceable(r);
 }
 
 }  // namespace

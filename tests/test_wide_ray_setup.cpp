@@ -48,8 +48,9 @@ template <class T> bool same_ray(const WideRay<T>& a, const WideRay<T>& b) {
             !same_bits(a.rcp_near[k], b.rcp_near[k]) || !same_bits(a.rcp_far[k], b.rcp_far[k]) ||
             a.near_is_hi[k] != b.near_is_hi[k])
             return false;
-    return same_bits(a.tnear, b.tnear) && same_bits(a.tfar, b.tfar) && same_bits(a.sx, b.sx) && same_bits(a.sy, b.sy) &&
-           same_bits(a.sz, b.sz) && a.kx == b.kx && a.ky == b.ky && a.kz == b.kz && a.plain == b.plain;
+    return same_bits(a.tnear, b.tnear) && same_bits(a.tfar, b.tfar) && same_bits(a.tbox, b.tbox) &&
+           same_bits(a.sx, b.sx) && same_bits(a.sy, b.sy) && same_bits(a.sz, b.sz) && a.kx == b.kx && a.ky == b.ky &&
+           a.kz == b.kz && a.plain == b.plain;
 }
 
 }  // namespace

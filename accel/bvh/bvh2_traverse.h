@@ -2,7 +2,8 @@
 /// The one scalar traversal loop of Bvh2Layout, for closest hit and any hit (template<bool AnyHit>),
 /// with the leaf work passed in. Distance-ordered: of two hit children the nearer is visited first
 /// and the farther is pushed with its entry distance; a popped entry farther than the current tfar
-/// is skipped. Box tests are simd::slab_test (Ize 2013, with its zero-direction rule) exactly.
+/// is skipped. Box tests are simd::slab_test (Ize 2013, with its zero-direction rule) exactly,
+/// against simd::box_tfar(tfar) (room for a triangle's t rounded below its box's entry).
 #include "accel/bvh/bvh2_layout.h"
 #include "simd/ray_box.h"
 
@@ -35,8 +36,10 @@ inline void traverse_bvh2(const Bvh2Layout& layout, const Vec3f& org, const Vec3
                           std::span<Bvh2StackEntry> stack, LeafFn&& leaf, NodeHook&& node_hook = {}) {
     if (layout.empty()) return;
     const simd::SlabRay r = simd::slab_ray(org, dir);
+    // What the boxes are culled against: worked out again after a leaf that found a hit.
+    float tbox = simd::box_tfar(tfar);
     float t_entry;
-    if (!simd::slab_test(r, layout.root_box.lo, layout.root_box.hi, tnear, tfar, t_entry)) return;
+    if (!simd::slab_test(r, layout.root_box.lo, layout.root_box.hi, tnear, tbox, t_entry)) return;
     // Offsets of the near planes in Bvh2Node::x/y/z (0: lo, 2: hi); the far planes are at 2 - near.
     const int nx = 2 * r.near_is_hi[0], ny = 2 * r.near_is_hi[1], nz = 2 * r.near_is_hi[2];
     const Bvh2Node* nodes = layout.nodes.data();
@@ -44,7 +47,10 @@ inline void traverse_bvh2(const Bvh2Layout& layout, const Vec3f& org, const Vec3
     std::uint32_t child = layout.root_child, count = layout.root_count;
     for (;;) {
         if (count != 0) {
-            if (leaf(child, count) && AnyHit) return;
+            if (leaf(child, count)) {
+                if constexpr (AnyHit) return;
+                tbox = simd::box_tfar(tfar);
+            }
         } else {
             const Bvh2Node& n = nodes[child];
             node_hook();
@@ -53,7 +59,7 @@ inline void traverse_bvh2(const Bvh2Layout& layout, const Vec3f& org, const Vec3
             for (int c = 0; c < 2; ++c) {
                 const Vec3f near_plane{n.x[nx + c], n.y[ny + c], n.z[nz + c]};
                 const Vec3f far_plane{n.x[2 - nx + c], n.y[2 - ny + c], n.z[2 - nz + c]};
-                hit[c] = simd::slab_test<float>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, tnear, tfar, t[c]);
+                hit[c] = simd::slab_test<float>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, tnear, tbox, t[c]);
             }
             if (hit[0] && hit[1]) {
                 const int first = t[1] < t[0] ? 1 : 0, second = 1 - first;
@@ -71,7 +77,7 @@ inline void traverse_bvh2(const Bvh2Layout& layout, const Vec3f& org, const Vec3
         for (;;) {
             if (sp == 0) return;
             const Bvh2StackEntry& e = stack[--sp];
-            if (simd::slab_accept(e.t, tfar)) {  // slab_test's rule: room for a negative tfar
+            if (simd::slab_accept(e.t, tbox)) {  // slab_test's rule: room for a negative tfar
                 child = e.child, count = e.count;
                 break;
             }

@@ -87,7 +87,9 @@ void TopBvh::ray_items(const simd::SlabRay& r, float tnear, float tfar, bool pla
     const simd::Vec3<T> org(T(r.org.x), T(r.org.y), T(r.org.z));
     const simd::Vec3<T> rn(T(r.rcp_near.x), T(r.rcp_near.y), T(r.rcp_near.z));
     const simd::Vec3<T> rf(T(r.rcp_far.x), T(r.rcp_far.y), T(r.rcp_far.z));
-    const T tn(tnear), tf(tfar);
+    // (Against box_tfar of the ray's tfar, ray_box.h: a bottom's triangle at t <= tfar may lie on a
+    // placement's box where its computed entry rounds above tfar.)
+    const T tn(tnear), tf(simd::box_tfar(tfar));
     std::uint32_t stack[wide_stack];
     int top = 0;
     stack[top++] = 0;

@@ -245,7 +245,7 @@ private:
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
                 need_woop();
                 auto live = simd::from_bits<P>(lanes);
-                const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
+                const float tfar_hi = -simd::hmin(simd::select(live, -p.tbox, P(INFINITY)));  // (box_tfar: ray_box.h)
                 // (Locals, written back once: see WideBvhAccel::trace_packets.)
                 P tfar = p.tfar;
                 simd::PacketHit<P> rec = best;
@@ -294,6 +294,7 @@ private:
                 simd::WideRay<T> r;
                 setup.get(std::size_t(i), r);
                 r.tfar = T(tfar);
+                r.tbox = T(simd::box_tfar(tfar));
                 const Hit h = walk_ray<AnyHit>(r, tfar, sstack, child, count);
                 if (!h.is_hit()) return false;
                 return offer(simd::from_bits<P>(1u << i), P(h.t), IntP(std::int32_t(h.prim)), P(h.u), P(h.v)) != 0;

@@ -160,7 +160,9 @@ private:
         P far = simd::load_lanes<P>(rec.tfar);
         simd::PacketHit<P> best{simd::load_lanes<P>(rec.t), simd::load_lanes<P>(rec.u), simd::load_lanes<P>(rec.v),
                                 simd::load_lanes<IntP>(rec.prim)};
-        const float tfar_hi = -simd::hmin(simd::select(live, -far, P(INFINITY)));
+        // The triangles' boxes culled against box_tfar of the far distances (ray_box.h: room for a
+        // triangle's t rounded below its box's entry, as at a vertex the box's corner).
+        const float tfar_hi = simd::box_tfar(-simd::hmin(simd::select(live, -far, P(INFINITY))));
         const std::uint32_t count = tree_.leaves[li].count;
         std::uint32_t done = 0;
         for (std::uint32_t b = blocks_.first[li], j = 0; b < blocks_.first[li + 1]; ++b, ++j) {

@@ -326,7 +326,7 @@ private:
             auto leaf = [&](std::uint32_t first, std::uint32_t count, std::uint32_t lanes) {
                 need_woop();
                 auto live = simd::from_bits<P>(lanes);
-                const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, P(INFINITY)));
+                const float tfar_hi = -simd::hmin(simd::select(live, -p.tbox, P(INFINITY)));  // (box_tfar: ray_box.h)
                 // The far distances and the hit record in locals for the leaf's tests (as members
                 // of p and best, reached through the lambdas' references, each test stored them
                 // with a masked store and the next test loaded them back: a store-forwarding stall
@@ -379,6 +379,7 @@ private:
                 simd::WideRay<T> r;
                 setup.get(std::size_t(i), r);
                 r.tfar = T(tfar);
+                r.tbox = T(simd::box_tfar(tfar));
                 const Hit h = trace_from<AnyHit>(r, tfar, child, count, sstack);
                 if (!h.is_hit()) return false;
                 return offer(simd::from_bits<P>(1u << i), P(h.t), IntP(std::int32_t(h.prim)), P(h.u), P(h.v)) != 0;

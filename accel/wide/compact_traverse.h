@@ -86,11 +86,11 @@ ARBOR_INLINE std::uint32_t node_hits(const simd::WideRay<WideLane<N>>& r, const 
     const std::uint32_t used = (1u << n.children) - 1u;
     if constexpr (Plain)
         return simd::to_bits(
-                   simd::slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) &
+                   simd::slab_test_plain<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tbox, t)) &
                used;
     else
         return simd::to_bits(
-                   simd::slab_test<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tfar, t)) &
+                   simd::slab_test<T>(near_plane, far_plane, r.org, r.rcp_near, r.rcp_far, r.tnear, r.tbox, t)) &
                used;
 }
 

@@ -101,6 +101,10 @@ inline void traverse_packet(const Layout& layout, simd::RayPacket<P>& p, const s
     // Whether some lane may reach behind its origin: only then can a tfar drop below zero, where a
     // popped entry needs slab_test's room for negative exits (slab_accept); else the plain compare.
     const bool behind = simd::to_bits((p.tnear < P(0.0f)) & p.active) != 0;
+    // The box tests (packet_box, bounds_boxes, the pop rule) cull against p.tbox, box_tfar of
+    // each lane's tfar (ray_box.h: room for a triangle's t rounded below its box's entry), worked
+    // out again only after a leaf or a single-ray walk has lowered some tfar.
+    p.tbox = simd::box_tfar(p.tfar);
     // Lanes that are finished (any hit) leave `lanes` at once; the others as their tfar drops.
     const auto finish = [&](std::uint32_t done) {
         if constexpr (AnyHit) {
@@ -108,6 +112,7 @@ inline void traverse_packet(const Layout& layout, simd::RayPacket<P>& p, const s
             p.active = p.active & !m;
             p.tfar = simd::select(m, P(-INFINITY), p.tfar);
         }
+        if (done != 0) p.tbox = simd::box_tfar(p.tfar);
         return done;
     };
     for (;;) {
@@ -129,7 +134,7 @@ inline void traverse_packet(const Layout& layout, simd::RayPacket<P>& p, const s
             std::uint32_t lanes_of[N];
             std::uint32_t hit_children = 0;
             const bool by_distance = octant < 0;
-            const float tfar_hi = -simd::hmin(simd::select(live, -p.tfar, inf));
+            const float tfar_hi = -simd::hmin(simd::select(live, -p.tbox, inf));
             std::uint32_t maybe = simd::to_bits(simd::bounds_boxes<WideLane<N>>(bounds, tfar_hi, &boxes.b[0][0][0]));
             maybe &= (1u << n.children) - 1u;
             for (; maybe != 0; maybe &= maybe - 1) {
@@ -196,7 +201,7 @@ inline void traverse_packet(const Layout& layout, simd::RayPacket<P>& p, const s
         for (;;) {
             if (sp == 0) return;
             const PacketStackEntry<P>& e = stack[--sp];
-            lanes = simd::to_bits((behind ? simd::slab_accept(e.t, p.tfar) : e.t <= p.tfar) & p.active);
+            lanes = simd::to_bits((behind ? simd::slab_accept(e.t, p.tbox) : e.t <= p.tbox) & p.active);
             if (lanes != 0) {
                 child = e.child, count = e.count;
                 break;

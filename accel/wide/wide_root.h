@@ -57,8 +57,8 @@ template <std::size_t N, std::size_t Rays> struct RootTests {
 /// operands, so the same hit children and distances); rays that are not traceable hit none. Then
 /// what the walk would do next, without a branch: one hit child is visited whatever its distance;
 /// of several, the children pushed in the root's order for the ray's octant (wide_order.h) and
-/// popped nearest first, those farther than the ray's tfar (by slab_accept, the walk's pop rule: room
-/// for a negative tfar) would be popped and skipped (tfar only drops), so the first visited is the
+/// popped nearest first, those beyond box_tfar of the ray's tfar (by slab_accept, the walk's pop
+/// rule: room for rounding and a negative tfar) would be popped and skipped (tfar only drops), so the first is the
 /// nearest in that order within tfar, and the others within tfar are the deferred ones. Then, for the rays whose first
 /// child is a node, that node's test (the walk's first step, with the same operands: no hit can have lowered tfar
 /// before it): the group's tests are independent, so they overlap, while in the walk the node's loads and slab test
@@ -86,7 +86,8 @@ __attribute__((noinline)) void test_root(const Layout& layout, const simd::WideR
         const simd::Vec3<T> org{v(S::org_x), v(S::org_y), v(S::org_z)};
         const simd::Vec3<T> rcp_near{v(S::rn_x), v(S::rn_y), v(S::rn_z)};
         const simd::Vec3<T> rcp_far{v(S::rf_x), v(S::rf_y), v(S::rf_z)};
-        const T tnear = v(S::tnear), tfar = v(S::tfar);
+        // (Against box_tfar of the ray's tfar, ray_box.h, as the walk's box tests.)
+        const T tnear = v(S::tnear), tfar = v(S::tbox);
         simd::Vec3<T> near_plane, far_plane;
         for (int k = 0; k < 3; ++k) {
             const std::size_t hi = (setup.near_is_hi[k] >> i) & 1u;
@@ -110,7 +111,7 @@ __attribute__((noinline)) void test_root(const Layout& layout, const simd::WideR
         const std::uint32_t lone = 0u - std::uint32_t(std::popcount(hit) == 1);
         // The walk's pop rule, slab_accept(t, tfar), with its bound worked out once per ray in scalar
         // (the same operations: bit-identical; as a vector it cost 5% on random rays).
-        const std::uint32_t live = hit & (simd::to_bits(t <= T(simd::slab_accept_bound(setup.f[S::tfar][i]))) | lone);
+        const std::uint32_t live = hit & (simd::to_bits(t <= T(simd::slab_accept_bound(setup.f[S::tbox][i]))) | lone);
         const std::uint8_t* order = layout.orders.data() + std::size_t(ray_octant(near_is_hi)) * N;
         const std::uint32_t ranked = ordered_bits<N>(live, order);
         const unsigned first = order[31 - std::countl_zero(ranked | 1u)];  // (order[0] when none)

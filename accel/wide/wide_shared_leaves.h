@@ -83,9 +83,10 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
     static_assert(Rays >= S::size);
     using IntP = simd::IntOf<P>;
     const WideNode<N>& root = layout.nodes[0];
-    // Plain rays only (tnear >= 0, finite normal reciprocals: WideRay::plain): their box entry
-    // distances are never above the true ones (Ize's padding), so no walk culls a box that holds
-    // a hit at the t of the one found here, and the order of the tests does not change the record.
+    // Plain rays only (tnear >= 0, finite normal reciprocals: WideRay::plain): the walks cull boxes
+    // against box_tfar of the hit found here (ray_box.h: room for the rounding of a box's entry and
+    // of a triangle's t), so no walk culls a box that holds a hit at that t or nearer, and the
+    // order of the tests does not change the record.
     // Behind the origin the entries are not that tight (negative exits get slab_accept's room
     // instead), and such rays keep their own walks.
     // The box tests read the set-up's arrays (the packet's own fields, stored); the full packet,
@@ -100,6 +101,7 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
     for (int k = 0; k < 3; ++k) box.near_is_hi[k] = simd::from_bits<P>(setup.near_is_hi[k]);
     box.tnear = ld(S::tnear);
     box.tfar = ld(S::tfar);
+    box.tbox = ld(S::tbox);
     const std::uint32_t active = setup.plain;  // (traceable and plain)
     box.active = simd::from_bits<P>(active);
     // The leaves to test, and for each the rays that test it.
@@ -135,6 +137,7 @@ bool test_shared_leaves(const WideLayout<N>& layout, std::uint32_t slots, std::s
         for (std::uint32_t r = lanes_of[c]; r != 0; r &= r - 1) skip[std::countr_zero(r)] |= 1u << c;
     }
     simd::store_lanes(tfar, setup.f[S::tfar]);
+    simd::store_lanes(simd::box_tfar(tfar), setup.f[S::tbox]);
     simd::store_lanes(rec.t, out.t);
     simd::store_lanes(rec.u, out.u);
     simd::store_lanes(rec.v, out.v);

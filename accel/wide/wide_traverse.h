@@ -73,6 +73,10 @@ ARBOR_INLINE void walk_wide(const Layout& layout, simd::WideRay<WideLane<N>>& r,
     const std::uint32_t* stack_count = stack.count();
     const float* stack_t = stack.t();
     std::size_t sp = 0;
+    // The boxes are culled against box_tfar(tfar) (ray_box.h: room for a triangle's t rounded below
+    // its box's entry), here and in r.tbox for the node tests (the caller's: wide_ray and
+    // WideRaySetup::get set it); worked out again after a leaf that found a hit, when tfar drops.
+    float tbox = simd::box_tfar(tfar);
     // Pops the nearest deferred child that can still hold a hit; false when there is none.
     const auto pop = [&]() {
         for (;;) {
@@ -80,7 +84,7 @@ ARBOR_INLINE void walk_wide(const Layout& layout, simd::WideRay<WideLane<N>>& r,
             --sp;
             // slab_test's rule (room for a negative tfar, reachable when tnear < 0); plain rays
             // have tfar >= 0, where it is the plain comparison.
-            if (Plain ? stack_t[sp] <= tfar : bool(simd::slab_accept(stack_t[sp], tfar))) {
+            if (Plain ? stack_t[sp] <= tbox : bool(simd::slab_accept(stack_t[sp], tbox))) {
                 child = stack_child[sp], count = stack_count[sp];
                 return true;
             }
@@ -122,7 +126,11 @@ ARBOR_INLINE void walk_wide(const Layout& layout, simd::WideRay<WideLane<N>>& r,
             }
         } else {
             first = false;
-            if (leaf(child, count) && AnyHit) return;
+            if (leaf(child, count)) {
+                if constexpr (AnyHit) return;
+                tbox = simd::box_tfar(tfar);
+                r.tbox = WideLane<N>(tbox);
+            }
         }
         if (!pop()) return;
     }
@@ -131,7 +139,8 @@ ARBOR_INLINE void walk_wide(const Layout& layout, simd::WideRay<WideLane<N>>& r,
 
 /// Walks the subtree (child, count) of `layout` (the root is (0, 0)) for ray `r`. `tfar` is the
 /// scalar copy of the ray's far distance: `leaf(first_block, count)` tests a leaf, and when it finds
-/// a hit it lowers both `tfar` and r.tfar and returns true; with AnyHit that ends the walk. A node's
+/// a hit it lowers both `tfar` and r.tfar and returns true; with AnyHit that ends the walk. r.tbox
+/// must be box_tfar(tfar) (ray_box.h) when the walk starts; the walk keeps it so. A node's
 /// hit children go on the stack in the node's order for the ray's octant (wide_order.h), the
 /// nearest on top, which is popped next; a popped entry farther than tfar is skipped. `stack` holds
 /// layout.stack_size() entries. The caller checks that the ray is traceable (r.traceable) and the
