@@ -65,7 +65,8 @@ accel::TraceRequest batch_request(const accel::Accel& a, const RayArrays& r, acc
     std::vector<accel::Ray> sample;
     for (const std::size_t i : accel::policy_sample(a.offer(), r.count)) sample.push_back(ray_at(r, i));
     const accel::PathChoice choice = accel::choose_path(a.offer(), sample, req);
-    race = accel::race_settles(choice, a.offer(), req) && accel::race_pairs((r.count + ray_chunk - 1) / ray_chunk) != 0;
+    race = accel::race_settles(choice, a.offer(), req) &&
+           accel::race_chunk_count((r.count + ray_chunk - 1) / ray_chunk) != 0;
     req.path = choice.path;
     return req;
 }
@@ -105,24 +106,26 @@ void trace_batch(Scene::Impl& s, CallArena& arena, const RayArrays& rays, accel:
     const accel::Accel& a = s.structure();
     bool race = false;
     const accel::TraceRequest req = batch_request(a, rays, q, race);
-    const auto run = [&](std::size_t b, std::size_t e, const accel::TraceRequest& r) {
+    const auto run = [&](std::size_t b, std::size_t e, const accel::TraceRequest& r, accel::ChunkPart part) {
         const auto in = load_rays(rays, b, e);
         thread_local std::vector<accel::Hit> out;
         out.resize(in.size());
-        a.trace(in, out, r);
-        for (std::size_t i = b; i < e; ++i) store(i, out[i - b]);
+        const std::size_t n = accel::trace_part(a, in, out, r, part);
+        for (std::size_t i = b; i < e; ++i)
+            if (accel::in_part(i - b, part)) store(i, out[i - b]);
+        return n;
     };
     if (race) {
         const auto start = std::chrono::steady_clock::now();
         const std::size_t chunks = (rays.count + ray_chunk - 1) / ray_chunk;
         arena.execute([&] {
-            accel::race_chunks(chunks, accel::race_pairs(chunks), [&](std::size_t k, accel::TracePath path) {
-                accel::TraceRequest forced = req;
-                forced.path = path;
-                const std::size_t b = k * ray_chunk, e = std::min(rays.count, b + ray_chunk);
-                run(b, e, forced);
-                return e - b;
-            });
+            accel::race_chunks(chunks, accel::race_chunk_count(chunks),
+                               [&](std::size_t k, accel::TracePath path, accel::ChunkPart part) {
+                                   accel::TraceRequest forced = req;
+                                   forced.path = path;
+                                   const std::size_t b = k * ray_chunk;
+                                   return run(b, std::min(rays.count, b + ray_chunk), forced, part);
+                               });
         });
         arena.answered(
             rays.count,
@@ -130,7 +133,8 @@ void trace_batch(Scene::Impl& s, CallArena& arena, const RayArrays& rays, accel:
                               .count()));
         return;
     }
-    for_chunks(arena, rays.count, ray_chunk, [&](std::size_t b, std::size_t e) { run(b, e, req); });
+    for_chunks(arena, rays.count, ray_chunk,
+               [&](std::size_t b, std::size_t e) { run(b, e, req, accel::ChunkPart::all); });
 }
 
 }  // namespace

@@ -177,8 +177,8 @@ import json, sys
 j = json.loads(open(sys.argv[1]).read())
 r = j["path_race"]
 assert r["winner"] == j["path"] and j["path"] in ("single", "packet"), j
-assert r["chunk_pairs"] == 4 and r["single_ns_per_ray"] > 0 and r["packet_ns_per_ray"] > 0, r
-assert "raced on 4 chunk pairs" in j["path_reason"] and "\n" not in j["path_reason"], j["path_reason"]
+assert r["chunks"] == 4 and r["single_ns_per_ray"] > 0 and r["packet_ns_per_ray"] > 0, r
+assert "raced on 4 chunks" in j["path_reason"] and "\n" not in j["path_reason"], j["path_reason"]
 PY
 for p in single packet; do
   "$ARBOR" trace --scene builtin:default --rays "$WORK/diffuse.rays" --path $p --hits "$WORK/race-$p.hits" --json >"$WORK/out" 2>"$WORK/err" \

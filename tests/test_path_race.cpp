@@ -37,34 +37,48 @@ void spin_cpu(std::uint64_t ns) {
            ns);
 }
 
-/// Races `chunks` fake chunks of 1024 rays, `slow` burning 200 us of CPU per chunk and the other
-/// none; checks every chunk ran exactly once, each race chunk on its own path and every other
-/// chunk on the winner, which must be the other path.
+/// Races `chunks` fake chunks of 1024 rays, `slow` burning 300 ns of CPU per ray and the other
+/// none; checks that every ray ran exactly once, each race chunk's halves on the paths race_chunks
+/// names (even blocks: single for even i, packet for odd i), every other chunk whole on the
+/// winner, and that the winner is the other path.
 void check_fake_race(std::size_t chunks, TracePath slow) {
-    const std::size_t pairs = accel::race_pairs(chunks);
-    REQUIRE(pairs > 0);
-    std::vector<std::atomic<int>> runs(chunks);
-    std::vector<TracePath> path_of(chunks, TracePath::best);
-    const accel::RaceOutcome out = accel::race_chunks(chunks, pairs, [&](std::size_t k, TracePath p) {
-        ++runs[k];
-        path_of[k] = p;
-        if (p == slow) spin_cpu(200000);
-        return std::size_t(1024);
-    });
+    const std::size_t count = accel::race_chunk_count(chunks);
+    REQUIRE(count > 0);
+    constexpr std::size_t n = 1024;
+    std::vector<std::atomic<int>> runs(chunks * n);
+    std::vector<TracePath> path_of(chunks * n, TracePath::best);
+    std::vector<std::atomic<int>> whole(chunks);
+    const accel::RaceOutcome out =
+        accel::race_chunks(chunks, count, [&](std::size_t k, TracePath p, accel::ChunkPart part) {
+            std::size_t traced = 0;
+            for (std::size_t i = 0; i < n; ++i)
+                if (accel::in_part(i, part)) ++runs[k * n + i], path_of[k * n + i] = p, ++traced;
+            if (part == accel::ChunkPart::all) ++whole[k];
+            if (p == slow) spin_cpu(300 * traced);
+            return traced;
+        });
     const TracePath fast = slow == TracePath::packet ? TracePath::single : TracePath::packet;
     CHECK(out.raced());
     CHECK(out.path == fast);
-    CHECK(out.chunks_each == pairs);
+    CHECK(out.chunks == count);
     CHECK((slow == TracePath::packet ? out.packet_ns > out.single_ns : out.single_ns > out.packet_ns));
-    const std::vector<std::size_t> ids = accel::race_chunk_ids(chunks, pairs);
+    const std::vector<std::size_t> ids = accel::race_chunk_ids(chunks, count);
     std::set<std::size_t> race(ids.begin(), ids.end());
-    for (std::size_t i = 0; i < ids.size(); ++i)
-        CHECK(path_of[ids[i]] == (i % 2 ? TracePath::packet : TracePath::single));
-    for (std::size_t k = 0; k < chunks; ++k) {
-        CAPTURE(k);
-        CHECK(runs[k] == 1);
-        if (!race.count(k)) CHECK(path_of[k] == fast);
+    for (std::size_t r = 0; r < ids.size(); ++r) {
+        const TracePath even = r % 2 ? TracePath::packet : TracePath::single,
+                        odd = r % 2 ? TracePath::single : TracePath::packet;
+        CHECK(whole[ids[r]] == 0);
+        for (std::size_t i = 0; i < n; ++i)
+            CHECK(path_of[ids[r] * n + i] == ((i / accel::race_block) % 2 ? odd : even));
     }
+    std::size_t wrong_runs = 0, wrong_path = 0;
+    for (std::size_t k = 0; k < chunks; ++k)
+        for (std::size_t i = 0; i < n; ++i) {
+            wrong_runs += runs[k * n + i] != 1;
+            if (!race.count(k)) wrong_path += path_of[k * n + i] != fast;
+        }
+    CHECK(wrong_runs == 0);
+    CHECK(wrong_path == 0);
 }
 
 /// Diffuse rays (engine/ray_gen.h: bounces from the primary hits of 8x8 tiles) over the
@@ -81,24 +95,27 @@ std::vector<Ray> diffuse_rays(const engine::Mesh& mesh, const accel::Accel& trac
 
 }  // namespace
 
-TEST_CASE("path race: sizes, and the race's chunks are distinct neighbours spread over the batch") {
-    CHECK(accel::race_pairs(0) == 0);
-    CHECK(accel::race_pairs(31) == 0);
-    CHECK(accel::race_pairs(32) == 4);
-    CHECK(accel::race_pairs(127) == 4);
-    CHECK(accel::race_pairs(128) == 8);
-    CHECK(accel::race_pairs(100000) == 8);
+TEST_CASE("path race: sizes, and the race's chunks are distinct and spread over the batch") {
+    CHECK(accel::race_chunk_count(0) == 0);
+    CHECK(accel::race_chunk_count(31) == 0);
+    CHECK(accel::race_chunk_count(32) == 4);
+    CHECK(accel::race_chunk_count(127) == 4);
+    CHECK(accel::race_chunk_count(128) == 8);
+    CHECK(accel::race_chunk_count(100000) == 8);
     for (const std::size_t chunks : {32u, 33u, 100u, 127u, 128u, 129u, 1000u, 65536u}) {
         CAPTURE(chunks);
-        const std::size_t pairs = accel::race_pairs(chunks);
-        const auto ids = accel::race_chunk_ids(chunks, pairs);
-        REQUIRE(ids.size() == 2 * pairs);
+        const std::size_t count = accel::race_chunk_count(chunks);
+        const auto ids = accel::race_chunk_ids(chunks, count);
+        REQUIRE(ids.size() == count);
         CHECK(std::set<std::size_t>(ids.begin(), ids.end()).size() == ids.size());
-        for (std::size_t p = 0; p < pairs; ++p) {
-            CHECK(ids[2 * p + 1] == ids[2 * p] + 1);
-            CHECK(ids[2 * p + 1] < chunks);
-        }
+        CHECK(ids.back() < chunks);
         CHECK(ids.back() >= chunks / 2);  // spread, not all at the start
+    }
+    // Blocks of 64 rays alternate between the halves; `all` holds every ray.
+    for (std::size_t i = 0; i < 300; ++i) {
+        CHECK(accel::in_part(i, accel::ChunkPart::all));
+        CHECK(accel::in_part(i, accel::ChunkPart::even_blocks) != accel::in_part(i, accel::ChunkPart::odd_blocks));
+        CHECK(accel::in_part(i, accel::ChunkPart::even_blocks) == ((i / 64) % 2 == 0));
     }
 }
 
@@ -164,7 +181,7 @@ TEST_CASE(
             std::vector<Hit> raced(rays.size());
             const accel::RaceOutcome out = accel::trace_parallel(*a, rays, raced, accel::Query::closest);
             CHECK(out.raced());
-            CHECK(out.chunks_each == 8);
+            CHECK(out.chunks == 8);
             CHECK(out.single_ns > 0.0);
             CHECK(out.packet_ns > 0.0);
             std::size_t differ_single = 0, differ_packet = 0;

@@ -10,14 +10,13 @@ RaceOutcome trace_parallel(const Accel& accel, std::span<const Ray> rays, std::s
                            std::size_t chunk) {
     const std::size_t n = std::min(rays.size(), hits.size()), c = std::max<std::size_t>(chunk, 1);
     const std::size_t chunks = (n + c - 1) / c;
-    if (req.path == TracePath::best && !req.counters && race_pairs(chunks) != 0 &&
+    if (req.path == TracePath::best && !req.counters && race_chunk_count(chunks) != 0 &&
         race_settles(choose_path(accel.offer(), rays.first(n), req), accel.offer(), req))
-        return race_chunks(chunks, race_pairs(chunks), [&](std::size_t k, TracePath path) {
+        return race_chunks(chunks, race_chunk_count(chunks), [&](std::size_t k, TracePath path, ChunkPart part) {
             const std::size_t b = k * c, e = std::min(n, b + c);
             TraceRequest forced = req;
             forced.path = path;
-            accel.trace(rays.subspan(b, e - b), hits.subspan(b, e - b), forced);
-            return e - b;
+            return trace_part(accel, rays.subspan(b, e - b), hits.subspan(b, e - b), forced, part);
         });
     tbb::enumerable_thread_specific<TraceCounters> counts;
     // Chunk k is rays [k*c, (k+1)*c): the boundaries do not depend on how TBB splits the range, so

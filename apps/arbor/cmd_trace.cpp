@@ -57,7 +57,7 @@ int run_trace(const TraceOptions& o) {
     accel::TracePath path = choice.path;
     std::string path_reason = accel::path_reason(choice);
     const bool race = accel::race_settles(choice, structure->offer(), asked_req) &&
-                      accel::race_pairs((rays.size() + 1023) / 1024) != 0;
+                      accel::race_chunk_count((rays.size() + 1023) / 1024) != 0;
     accel::RaceOutcome raced;
     const accel::AccelKind kind = pick.kind;
 
@@ -89,7 +89,7 @@ int run_trace(const TraceOptions& o) {
     j["path"] = accel::to_string(path);
     j["path_reason"] = path_reason;
     if (raced.raced())
-        j["path_race"] = {{"chunk_pairs", raced.chunks_each},
+        j["path_race"] = {{"chunks", raced.chunks},
                           {"single_ns_per_ray", raced.single_ns},
                           {"packet_ns_per_ray", raced.packet_ns},
                           {"winner", accel::to_string(raced.path)}};
