@@ -3,12 +3,14 @@
 #include <string>
 #include <vector>
 
+#include "engine/one_line.h"
+
 namespace arbor::engine {
 
 /// Collects warnings (e.g. from the loader) so that callers decide where they go.
 struct Warnings {
     std::vector<std::string> lines;
-    void add(std::string w) { lines.push_back(std::move(w)); }
+    void add(const std::string& w) { lines.push_back(one_line(w)); }  ///< escaped to one line
     bool empty() const { return lines.empty(); }
 };
 

@@ -258,3 +258,30 @@ TEST_CASE("mesh formats: an OBJ with only points and lines says so") {
                          "pl.obj: no triangles: the file holds only points/lines", engine::InputError);
     CHECK_THROWS_WITH_AS(engine::load_mesh_bytes("# nothing\n", "e.obj", "", w), "e.obj: no triangles", engine::InputError);
 }
+
+TEST_CASE("mesh formats: text from the file with line breaks stays on one line in warnings and errors") {
+    // A material named "two\nlines" (a JSON escape, so a real line break once parsed) whose
+    // embedded texture does not decode: the warning quotes the name, escaped.
+    const Folder dir;
+    perf::GltfOptions o;
+    o.binary = false;
+    o.png = "not\nan image";
+    std::string text = perf::gltf_bytes(sample_mesh(), o);
+    const std::string key = "{\"pbrMetallicRoughness\"";
+    REQUIRE(text.find(key) != std::string::npos);
+    text.replace(text.find(key), key.size(), "{\"name\":\"two\\nlines\",\"pbrMetallicRoughness\"");
+    engine::Warnings w;
+    const engine::Mesh m = engine::load_mesh(dir.write("named.gltf", text), w);
+    CHECK(m.triangle_count() == 80);
+    REQUIRE(w.lines.size() == 1);
+    CAPTURE(w.lines[0]);
+    CHECK(w.lines[0].find("material 'two\\nlines': texture not used") != std::string::npos);
+    CHECK(w.lines[0].find('\n') == std::string::npos);
+
+    // Every control byte in a message becomes a visible escape.
+    const engine::InputError e("f.obj", 3, std::string("a\nb\rc\td\x01" "e\x7f"));
+    CHECK(std::string(e.what()) == "f.obj:3: a\\nb\\rc\\td\\x01e\\x7f");
+    engine::Warnings w2;
+    w2.add("x\ny");
+    CHECK(w2.lines[0] == "x\\ny");
+}
