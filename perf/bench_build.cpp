@@ -133,7 +133,7 @@ std::vector<TraceConfig> trace_configs(const std::vector<Built>& built) {
         }
 #ifdef ARBOR_HAVE_EMBREE
         const bool default_mode = !b.embree_cfg.high_quality && !b.embree_cfg.robust;
-        for (const EmbreeCall c : {EmbreeCall::single, EmbreeCall::packet8, EmbreeCall::packet16, EmbreeCall::stream}) {
+        for (const EmbreeCall c : embree_calls()) {
             if (!default_mode && (c == EmbreeCall::packet8 || c == EmbreeCall::packet16)) continue;
             out.push_back({&b, std::string(to_string(c)), accel::TracePath::scalar, int(c)});
         }

@@ -61,7 +61,8 @@ std::vector<Built> build_structures(const accel::TriangleView& tris, const Bench
                                     BuildHistory& history);
 
 /// The configurations to trace: every path each arbor structure has (Accel::offer: scalar first),
-/// and for Embree the default mode with every call, the other modes with rtcIntersect1 and 1M.
+/// and for Embree the default mode with every call, the other modes with rtcIntersect1 and 1M
+/// (Embree 3 only: perf::embree_calls()).
 std::vector<TraceConfig> trace_configs(const std::vector<Built>& built);
 
 }  // namespace arbor::perf

@@ -61,7 +61,7 @@ struct BenchOptions {
     /// Run the Embree peer when it is built.
     bool embree = true;
     /// Embree modes beyond the default (MEDIUM, not robust, every call): HIGH and ROBUST with
-    /// rtcIntersect1 and the stream call.
+    /// rtcIntersect1 and the stream call (Embree 3 only).
     bool embree_variants = true;
     /// Evaluate --accel auto on every (scene, kind, threads, budget).
     bool evaluate_auto = true;

@@ -1,5 +1,5 @@
 // `arbor-bench paths`: arbor's traversal paths (scalar, single, packet, best) at each BVH width against
-// Embree's calls (rtcIntersect1/8/16/1M) on the very same .rays files, in one run. A benchmark,
+// Embree's calls (rtcIntersect1/8/16, and 1M under Embree 3) on the very same .rays files, in one run. A benchmark,
 // not a test: every configuration is first checked against the structure's scalar path on all
 // rays (and Embree against it too), then all configurations are timed round-robin (the order
 // rotated each repeat) so that machine noise hits them alike; medians of --repeats.
@@ -234,8 +234,7 @@ std::vector<Config> trace_configs(const Options& o, const Structures& st, [[mayb
         }
 #ifdef ARBOR_HAVE_EMBREE
     if (peer)
-        for (const auto call : {perf::EmbreeCall::single, perf::EmbreeCall::packet8, perf::EmbreeCall::packet16,
-                                perf::EmbreeCall::stream}) {
+        for (const auto call : perf::embree_calls()) {
             configs.push_back({"embree", std::string(perf::to_string(call)),
                                [peer, q, call, coherent](auto r, auto h) { peer->trace_parallel(r, h, q, call, coherent); }, true, {}, -1});
         }
@@ -301,6 +300,15 @@ void time_configs(const Options& o, std::span<const accel::Ray> rays, std::vecto
             } while (t.ms() < o.min_ms);
             c.ms.push_back((o.cpu_time ? (cpu_ms() - c0) / double(o.threads) : t.ms()) / passes);
         }
+}
+
+/// The Embree in the comparison, for the report's header (its version names the tables' "Embree").
+std::string embree_line([[maybe_unused]] const Options& o) {
+#ifdef ARBOR_HAVE_EMBREE
+    return o.embree ? perf::embree_description() : "Embree left out (--no-embree)";
+#else
+    return "no Embree peer in this build";
+#endif
 }
 
 void run_scene(const Options& o, const std::string& scene, std::vector<perf::PathsRow>& rows, std::vector<LayoutRow>& layouts) {
@@ -399,10 +407,14 @@ static int paths_main(int argc, char** argv) {
         std::vector<LayoutRow> layouts;
         for (const std::string& scene : o.scenes) run_scene(o, scene, rows, layouts);
         std::ostringstream head;
-        head << "- command: `" << cmd << "`\n- " << std::to_string(o.threads) + (o.cpu_time ? " threads, process CPU time / threads" : " threads, wall clock")
+        head << "- command: `" << cmd << "`\n- "
+             << std::to_string(o.threads) +
+                    (o.cpu_time ? " threads, process CPU time / threads" : " threads, wall clock")
              << ", median of " << o.repeats << " repeats"
-             << (o.min_ms > 0 ? " (each the time per pass of as many passes as fill " + fmt("%.0f", o.min_ms) + " ms)" : std::string())
+             << (o.min_ms > 0 ? " (each the time per pass of as many passes as fill " + fmt("%.0f", o.min_ms) + " ms)"
+                              : std::string())
              << ", all configurations round-robin (order rotated each repeat)\n"
+             << "- peer: " << embree_line(o) << "\n"
              << "- load average " << load_before << " at the start, " << load_average() << " at the end; "
              << fmt("%.0f s", total.seconds()) << "\n\n";
         std::ostringstream lay;

@@ -1,6 +1,5 @@
 #include "perf/embree_peer.h"
 
-#include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -12,12 +11,14 @@
 #include <vector>
 
 #include "accel/util/timer.h"
+#include "perf/embree_api.h"
 
 namespace arbor::perf {
 
 using accel::Hit;
 using accel::Query;
 using accel::Ray;
+using embree_api::Context;
 
 namespace {
 
@@ -74,21 +75,11 @@ template <>
 struct Packet<8> {
     using RayHit = RTCRayHit8;
     using Ray = RTCRay8;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
-        rtcIntersect8(valid, s, c, rh);
-    }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded8(valid, s, c, r); }
 };
 template <>
 struct Packet<16> {
     using RayHit = RTCRayHit16;
     using Ray = RTCRay16;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
-        rtcIntersect16(valid, s, c, rh);
-    }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
-        rtcOccluded16(valid, s, c, r);
-    }
 };
 
 /// Lane k of an SoA packet ray, written through the same put_ray as single rays.
@@ -110,7 +101,7 @@ void put_lane(P& p, int k, const Ray& ray) {
 }
 
 template <int N>
-void trace_packets(RTCScene scene, RTCIntersectContext* ctx, std::span<const Ray> rays, std::span<Hit> hits, Query q,
+void trace_packets(RTCScene scene, Context& ctx, std::span<const Ray> rays, std::span<Hit> hits, Query q,
                    unsigned per) {
     using P = Packet<N>;
     for (std::size_t base = 0; base < rays.size(); base += N) {
@@ -124,7 +115,7 @@ void trace_packets(RTCScene scene, RTCIntersectContext* ctx, std::span<const Ray
                 rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
             }
-            P::intersect(valid, scene, ctx, &rh);
+            embree_api::intersect(valid, scene, ctx, &rh);
             for (int k = 0; k < n; ++k)
                 hits[base + std::size_t(k)] =
                     rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID || !valid[k]
@@ -137,7 +128,7 @@ void trace_packets(RTCScene scene, RTCIntersectContext* ctx, std::span<const Ray
                 valid[k] = k < n && accel::ray_is_traceable(rays[base + std::size_t(k)]) ? -1 : 0;
                 put_lane(r, k, k < n ? rays[base + std::size_t(k)] : Ray{});
             }
-            P::occluded(valid, scene, ctx, &r);
+            embree_api::occluded(valid, scene, ctx, &r);
             for (int k = 0; k < n; ++k)
                 hits[base + std::size_t(k)] = valid[k] ? any_hit(r.tfar[k], r.tnear[k]) : accel::miss_hit;
         }
@@ -184,6 +175,18 @@ std::string_view to_string(EmbreeCall c) {
     }
     return "?";
 }
+
+namespace {
+#if ARBOR_EMBREE_STREAM
+constexpr EmbreeCall calls[] = {EmbreeCall::single, EmbreeCall::packet8, EmbreeCall::packet16, EmbreeCall::stream};
+#else
+constexpr EmbreeCall calls[] = {EmbreeCall::single, EmbreeCall::packet8, EmbreeCall::packet16};
+#endif
+}  // namespace
+
+std::span<const EmbreeCall> embree_calls() { return calls; }
+
+bool embree_has(EmbreeCall c) { return std::find(std::begin(calls), std::end(calls), c) != std::end(calls); }
 
 std::string embree_config_name(const EmbreeConfig& cfg) {
     std::string s = "embree";
@@ -297,9 +300,10 @@ std::size_t EmbreePeer::triangles() const { return impl_->triangles; }
 
 void EmbreePeer::trace(std::span<const Ray> rays, std::span<Hit> hits, Query query, EmbreeCall call,
                        bool coherent) const {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    if (!embree_has(call))
+        throw std::invalid_argument("embree: Embree " + std::to_string(RTC_VERSION_MAJOR) + " has no call " +
+                                    std::string(to_string(call)));
+    Context ctx(coherent);
     RTCScene scene = impl_->scene;
     const unsigned per = impl_->per_instance;
     const std::size_t n = std::min(rays.size(), hits.size());
@@ -308,10 +312,10 @@ void EmbreePeer::trace(std::span<const Ray> rays, std::span<Hit> hits, Query que
 
     switch (call) {
         case EmbreeCall::packet8:
-            trace_packets<8>(scene, &ctx, rays, hits, query, per);
+            trace_packets<8>(scene, ctx, rays, hits, query, per);
             return;
         case EmbreeCall::packet16:
-            trace_packets<16>(scene, &ctx, rays, hits, query, per);
+            trace_packets<16>(scene, ctx, rays, hits, query, per);
             return;
         case EmbreeCall::single:
             for (std::size_t i = 0; i < n; ++i) {
@@ -320,17 +324,18 @@ void EmbreePeer::trace(std::span<const Ray> rays, std::span<Hit> hits, Query que
                     put_ray(rh.ray, rays[i]);
                     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                    rtcIntersect1(scene, &ctx, &rh);
+                    embree_api::intersect(scene, ctx, &rh);
                     hits[i] = closest_hit(rh, per);
                 } else {
                     RTCRay r;
                     put_ray(r, rays[i]);
-                    rtcOccluded1(scene, &ctx, &r);
+                    embree_api::occluded(scene, ctx, &r);
                     hits[i] = accel::ray_is_traceable(rays[i]) ? any_hit(r.tfar, r.tnear) : accel::miss_hit;
                 }
             }
             return;
         case EmbreeCall::stream: {
+#if ARBOR_EMBREE_STREAM
             // Sub-batches on the stack: no allocation while timing; Embree's stream code works on
             // small blocks internally anyway.
             constexpr std::size_t block = 256;
@@ -343,17 +348,18 @@ void EmbreePeer::trace(std::span<const Ray> rays, std::span<Hit> hits, Query que
                         rh[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
                         rh[k].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
                     }
-                    rtcIntersect1M(scene, &ctx, rh, unsigned(m), sizeof(RTCRayHit));
+                    embree_api::intersect_stream(scene, ctx, rh, unsigned(m));
                     for (std::size_t k = 0; k < m; ++k) hits[base + k] = closest_hit(rh[k], per);
                 } else {
                     RTCRay r[block];
                     for (std::size_t k = 0; k < m; ++k) put_ray(r[k], rays[base + k]);
-                    rtcOccluded1M(scene, &ctx, r, unsigned(m), sizeof(RTCRay));
+                    embree_api::occluded_stream(scene, ctx, r, unsigned(m));
                     for (std::size_t k = 0; k < m; ++k)
                         hits[base + k] =
                             accel::ray_is_traceable(rays[base + k]) ? any_hit(r[k].tfar, r[k].tnear) : accel::miss_hit;
                 }
             }
+#endif
             return;
         }
     }
@@ -379,7 +385,11 @@ std::string embree_description() {
     s += std::string(" (native packets:") + (prop(RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED) ? " 4" : "") +
          (prop(RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? " 8" : "") +
          (prop(RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) ? " 16" : "") +
+#if ARBOR_EMBREE_STREAM
          "; stream: " + (prop(RTC_DEVICE_PROPERTY_RAY_STREAM_SUPPORTED) ? "yes" : "no") +
+#else
+         "; stream: none in Embree " + std::to_string(RTC_VERSION_MAJOR) +
+#endif
          "; tasking: " + (prop(RTC_DEVICE_PROPERTY_TASKING_SYSTEM) == 1 ? "TBB" : "internal") + ")";
     rtcReleaseDevice(d);
     return s;

@@ -1,8 +1,9 @@
 #pragma once
-/// The Embree peer: Embree 3 fed the very same triangles and rays as arbor, in the same process,
-/// on the same threads, so the benchmark can print ratios. Built only when find_package(embree 3)
-/// succeeds and ARBOR_EMBREE is ON (ARBOR_HAVE_EMBREE is then defined); arbor's libraries never
-/// link Embree. Embree's answers are converted to accel::Hit: prim = primID, and (u, v) are
+/// The Embree peer: Embree 3 or 4 fed the very same triangles and rays as arbor, in the same
+/// process, on the same threads, so the benchmark can print ratios. Built only when
+/// find_package(embree ARBOR_EMBREE_MAJOR) succeeds and ARBOR_EMBREE is ON (ARBOR_HAVE_EMBREE is
+/// then defined; Embree 3 by default, Embree 4 built by scripts/peers/build_embree4.sh); arbor's
+/// libraries never link Embree. Embree's answers are converted to accel::Hit: prim = primID, and (u, v) are
 /// Embree's barycentrics, which weight v1 and v2 exactly as spec/rayfile.md's u, v do (checked by
 /// tests/test_embree_peer.cpp). Any-hit answers carry t = tnear and prim = 0 (Embree reports only
 /// "occluded"): compare them by is_hit().
@@ -20,9 +21,15 @@
 namespace arbor::perf {
 
 /// How rays are handed to Embree: rtcIntersect1/rtcOccluded1 per ray, 8- or 16-wide packets
-/// (rtcIntersect8/16 with a valid mask), or the stream call rtcIntersect1M/rtcOccluded1M.
+/// (rtcIntersect8/16 with a valid mask), or the stream call rtcIntersect1M/rtcOccluded1M, which
+/// only Embree 3 has (Embree 4 removed the stream calls).
 enum class EmbreeCall { single, packet8, packet16, stream };
 std::string_view to_string(EmbreeCall c);
+/// The calls the linked Embree has, in the order above: 1, 8, 16 and, under Embree 3 only, 1M.
+/// Benchmarks time these and no others, so a call Embree lacks is absent from their reports.
+std::span<const EmbreeCall> embree_calls();
+/// Whether `c` is one of embree_calls().
+bool embree_has(EmbreeCall c);
 
 struct EmbreeConfig {
     /// RTC_BUILD_QUALITY_HIGH (spatial splits) instead of MEDIUM, Embree's default.
@@ -64,9 +71,11 @@ public:
     /// Triangles of the scene's mesh (once, however often it is placed).
     std::size_t triangles() const;
 
-    /// Traces rays[i] into hits[i] on the calling thread. `coherent` sets
-    /// RTC_INTERSECT_CONTEXT_FLAG_COHERENT (rays from one image tile). Rays that arbor would not
-    /// trace (accel::ray_is_traceable) are handed to Embree as inactive and come back as misses.
+    /// Traces rays[i] into hits[i] on the calling thread. `coherent` sets the coherent flag (rays
+    /// from one image tile: Embree 3's RTC_INTERSECT_CONTEXT_FLAG_COHERENT, Embree 4's
+    /// RTC_RAY_QUERY_FLAG_COHERENT). Rays that arbor would not trace (accel::ray_is_traceable) are
+    /// handed to Embree as inactive and come back as misses. Throws std::invalid_argument for a call
+    /// the linked Embree does not have (embree_has).
     void trace(std::span<const accel::Ray> rays, std::span<accel::Hit> hits, accel::Query query, EmbreeCall call,
                bool coherent) const;
     /// The same in parallel over chunks of `chunk` rays, exactly as accel::trace_parallel does.
@@ -78,7 +87,8 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-/// One line about the Embree library in use: version, native packet widths, stream support, tasking.
+/// One line about the Embree library in use: version (e.g. "Embree 4.4.1"), native packet widths,
+/// stream support (none in Embree 4), tasking.
 std::string embree_description();
 
 }  // namespace arbor::perf

@@ -205,7 +205,7 @@ int instances_command(int argc, char** argv) {
     }
 #ifdef ARBOR_HAVE_EMBREE
     // Embree's two-level scene of the same copies (one mesh scene, an instance per transform) and
-    // its flattened scene, on the same rays, with its fastest call of 1, 16 and 1M on the
+    // its flattened scene, on the same rays, with its fastest call of 1, 16 and 1M (Embree 3 only) on the
     // instanced scene (one timed pass each).
     std::unique_ptr<perf::EmbreePeer> e_inst, e_flat;
     std::vector<double> ebuild_i, ebuild_f;
@@ -219,6 +219,7 @@ int instances_command(int argc, char** argv) {
     perf::EmbreeCall call = perf::EmbreeCall::single;
     double fastest = INFINITY;
     for (const perf::EmbreeCall c : {perf::EmbreeCall::single, perf::EmbreeCall::packet16, perf::EmbreeCall::stream}) {
+        if (!perf::embree_has(c)) continue;  // no stream call in Embree 4
         const accel::Timer t;
         e_inst->trace_parallel(rays, e, accel::Query::closest, c, false);
         if (t.ms() < fastest) fastest = t.ms(), call = c;

@@ -28,6 +28,17 @@ std::map<Cell, std::pair<double, std::string>> embree_best(const std::vector<Pat
     return best;
 }
 
+/// The Embree calls timed in `rows`, in order of appearance, joined by `sep` ("1, 8, 16, 1M" under
+/// Embree 3; Embree 4 has no 1M): the reports name only the calls that ran.
+std::string embree_calls_seen(const std::vector<PathsRow>& rows, const char* sep) {
+    std::vector<std::string> calls;
+    for (const PathsRow& r : rows)
+        if (r.embree && std::find(calls.begin(), calls.end(), r.path) == calls.end()) calls.push_back(r.path);
+    std::string s;
+    for (const std::string& c : calls) s += (s.empty() ? "" : sep) + c;
+    return s;
+}
+
 /// The q-quantile of sorted values, linearly interpolated.
 double quantile(const std::vector<double>& v, double q) {
     if (v.empty()) return 0.0;
@@ -62,7 +73,9 @@ std::string paths_report(const std::vector<PathsRow>& rows, std::size_t brute_sa
         if (r.path == "best") auto_path[c][r.structure] = r.mrays;
     }
     s << "## arbor's fastest path / Embree's fastest call\n\n";
-    s << "Per structure: its fastest path's median Mrays/s over Embree's fastest call (of 1, 8, 16, 1M) on the same rays; "
+    s << "Per structure: its fastest path's median Mrays/s over Embree's fastest call (of "
+      << embree_calls_seen(rows, ", ")
+      << ") on the same rays; "
          "in brackets the path, and `best` = the path TracePath::best picked by itself.\n\n";
     s << "| scene | kind | Embree best |";
     for (const auto& st : structures) s << " " << st << " |";
@@ -145,14 +158,21 @@ std::string paths_distribution(const std::vector<PathsRow>& rows, std::size_t br
     }
     std::ostringstream s;
     s << "## Distribution over the cells: arbor / Embree's fastest call\n\n"
-         "Per ray kind and structure, over every cell (scene and view): the ratio of the structure's median Mrays/s on its "
-         "default path (`best`, what `arbor trace` runs) — and on its fastest SIMD path — to the median of Embree's fastest call "
-         "in the same cell (of rtcIntersect1/8/16/1M, coherent flag on primary and shadow rays). `arbor` = the faster of the "
-         "structures' default paths in each cell. Accuracy of the same configurations, summed over the cells: disagreements "
-         "with the structure's scalar path (all rays), with brute (a sample of " << brute_sample
+         "Per ray kind and structure, over every cell (scene and view): the ratio of the structure's median Mrays/s on "
+         "its "
+         "default path (`best`, what `arbor trace` runs) — and on its fastest SIMD path — to the median of Embree's "
+         "fastest call "
+         "in the same cell (of rtcIntersect"
+      << embree_calls_seen(rows, "/")
+      << ", coherent flag on primary and shadow rays). `arbor` = the faster of the "
+         "structures' default paths in each cell. Accuracy of the same configurations, summed over the cells: "
+         "disagreements "
+         "with the structure's scalar path (all rays), with brute (a sample of "
+      << brute_sample
       << " rays per cell) and with Embree's rtcIntersect1 (all rays; any hit: hit or miss; closest hit: the rayfile.md "
          "rule, so a tie between two triangles at equal t is no disagreement).\n\n"
-         "| kind | structure | path | cells | min | q1 | median | q3 | max | worst cell | errors vs scalar | vs brute | vs Embree |\n"
+         "| kind | structure | path | cells | min | q1 | median | q3 | max | worst cell | errors vs scalar | vs brute "
+         "| vs Embree |\n"
          "|---|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n";
     std::vector<std::string> order = structures;
     order.push_back("arbor");

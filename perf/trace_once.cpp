@@ -42,7 +42,8 @@ static int trace_once_main(int argc, char** argv) {
     std::string scene, rays_path, with = "single", structure = "bvh-sah";
     app.add_option("--scene", scene, ".obj model")->required();
     app.add_option("--rays", rays_path, ".rays file (spec/rayfile.md)")->required();
-    app.add_option("--with", with, "arbor path (scalar, single, packet) or embree-1, embree-8, embree-16, embree-1M");
+    app.add_option("--with", with,
+                   "arbor path (scalar, single, packet) or embree-1, embree-8, embree-16, embree-1M (Embree 3 only)");
     app.add_option("--structure", structure, "arbor structure (bvh-median, bvh-sah, lbvh, kdtree)");
     bool count = false;
     app.add_flag("--counters", count, "arbor: trace with the scalar path's counting loop and print nodes and triangle tests per ray");
@@ -61,6 +62,8 @@ static int trace_once_main(int argc, char** argv) {
                                        : call == "16" ? perf::EmbreeCall::packet16
                                        : call == "1M" ? perf::EmbreeCall::stream
                                                       : throw engine::InputError("--with: unknown Embree call '" + with + "'");
+            if (!perf::embree_has(c))
+                throw engine::InputError("--with " + with + ": " + perf::embree_description() + " has no such call");
             const perf::EmbreePeer peer(mesh.view());
             trace_once_run([&] { peer.trace(rays, hits, any ? accel::Query::any : accel::Query::closest, c, false); });
 #else

@@ -18,6 +18,9 @@
 # errors against the scalar path, brute and Embree. Do not tune on these rays: tune on
 # scripts/bench_vs_embree.sh's files, report on these. The table goes to OUT.md (default
 # build/results/heldout-DATE.md).
+# EMBREE4=PREFIX (an Embree 4 installed by scripts/peers/build_embree4.sh PREFIX) times Embree 4
+# instead of Debian's Embree 3: arbor-bench is then built in build/release-embree4 (the release
+# preset's settings plus ARBOR_EMBREE_MAJOR=4 and embree_DIR under PREFIX); the rays are the same.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/results/heldout-$(date +%Y-%m-%d).md}
@@ -36,6 +39,20 @@ mkdir -p "$dir" "$(dirname "$out")"
 
 cmake --preset release >/dev/null
 cmake --build --preset release -j2 --target arbor arbor-bench >/dev/null
+bench=build/release/perf/arbor-bench
+peer="Embree 3"
+if [ -n "${EMBREE4:-}" ]; then
+  config=$(find "$EMBREE4" -name embree-config.cmake 2>/dev/null | head -1)
+  [ -n "$config" ] || { echo "bench_heldout.sh: no Embree 4 under EMBREE4=$EMBREE4 (scripts/peers/build_embree4.sh PREFIX)" >&2; exit 1; }
+  embree_dir=$(cd "$(dirname "$config")" && pwd)
+  cmake -S . -B build/release-embree4 -G Ninja -DCMAKE_BUILD_TYPE=Release -DARBOR_EMBREE_MAJOR=4 \
+    -Dembree_DIR="$embree_dir" >/dev/null
+  grep -q '^ARBOR_HAVE_EMBREE:INTERNAL=ON' build/release-embree4/CMakeCache.txt ||
+    { echo "bench_heldout.sh: build/release-embree4 did not find Embree 4 in $embree_dir" >&2; exit 1; }
+  cmake --build build/release-embree4 -j2 --target arbor-bench >/dev/null
+  bench=build/release-embree4/perf/arbor-bench
+  peer="Embree ${embree_dir##*/embree-}"
+fi
 
 arbor=build/release/apps/arbor/arbor
 for scene in $SCENES; do
@@ -63,11 +80,11 @@ view_list=$(for v in $views; do printf 'v%s,' "$v"; done); view_list=${view_list
 scene_list=$(echo $SCENES | tr ' ' ',')
 kind_list=$(echo $kinds | tr ' ' ',')
 {
-  echo "# arbor vs Embree on held-out rays ($(date +%Y-%m-%d))"
+  echo "# arbor vs $peer on held-out rays ($(date +%Y-%m-%d))"
   echo
   echo "- machine: $(lscpu | sed -n 's/^Model name:\s*//p'), $(nproc) hardware threads; $(c++ --version | head -1); git $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
   echo "- rays: $rays per file: \`arbor rays --scene SCENE --kind KIND --count $rays --view-seed V --seed 100+V\` for V in $views (8x8 tile order; shadow-area = --kind shadow --light-size 0.5, shadow-near = --kind shadow --light-distance 0.6, shadow-all = --kind shadow --from all); scenes: $SCENES"
-  ARBOR_SHARED_SCENES=$(dirname "$models") build/release/perf/arbor-bench paths --rays "$dir" --models "$models" --scenes "$scene_list" \
+  ARBOR_SHARED_SCENES=$(dirname "$models") $bench paths --rays "$dir" --models "$models" --scenes "$scene_list" \
     --views "$view_list" --kinds "$kind_list" --structures "$structures" --paths single,packet,best --threads 2 \
     --repeats "${REPEATS:-5}" --min-ms "${MIN_MS:-40}" "$@"
 } >"$out.tmp"

@@ -1,17 +1,20 @@
 // The Embree peer (perf/embree_peer.h) against brute on a few thousand rays of small meshes:
-// every call (1, 8, 16, 1M) and mode (default, robust, high quality). Embree's default triangle
-// test is not watertight, so rays through edges and vertices may disagree: the count is printed
-// (doctest MESSAGE), bounded, and never hidden. Also the (u, v) convention of spec/rayfile.md.
-#include "accel/structures/brute_accel.h"
-#include "engine/procedural.h"
-#include "perf/embree_peer.h"
-#include "testing.h"
-
+// every call the linked Embree has (1, 8, 16; 1M under Embree 3 only) and mode (default, robust,
+// high quality). Embree's default triangle test is not watertight, so rays through edges and
+// vertices may disagree: the count is printed (doctest MESSAGE), bounded, and never hidden. Also
+// the (u, v) convention of spec/rayfile.md.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "accel/structures/brute_accel.h"
+#include "engine/procedural.h"
+#include "perf/embree_peer.h"
+#include "testing.h"
 
 using namespace arbor;
 using perf::EmbreeCall;
@@ -39,8 +42,6 @@ std::vector<accel::Ray> mixed_rays(const accel::Bounds& b) {
     return rays;
 }
 
-constexpr EmbreeCall all_calls[] = {EmbreeCall::single, EmbreeCall::packet8, EmbreeCall::packet16, EmbreeCall::stream};
-
 }  // namespace
 
 TEST_CASE("embree peer: agrees with brute on closest and any hit, every call and mode") {
@@ -60,7 +61,7 @@ TEST_CASE("embree peer: agrees with brute on closest and any hit, every call and
         CHECK(peer.triangles() == mesh.triangle_count());
         CHECK(peer.memory_bytes() > 0);
         CHECK(peer.build_ms() >= 0.0);
-        for (const EmbreeCall call : all_calls) {
+        for (const EmbreeCall call : perf::embree_calls()) {
             std::vector<accel::Hit> hits(rays.size()), any(rays.size());
             peer.trace_parallel(rays, hits, accel::Query::closest, call, true, 256);
             peer.trace_parallel(rays, any, accel::Query::any, call, false, 256);
@@ -142,14 +143,38 @@ TEST_CASE("embree peer: the same answers with 1 and 2 threads") {
     const auto rays = mixed_rays(mesh.bounds);
     const perf::EmbreePeer peer(mesh.view());
     std::vector<accel::Hit> a(rays.size()), b(rays.size());
+    // The last call: the stream call under Embree 3, 16-wide packets under Embree 4.
+    const EmbreeCall call = perf::embree_calls().back();
     {
         tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-        peer.trace_parallel(rays, a, accel::Query::closest, EmbreeCall::stream, false, 64);
+        peer.trace_parallel(rays, a, accel::Query::closest, call, false, 64);
     }
     {
         tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-        peer.trace_parallel(rays, b, accel::Query::closest, EmbreeCall::stream, false, 64);
+        peer.trace_parallel(rays, b, accel::Query::closest, call, false, 64);
     }
     CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(accel::Hit)) == 0);
     CHECK_FALSE(perf::embree_description().empty());
+}
+
+TEST_CASE("embree peer: the calls of the linked Embree; the stream call only under Embree 3") {
+    const std::string d = perf::embree_description();
+    MESSAGE(d);
+    const auto calls = perf::embree_calls();
+    REQUIRE(calls.size() >= 3);
+    CHECK(calls[0] == EmbreeCall::single);
+    CHECK(calls[1] == EmbreeCall::packet8);
+    CHECK(calls[2] == EmbreeCall::packet16);
+    const bool embree3 = d.rfind("Embree 3.", 0) == 0;
+    CHECK((embree3 || d.rfind("Embree 4.", 0) == 0));
+    CHECK(perf::embree_has(EmbreeCall::stream) == embree3);
+    CHECK(calls.size() == (embree3 ? 4u : 3u));
+    if (!embree3) {
+        // A call Embree 4 lacks is refused, never answered with misses.
+        const engine::Mesh mesh = small_mesh();
+        const auto rays = mixed_rays(mesh.bounds);
+        const perf::EmbreePeer peer(mesh.view());
+        std::vector<accel::Hit> hits(rays.size());
+        CHECK_THROWS_AS(peer.trace(rays, hits, accel::Query::any, EmbreeCall::stream, false), std::invalid_argument);
+    }
 }
