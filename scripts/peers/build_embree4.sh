@@ -6,8 +6,10 @@
 # build/embree4-build and installs it into PREFIX (default build/embree4; build/ is ignored by git).
 # Only what arbor-bench uses is built, to keep the build short: triangles and single-level instances
 # (perf/embree_peer.cpp), ray packets (rtcIntersect8/16), TBB tasking (Debian's libtbb-dev), Release,
-# kernels for SSE2, AVX2 and AVX-512 (Embree picks the best one the CPU has at run time; SSE4.2 and AVX
-# kernels would never be picked on an AVX2 or AVX-512 machine). Curves, grids, points, quads,
+# kernels for AVX2 and AVX-512 only (Embree picks the best one the CPU has at run time). The library
+# then needs an AVX2 CPU: Embree 4.4.1 cannot leave out its AVX kernels while keeping SSE2 ones (its
+# BVH8 code is then compiled into the AVX kernels only, and libembree4 does not link), and SSE2, SSE4.2
+# and AVX kernels would never run on the lab's AVX-512 machines, so only their build time is saved. Curves, grids, points, quads,
 # subdivision surfaces, user geometry, instance arrays, tutorials, tests and ISPC are off; ray masks and
 # filter functions keep Embree's defaults (on), as in Debian's Embree 3, so both peers run the same
 # traversal kernels' features. Prints the embree_DIR to hand to arbor's configure.
@@ -36,7 +38,7 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 nice -n 10 cmake -S "$src" -B "$build" "${generator[@]}" \
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$prefix" \
   -DEMBREE_TASKING_SYSTEM=TBB -DEMBREE_MAX_ISA=NONE \
-  -DEMBREE_ISA_SSE2=ON -DEMBREE_ISA_SSE42=OFF -DEMBREE_ISA_AVX=OFF -DEMBREE_ISA_AVX2=ON -DEMBREE_ISA_AVX512=ON \
+  -DEMBREE_ISA_SSE2=OFF -DEMBREE_ISA_SSE42=OFF -DEMBREE_ISA_AVX=OFF -DEMBREE_ISA_AVX2=ON -DEMBREE_ISA_AVX512=ON \
   -DEMBREE_GEOMETRY_TRIANGLE=ON -DEMBREE_GEOMETRY_INSTANCE=ON -DEMBREE_GEOMETRY_INSTANCE_ARRAY=OFF \
   -DEMBREE_GEOMETRY_QUAD=OFF -DEMBREE_GEOMETRY_CURVE=OFF -DEMBREE_GEOMETRY_SUBDIVISION=OFF \
   -DEMBREE_GEOMETRY_USER=OFF -DEMBREE_GEOMETRY_GRID=OFF -DEMBREE_GEOMETRY_POINT=OFF \
