@@ -157,7 +157,7 @@ TEST_CASE("embree peer: the same answers with 1 and 2 threads") {
     CHECK_FALSE(perf::embree_description().empty());
 }
 
-TEST_CASE("embree peer: the calls of the linked Embree; the stream call only under Embree 3") {
+TEST_CASE("embree peer: the calls of the linked Embree, the stream call only under Embree 3") {
     const std::string d = perf::embree_description();
     MESSAGE(d);
     const auto calls = perf::embree_calls();
