@@ -13,11 +13,16 @@ inline std::string one_line(std::string_view s) {
     out.reserve(s.size());
     for (const char c : s) {
         const auto b = static_cast<unsigned char>(c);
-        if (b >= 0x20 && b != 0x7f) out += c;
-        else if (c == '\n') out += "\\n";
-        else if (c == '\r') out += "\\r";
-        else if (c == '\t') out += "\\t";
-        else out += {'\\', 'x', hex[b >> 4], hex[b & 15]};
+        if (b >= 0x20 && b != 0x7f)
+            out += c;
+        else if (c == '\n')
+            out += "\\n";
+        else if (c == '\r')
+            out += "\\r";
+        else if (c == '\t')
+            out += "\\t";
+        else
+            out += {'\\', 'x', hex[b >> 4], hex[b & 15]};
     }
     return out;
 }

@@ -158,21 +158,18 @@ std::string paths_distribution(const std::vector<PathsRow>& rows, std::size_t br
     }
     std::ostringstream s;
     s << "## Distribution over the cells: arbor / Embree's fastest call\n\n"
-         "Per ray kind and structure, over every cell (scene and view): the ratio of the structure's median Mrays/s on "
-         "its "
-         "default path (`best`, what `arbor trace` runs) — and on its fastest SIMD path — to the median of Embree's "
-         "fastest call "
-         "in the same cell (of rtcIntersect"
+         "Per ray kind and structure, over every cell (scene and view): the ratio of the structure's median "
+         "Mrays/s on its default path (`best`, what `arbor trace` runs) — and on its fastest SIMD path — to the "
+         "median of Embree's fastest call in the same cell (of rtcIntersect"
       << embree_calls_seen(rows, "/")
-      << ", coherent flag on primary and shadow rays). `arbor` = the faster of the "
-         "structures' default paths in each cell. Accuracy of the same configurations, summed over the cells: "
-         "disagreements "
-         "with the structure's scalar path (all rays), with brute (a sample of "
+      << ", coherent flag on primary and shadow rays). `arbor` = the faster of the structures' default paths in "
+         "each cell. Accuracy of the same configurations, summed over the cells: disagreements with the "
+         "structure's scalar path (all rays), with brute (a sample of "
       << brute_sample
       << " rays per cell) and with Embree's rtcIntersect1 (all rays; any hit: hit or miss; closest hit: the rayfile.md "
          "rule, so a tie between two triangles at equal t is no disagreement).\n\n"
-         "| kind | structure | path | cells | min | q1 | median | q3 | max | worst cell | errors vs scalar | vs brute "
-         "| vs Embree |\n"
+         "| kind | structure | path | cells | min | q1 | median | q3 | max | worst cell | errors vs scalar "
+         "| vs brute | vs Embree |\n"
          "|---|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n";
     std::vector<std::string> order = structures;
     order.push_back("arbor");

@@ -77,15 +77,13 @@ std::size_t trace_part(const Accel& accel, std::span<const Ray> rays, std::span<
     thread_local std::vector<Ray> in;
     thread_local std::vector<Hit> out;
     in.clear();
-    for (std::size_t b = part == ChunkPart::even_blocks ? 0 : race_block; b < rays.size(); b += 2 * race_block) {
-        const std::size_t e = std::min(rays.size(), b + race_block);
-        in.insert(in.end(), rays.begin() + std::ptrdiff_t(b), rays.begin() + std::ptrdiff_t(e));
-    }
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        if (in_part(i, part)) in.push_back(rays[i]);
     out.resize(in.size());
     accel.trace(in, out, req);
     std::size_t j = 0;
-    for (std::size_t b = part == ChunkPart::even_blocks ? 0 : race_block; b < rays.size(); b += 2 * race_block)
-        for (std::size_t i = b; i < std::min(rays.size(), b + race_block); ++i) hits[i] = out[j++];
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        if (in_part(i, part)) hits[i] = out[j++];
     return in.size();
 }
 

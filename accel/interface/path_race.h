@@ -4,15 +4,14 @@
 /// The path policy (path_policy.h) reads the rays: groups that share an octant and a place are
 /// coherent (packets win), scattered origins are not (single rays win). Groups that start together
 /// but go every way (bounces from an image tile: diffuse rays) are neither. Which path wins on
-/// them depends on the model and the machine: on held-out diffuse rays the single path beat the
-/// packet path by 10-18 % on four models and lost by 3x on two small ones (docs/benchmarks.md). No
-/// rule read off the rays calls that, so such a batch, when it is large enough, is raced: a few
+/// them depends on the model and the machine: on held-out diffuse rays the single path beats the
+/// packet path on some models and loses to it several times over on others (docs/benchmarks.md).
+/// No rule read off the rays calls that, so such a batch, when it is large enough, is raced: a few
 /// chunks spread over the batch are each traced half on one path and half on the other, the halves
 /// interleaved by blocks of 64 rays (whole 8x8 tiles of a camera), so that both paths see the same
 /// parts of the picture; each half is timed on its thread's CPU clock, and the rest of the batch
-/// runs on the path that took less time per ray. (Neighbouring whole chunks, one per path, were
-/// tried first: a quarter row of tiles apart, they differed enough in what they held to pick the
-/// slower path, 0.96x against 1.14x, on builtin:default's diffuse rays of view 4093.)
+/// runs on the path that took less time per ray. (Neighbouring whole chunks, one per path, differ
+/// in what they hold, a quarter row of tiles apart, and can pick the slower path.)
 ///
 /// Only closest-hit batches are raced: every path returns the same closest hit bit for bit (the
 /// tests hold each path to brute force), so a race changes the time and never the answers. An
