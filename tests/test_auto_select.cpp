@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 using namespace arbor;
 
@@ -72,6 +73,42 @@ TEST_CASE("auto: the built-in model parses and predicts every structure the benc
         big.triangles = 1 << 20;
         CHECK(m.build_ms(k, big, 1.0) > m.build_ms(k, s, 1.0));
     }
+}
+
+TEST_CASE("auto: the scene's bounds skip every vertex with a non-finite coordinate, in the SIMD part and the tail") {
+    // 37 vertices: more than two registers of 16 and a tail at every width.
+    engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 1, 0.0f, 3);
+    while (mesh.vertex_count() < 37) mesh.add_vertex({0.5f, 0.25f, -0.125f});
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const auto plain = [&] {
+        accel::Bounds b;
+        for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
+            if (std::isfinite(mesh.x[i]) && std::isfinite(mesh.y[i]) && std::isfinite(mesh.z[i]))
+                b.grow(accel::Vec3f{mesh.x[i], mesh.y[i], mesh.z[i]});
+        return b;
+    };
+    const auto same = [&](const char* what) {
+        INFO(what);
+        const accel::Bounds want = plain(), got = accel::scene_shape(mesh.view()).bounds;
+        CHECK(got.lo.x == want.lo.x);
+        CHECK(got.lo.y == want.lo.y);
+        CHECK(got.lo.z == want.lo.z);
+        CHECK(got.hi.x == want.hi.x);
+        CHECK(got.hi.y == want.hi.y);
+        CHECK(got.hi.z == want.hi.z);
+    };
+    same("finite");
+    // A far vertex with one bad coordinate must not move the bounds; a far finite one must.
+    mesh.x[3] = 1e30f, mesh.y[3] = nan;
+    mesh.x[20] = -inf;
+    mesh.z[36] = 1e20f, mesh.y[36] = inf;  // the tail at 16 and 8 wide
+    same("non-finite coordinates");
+    CHECK(accel::scene_shape(mesh.view()).bounds.hi.x < 10.0f);
+    mesh.z[35] = -7e3f;  // finite, in the tail
+    mesh.y[17] = 5e3f;   // finite, in a register
+    same("far finite vertices");
+    CHECK(accel::scene_shape(mesh.view()).bounds.lo.z == -7e3f);
+    CHECK(accel::scene_shape(mesh.view()).bounds.hi.y == 5e3f);
 }
 
 TEST_CASE("auto: a malformed model is refused with the line that is wrong") {

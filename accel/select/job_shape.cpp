@@ -1,21 +1,40 @@
 #include "accel/select/job_shape.h"
 
 #include "accel/interface/coherence.h"
+#include "simd/simd.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace arbor::accel {
 
 namespace {
 
-/// Bounds of the finite vertices: three min/max sweeps the compiler vectorises.
+/// Bounds of the finite vertices (a vertex with a non-finite coordinate is skipped), a register
+/// of vertices at a time: on a 100k-triangle job this pass was most of auto's own time.
 Bounds vertex_bounds(const TriangleView& tris) {
-    Bounds b;
+    using V = simd::FloatV;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const V big(std::numeric_limits<float>::max()), up(inf), down(-inf);
+    V lx(up), ly(up), lz(up), hx(down), hy(down), hz(down);
+    const float *x = tris.x.data(), *y = tris.y.data(), *z = tris.z.data();
     const std::size_t n = tris.vertex_count();
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3f p{tris.x[i], tris.y[i], tris.z[i]};
+    std::size_t i = 0;
+    for (; i + V::size <= n; i += V::size) {
+        const V px = V::load_unaligned(x + i), py = V::load_unaligned(y + i), pz = V::load_unaligned(z + i);
+        // (|v| <= FLT_MAX is false for NaN and the infinities.)
+        const auto ok = (xsimd::abs(px) <= big) & (xsimd::abs(py) <= big) & (xsimd::abs(pz) <= big);
+        lx = simd::rmin(simd::select(ok, px, up), lx), hx = simd::rmax(simd::select(ok, px, down), hx);
+        ly = simd::rmin(simd::select(ok, py, up), ly), hy = simd::rmax(simd::select(ok, py, down), hy);
+        lz = simd::rmin(simd::select(ok, pz, up), lz), hz = simd::rmax(simd::select(ok, pz, down), hz);
+    }
+    Bounds b;
+    b.lo = {simd::hmin(lx), simd::hmin(ly), simd::hmin(lz)};
+    b.hi = {-simd::hmin(-hx), -simd::hmin(-hy), -simd::hmin(-hz)};
+    for (; i < n; ++i) {
+        const Vec3f p{x[i], y[i], z[i]};
         if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) b.grow(p);
     }
     return b;
