@@ -44,13 +44,15 @@ public:
         only.layouts = Layouts::simd;  // (the scalar layout would cost more than the compact one saves)
         std::size_t wide_bytes = 0;
         init(bvh, tris, only, build_ms, [&] {
-            WideLayout<N> wide = make_wide_layout<N>(bvh, tris, cfg.wide);
+            WideConfig source = cfg.wide;
+            source.ids_only = true;  // (the compact leaves read their vertices from the mesh)
+            WideLayout<N> wide = make_wide_layout<N>(bvh, tris, source);
             wide_bytes = wide.memory_bytes();
             layout_ = make_compact_layout<N>(std::move(wide), tris);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });
-        // The conversion holds the binary tree, the wide layout and the compact one at once (the
-        // peak init worked out counts the compact layout only).
+        // The conversion holds the binary tree, the wide layout's nodes and triangle numbers and the
+        // compact layout at once (the peak init worked out counts the compact layout only).
         const std::size_t binary_bytes =
             bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
         stats_.build_peak_bytes = std::max(stats_.build_peak_bytes, binary_bytes + wide_bytes + stats_.memory_bytes);

@@ -60,7 +60,7 @@ CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& t
                               leaf_words[i] = words;
                           }
                       });
-    std::vector<std::uint32_t> start(wide.blocks.size() + 1, 0);  // by first block: the leaf's first word
+    std::vector<std::uint32_t> start(wide.block_count() + 1, 0);  // by first block: the leaf's first word
     std::size_t total = 0;
     for (std::size_t i = 0; i < leaves.size(); ++i) {
         if (total > 0xffffffffu) throw std::length_error("compact layout: more than 2^32 words of leaves");

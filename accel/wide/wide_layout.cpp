@@ -52,6 +52,7 @@ public:
         max_leaf_ = std::clamp<std::uint32_t>(cfg.max_leaf_triangles, 1, 65535);
         node_cost_ = cfg.node_cost;
         block_cost_ = cfg.block_cost;
+        ids_only_ = cfg.ids_only;
         const std::size_t n = bvh.nodes.size();
         resize_prefaulted(sub_tris_, n);  // (written in parallel: mapped first, on huge pages where big)
         resize_prefaulted(slots_, n);
@@ -89,7 +90,10 @@ public:
         resize_prefaulted(jobs_, leaves);
         build_node(kids, 1);
         if (next_node_ != nodes || next_job_ != leaves) throw std::logic_error("wide layout: the dry run and the build disagree");
-        resize_prefaulted(out_.blocks, next_block_);
+        if (ids_only_)
+            resize_prefaulted(out_.ids, std::size_t(next_block_) * N);
+        else
+            resize_prefaulted(out_.blocks, next_block_);
         out_.leaves = jobs_.size();
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
             std::vector<std::uint32_t> prims;
@@ -271,6 +275,12 @@ private:
         std::sort(begin, begin + job.count);
         const auto unique = std::uint32_t(std::unique(begin, begin + job.count) - begin);
         const std::uint32_t* src = prims.data();
+        if (ids_only_) {
+            std::uint32_t* out = out_.ids.data() + std::size_t(job.first_block) * N;
+            for (std::uint32_t i = 0; i < wide_blocks<N>(job.count) * std::uint32_t(N); ++i)
+                out[i] = i < unique ? src[job.offset + i] : invalid_prim;
+            return;
+        }
         for (std::uint32_t b = 0; b < wide_blocks<N>(job.count); ++b) {
             WideBlock<N>& block = out_.blocks[job.first_block + b];
             for (std::uint32_t l = 0; l < N; ++l) {
@@ -292,6 +302,7 @@ private:
     WideLayout<N>& out_;
     std::uint32_t merge_ = N, max_leaf_ = 65535;
     double node_cost_ = 1.0, block_cost_ = 1.0;
+    bool ids_only_ = false;
     UninitVector<std::uint32_t> sub_tris_;  ///< every entry written by count() before it is read
     UninitVector<std::uint8_t> slots_;      ///< min(N, binary leaves in the subtree)
     UninitVector<std::size_t> row_;         ///< first entry of each node's row in cost_ / choice_

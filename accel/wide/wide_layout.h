@@ -59,6 +59,9 @@ template <std::size_t N> struct WideLayout {
     static constexpr std::size_t width = N;
     UninitVector<WideNode<N>> nodes;     ///< nodes[0] is the root (always a node); none when empty
     UninitVector<WideBlock<N>> blocks;   ///< triangle blocks in leaf order
+    /// WideConfig::ids_only: per slot of the blocks there would be (block * N + lane) its triangle
+    /// (invalid_prim: padding), and no blocks.
+    UninitVector<std::uint32_t> ids;
     /// Per node and ray octant, the order of its children for the single-ray walk (wide_order.h):
     /// orders[(node * 8 + octant) * N + j], j = 0 the farthest.
     UninitVector<std::uint8_t> orders;
@@ -71,15 +74,17 @@ template <std::size_t N> struct WideLayout {
     std::size_t stack_size() const { return std::size_t(depth) * (N - 1) + 1 + N; }
     std::size_t memory_bytes() const {
         return nodes.capacity() * sizeof(WideNode<N>) + blocks.capacity() * sizeof(WideBlock<N>) + orders.capacity() +
-               sizeof(WideLayout);
+               ids.capacity() * sizeof(std::uint32_t) + sizeof(WideLayout);
     }
+    /// Blocks of triangle slots (those of an ids-only layout included).
+    std::size_t block_count() const { return blocks.empty() ? ids.size() / N : blocks.size(); }
     /// Vertex k of triangle slot s (block s / N, lane s % N), and its original number.
     Vec3f vertex(std::size_t slot, int k) const {
         const auto& b = blocks[slot / N].tris;
         const std::size_t l = slot % N;
         return {b.v[k][0][l], b.v[k][1][l], b.v[k][2][l]};
     }
-    std::uint32_t prim(std::size_t slot) const { return blocks[slot / N].ids[slot % N]; }
+    std::uint32_t prim(std::size_t slot) const { return blocks.empty() ? ids[slot] : blocks[slot / N].ids[slot % N]; }
 };
 
 /// Collapses `bvh` (built over `tris`) into N-wide nodes. Deterministic: the node structure is
