@@ -77,11 +77,11 @@ ARBOR_INLINE std::uint32_t node_hits(const simd::WideRay<WideLane<N>>& r, const 
     using T = WideLane<N>;
     simd::Vec3<T> near_plane, far_plane;
     for (int k = 0; k < 3; ++k) {
+        // (The near and far steps picked by address, before the loads: no select after the decode.)
         const T scale(n.scale[k]), origin(n.origin[k]);
-        const T lo = compact_decode(load_steps<T>(n.q[0][k]), scale, origin);
-        const T hi = compact_decode(load_steps<T>(n.q[1][k]), scale, origin);
-        near_plane[k] = r.near_is_hi[k] ? hi : lo;
-        far_plane[k] = r.near_is_hi[k] ? lo : hi;
+        const int hi = r.near_is_hi[k];
+        near_plane[k] = compact_decode(load_steps<T>(n.q[hi][k]), scale, origin);
+        far_plane[k] = compact_decode(load_steps<T>(n.q[1 - hi][k]), scale, origin);
     }
     const std::uint32_t used = (1u << n.children) - 1u;
     if constexpr (Plain)
