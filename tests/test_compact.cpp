@@ -218,17 +218,15 @@ TEST_CASE("compact: about half the bytes of the default layout, and what it leav
 }
 
 namespace {
-/// make_compact_layout from a full wide layout and from an ids-only one (WideConfig::ids_only) of
+/// make_compact_layout from a full wide layout and from an ids-only one (WideLeaves::ids) of
 /// the same tree: the same nodes, blocks and orders, byte for byte.
 template <std::size_t N> void check_ids_only_source(const engine::Mesh& mesh) {
     CAPTURE(N);
     accel::BvhBuildConfig bcfg;
     bcfg.leaf_floor = std::uint32_t(N);
     const accel::BinaryBvh bvh = accel::build_bvh_sah(accel::make_build_prims(mesh.view()), bcfg);
-    accel::WideConfig full_cfg, ids_cfg;
-    ids_cfg.ids_only = true;
-    accel::WideLayout<N> full = accel::make_wide_layout<N>(bvh, mesh.view(), full_cfg);
-    accel::WideLayout<N> ids = accel::make_wide_layout<N>(bvh, mesh.view(), ids_cfg);
+    accel::WideLayout<N> full = accel::make_wide_layout<N>(bvh, mesh.view(), {}, accel::WideLeaves::blocks);
+    accel::WideLayout<N> ids = accel::make_wide_layout<N>(bvh, mesh.view(), {}, accel::WideLeaves::ids);
     CHECK(ids.blocks.empty());
     REQUIRE(ids.block_count() == full.block_count());
     for (std::size_t slot = 0; slot < full.block_count() * N; ++slot) REQUIRE(ids.prim(slot) == full.prim(slot));

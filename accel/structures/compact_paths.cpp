@@ -44,9 +44,8 @@ public:
         only.layouts = Layouts::simd;  // (the scalar layout would cost more than the compact one saves)
         std::size_t wide_bytes = 0;
         init(bvh, tris, only, build_ms, [&] {
-            WideConfig source = cfg.wide;
-            source.ids_only = true;  // (the compact leaves read their vertices from the mesh)
-            WideLayout<N> wide = make_wide_layout<N>(bvh, tris, source);
+            // (The compact leaves read their vertices from the mesh: the source needs no blocks.)
+            WideLayout<N> wide = make_wide_layout<N>(bvh, tris, cfg.wide, WideLeaves::ids);
             wide_bytes = wide.memory_bytes();
             layout_ = make_compact_layout<N>(std::move(wide), tris);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};

@@ -23,10 +23,6 @@ struct WideConfig {
     /// on the single path when enough of the group hit them (wide_shared_leaves.h); 0 = never.
     /// `arbor-bench paths --shared-leaves`.
     std::uint32_t shared_leaf_triangles = 32;
-    /// The leaves as their triangles' numbers only (WideLayout::ids), without the blocks' vertices:
-    /// the compact layout's source (compact_layout.h), which reads its vertices from the mesh. Such
-    /// a layout cannot be traced; it keeps the compact build's peak near the compact layout's size.
-    bool ids_only = false;
 };
 
 }  // namespace arbor::accel

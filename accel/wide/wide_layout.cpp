@@ -46,13 +46,14 @@ constexpr std::uint32_t parallel_plan_tris = 4096;
 
 template <std::size_t N> class Collapser {
 public:
-    Collapser(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg, WideLayout<N>& out)
+    Collapser(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg, WideLeaves leaves,
+              WideLayout<N>& out)
         : bvh_(bvh), tris_(tris), out_(out) {
         merge_ = cfg.merge_triangles ? cfg.merge_triangles : std::uint32_t(N);
         max_leaf_ = std::clamp<std::uint32_t>(cfg.max_leaf_triangles, 1, 65535);
         node_cost_ = cfg.node_cost;
         block_cost_ = cfg.block_cost;
-        ids_only_ = cfg.ids_only;
+        ids_only_ = leaves == WideLeaves::ids;
         const std::size_t n = bvh.nodes.size();
         resize_prefaulted(sub_tris_, n);  // (written in parallel: mapped first, on huge pages where big)
         resize_prefaulted(slots_, n);
@@ -315,15 +316,16 @@ private:
 
 }  // namespace
 
-template <std::size_t N> WideLayout<N> make_wide_layout(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg) {
+template <std::size_t N>
+WideLayout<N> make_wide_layout(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg, WideLeaves leaves) {
     WideLayout<N> out;
-    Collapser<N>(bvh, tris, cfg, out).run();
+    Collapser<N>(bvh, tris, cfg, leaves, out).run();
     make_octant_orders(out);
     return out;
 }
 
-template WideLayout<4> make_wide_layout<4>(const BinaryBvh&, const TriangleView&, const WideConfig&);
-template WideLayout<8> make_wide_layout<8>(const BinaryBvh&, const TriangleView&, const WideConfig&);
-template WideLayout<16> make_wide_layout<16>(const BinaryBvh&, const TriangleView&, const WideConfig&);
+template WideLayout<4> make_wide_layout<4>(const BinaryBvh&, const TriangleView&, const WideConfig&, WideLeaves);
+template WideLayout<8> make_wide_layout<8>(const BinaryBvh&, const TriangleView&, const WideConfig&, WideLeaves);
+template WideLayout<16> make_wide_layout<16>(const BinaryBvh&, const TriangleView&, const WideConfig&, WideLeaves);
 
 }  // namespace arbor::accel

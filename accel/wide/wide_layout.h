@@ -59,8 +59,8 @@ template <std::size_t N> struct WideLayout {
     static constexpr std::size_t width = N;
     UninitVector<WideNode<N>> nodes;     ///< nodes[0] is the root (always a node); none when empty
     UninitVector<WideBlock<N>> blocks;   ///< triangle blocks in leaf order
-    /// WideConfig::ids_only: per slot of the blocks there would be (block * N + lane) its triangle
-    /// (invalid_prim: padding), and no blocks.
+    /// A layout made with WideLeaves::ids: per slot of the blocks there would be (block * N + lane)
+    /// its triangle (invalid_prim: padding), and no blocks.
     UninitVector<std::uint32_t> ids;
     /// Per node and ray octant, the order of its children for the single-ray walk (wide_order.h):
     /// orders[(node * 8 + octant) * N + j], j = 0 the farthest.
@@ -87,12 +87,20 @@ template <std::size_t N> struct WideLayout {
     std::uint32_t prim(std::size_t slot) const { return blocks.empty() ? ids[slot] : blocks[slot / N].ids[slot % N]; }
 };
 
+/// What a wide layout's leaves hold: blocks of their triangles' vertices (a layout to trace), or
+/// only their triangles' numbers (WideLayout::ids: the compact layout's source, compact_layout.h,
+/// which reads its vertices from the mesh; such a layout cannot be traced, and keeps the compact
+/// build's peak near the compact layout's own size).
+enum class WideLeaves : std::uint8_t { blocks, ids };
+
 /// Collapses `bvh` (built over `tris`) into N-wide nodes. Deterministic: the node structure is
 /// laid out serially, leaves are filled in parallel at offsets fixed beforehand.
-template <std::size_t N> WideLayout<N> make_wide_layout(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg = {});
+template <std::size_t N>
+WideLayout<N> make_wide_layout(const BinaryBvh& bvh, const TriangleView& tris, const WideConfig& cfg = {},
+                               WideLeaves leaves = WideLeaves::blocks);
 
-extern template WideLayout<4> make_wide_layout<4>(const BinaryBvh&, const TriangleView&, const WideConfig&);
-extern template WideLayout<8> make_wide_layout<8>(const BinaryBvh&, const TriangleView&, const WideConfig&);
-extern template WideLayout<16> make_wide_layout<16>(const BinaryBvh&, const TriangleView&, const WideConfig&);
+extern template WideLayout<4> make_wide_layout<4>(const BinaryBvh&, const TriangleView&, const WideConfig&, WideLeaves);
+extern template WideLayout<8> make_wide_layout<8>(const BinaryBvh&, const TriangleView&, const WideConfig&, WideLeaves);
+extern template WideLayout<16> make_wide_layout<16>(const BinaryBvh&, const TriangleView&, const WideConfig&, WideLeaves);
 
 }  // namespace arbor::accel
