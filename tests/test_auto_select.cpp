@@ -111,6 +111,26 @@ TEST_CASE("auto: the scene's bounds skip every vertex with a non-finite coordina
     CHECK(accel::scene_shape(mesh.view()).bounds.hi.y == 5e3f);
 }
 
+TEST_CASE("auto: a model's numbers are read exactly, with comments, tabs and CRLF line ends") {
+    const std::string text =
+        "# a comment line\r\narbor-auto-model 1   # trailing comment\r\n"
+        "source  two runs, one machine \r\n"
+        "trace_features\tone coherent\r\nbuild_features one log2_threads\r\n"
+        "clamp coherent 0 1\r\nmargin 0.35\r\nprefer bvh-sah 0.1\r\n"
+        "trace lbvh packet 1.5 -2.25e-3\r\n\r\nbuild lbvh -0.125 7E-1\r\n";
+    const accel::AutoModel m = accel::AutoModel::parse(text);
+    CHECK(m.source() == "two runs, one machine \r");
+    CHECK(m.margin() == 0.35);
+    // (Features of 1, 0.5 and 2: every product is exact, so the sums are the same with or without
+    // fused multiply-adds.)
+    accel::SceneShape scene;
+    accel::RayShape rays;
+    rays.coherent = 0.5;
+    CHECK(m.ns_per_ray(accel::AccelKind::lbvh, accel::TracePath::packet, scene, rays, 1.0) ==
+          std::exp(1.5 * 1.0 + -2.25e-3 * 0.5));
+    CHECK(m.build_ms(accel::AccelKind::lbvh, scene, 4.0) == std::exp(-0.125 * 1.0 + 7E-1 * 2.0));
+}
+
 TEST_CASE("auto: a malformed model is refused with the line that is wrong") {
     auto refuses = [](const std::string& text, const std::string& what) {
         INFO(text);
