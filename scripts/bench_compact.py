@@ -12,36 +12,21 @@ two layouts' .hits files are byte-identical in every round (closest hits: t, pri
 hit or miss), and both layouts' bytes per triangle. The script fails if the hits differ.
 """
 import argparse
-import filecmp
 import json
-import math
 import os
 import statistics
-import struct
 import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from ab_trace import compare_hits  # noqa: E402  (closest hits by the whole record, any hits by hit or miss)
 KINDS = ("primary", "random", "shadow")
 
 
 def scene_arg(name, models):
     return name if name.startswith("builtin:") else os.path.join(models, name + ".obj")
-
-
-def hit_or_miss(path):
-    """Per record of a .hits file (spec/rayfile.md: a 16-byte header, 16-byte records), whether it is a hit."""
-    with open(path, "rb") as f:
-        data = f.read()
-    return [not math.isinf(struct.unpack_from("<f", data, off)[0]) for off in range(16, len(data), 16)]
-
-
-def same_answers(a, b, kind):
-    """Closest hits: the files byte for byte; any hits (shadow rays): the same rays blocked."""
-    if kind != "shadow":
-        return filecmp.cmp(a, b, shallow=False)
-    return hit_or_miss(a) == hit_or_miss(b)
 
 
 def trace(arbor, scene, rays, hits, kind, threads, compact):
@@ -93,7 +78,8 @@ def main():
                 ratios.append(got[True] / got[False])
                 d_hits = os.path.join(a.dir, "%s-%s-default.hits" % (tag, kind))
                 c_hits = os.path.join(a.dir, "%s-%s-compact.hits" % (tag, kind))
-                same = same and same_answers(d_hits, c_hits, kind)
+                rays_compared, differing = compare_hits(d_hits, c_hits, kind == "shadow")
+                same = same and rays_compared >= 0 and differing == 0
             failed = failed or not same
             rows.append("| %s | %s | %.2f (%s; %.2f-%.2f) | %.2f (%s; %.2f-%.2f) | %.2f (%.2f-%.2f) | %s (%d) | %.1f; %.1f |" % (
                 name, kind, statistics.median(rate[False]), paths[False], min(rate[False]), max(rate[False]),
