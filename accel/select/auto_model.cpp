@@ -40,7 +40,7 @@ std::optional<double> feature_value(std::string_view name, const SceneShape& sce
 namespace {
 /// The whitespace-separated words of one line of a model. (Not an istringstream: a fresh process
 /// would pay for the stream and locale set-up on its first parse, a large part of auto's own work
-/// on a small job; perf/results/auto.md.)
+/// on a small job.)
 class Words {
 public:
     explicit Words(std::string_view line) : s_(line) {}
