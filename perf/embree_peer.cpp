@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -197,6 +198,10 @@ std::string embree_config_name(const EmbreeConfig& cfg) {
 }
 
 namespace {
+/// Embree's device configuration: ARBOR_EMBREE_DEVICE when set (e.g. "isa=sse4.2", to measure the
+/// peer as an SSE-only machine would run it), else Embree's defaults.
+const char* device_config() { return std::getenv("ARBOR_EMBREE_DEVICE"); }
+
 /// An empty scene with cfg's flags and quality.
 RTCScene new_scene(RTCDevice device, const EmbreeConfig& cfg) {
     RTCScene scene = rtcNewScene(device);
@@ -209,8 +214,12 @@ RTCScene new_scene(RTCDevice device, const EmbreeConfig& cfg) {
 void EmbreePeer::Impl::start(const EmbreeConfig& config) {
     Impl& m = *this;
     m.cfg = config;
-    m.device = rtcNewDevice(nullptr);
-    if (!m.device) throw std::runtime_error("embree: rtcNewDevice failed");
+    m.device = rtcNewDevice(device_config());
+    if (!m.device)
+        throw std::runtime_error(device_config()
+                                     ? std::string("embree: rtcNewDevice failed with ARBOR_EMBREE_DEVICE=\"") +
+                                           device_config() + "\""
+                                     : std::string("embree: rtcNewDevice failed"));
     rtcSetDeviceMemoryMonitorFunction(m.device, monitor_memory, &m.bytes);
     m.scene = new_scene(m.device, config);
 }
@@ -376,7 +385,7 @@ void EmbreePeer::trace_parallel(std::span<const Ray> rays, std::span<Hit> hits, 
 }
 
 std::string embree_description() {
-    RTCDevice d = rtcNewDevice(nullptr);
+    RTCDevice d = rtcNewDevice(device_config());
     if (!d) return "Embree (device creation failed)";
     auto prop = [&](RTCDeviceProperty p) { return rtcGetDeviceProperty(d, p); };
     std::string s = "Embree " + std::to_string(prop(RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
@@ -391,6 +400,7 @@ std::string embree_description() {
          "; stream: none in Embree " + std::to_string(RTC_VERSION_MAJOR) +
 #endif
          "; tasking: " + (prop(RTC_DEVICE_PROPERTY_TASKING_SYSTEM) == 1 ? "TBB" : "internal") + ")";
+    if (device_config()) s += std::string(" [ARBOR_EMBREE_DEVICE: ") + device_config() + "]";
     rtcReleaseDevice(d);
     return s;
 }
