@@ -1,7 +1,11 @@
 // Resource limits: byte sizes as people write them, and input that would not fit in memory is
 // refused with a one-line error before anything is allocated (ray files whose header matches a
 // huge file, OBJ files larger than the budget).
+#include "accel/bvh/bvh2_layout.h"
+#include "accel/bvh/bvh_build.h"
+#include "accel/bvh/prim_refs.h"
 #include "accel/factory/make_accel.h"
+#include "accel/lbvh/lbvh_build.h"
 #include "accel/factory/memory_estimate.h"
 #include "engine/error.h"
 #include "engine/file_io.h"
@@ -13,6 +17,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -152,4 +157,102 @@ TEST_CASE("memory budget: --max-memory refuses a build before it starts, with on
     // The kd-tree's own check as it grows, behind a lower-bound estimate: also a MemoryLimitError.
     cfg.max_memory = accel::build_memory_estimate(accel::AccelKind::kdtree, m.triangle_count(), {});
     CHECK_THROWS_AS((void)accel::make_accel(accel::AccelKind::kdtree, m.view(), cfg), accel::MemoryLimitError);
+}
+
+namespace {
+/// Chains of small triangles at x = 1, 2, 4, ... 2^59, each chain a row: a builder that splits by
+/// position peels them off one or a few at a time, so with one triangle per binary leaf
+/// (--leaf-size 1 --simd-leaf-floor 1) the SIMD layout is mostly one-triangle leaves, one block each.
+engine::Mesh peeling_chains(int chains, int per_chain) {
+    engine::Mesh m;
+    for (int c = 0; c < chains; ++c)
+        for (int k = 0; k < per_chain; ++k) {
+            const float x = std::ldexp(1.0f, k), s = x * 1e-3f, y = 3.0f * float(c);
+            const auto a = m.add_vertex({x, y, 0}), b = m.add_vertex({x + s, y, 0}), d = m.add_vertex({x, y + s, s});
+            m.add_triangle(a, b, d);
+        }
+    return m;
+}
+template <class F> std::string limit_error_of(F&& f) {
+    try {
+        f();
+    } catch (const accel::MemoryLimitError& e) {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+TEST_CASE("memory budget: a BVH's layouts are checked against the limit before they are made, from their exact sizes") {
+    const engine::Mesh m = peeling_chains(50, 60);
+    using accel::AccelKind;
+    struct Builder {
+        AccelKind kind;
+        accel::BvhPrimBuilder build;
+    };
+    // Past the estimate's check (make_accel): the BVH builds themselves, whose layouts are checked
+    // against what the binary tree leaves of the limit.
+    const Builder builders[] = {{AccelKind::lbvh, accel::build_lbvh}, {AccelKind::bvh_sah, accel::build_bvh_sah},
+                                {AccelKind::bvh_median, accel::build_bvh_median}};
+    for (const Builder& b : builders)
+        for (accel::Layouts layouts : {accel::Layouts::all, accel::Layouts::scalar})
+            for (bool compact : {false, true}) {
+                if (compact && layouts == accel::Layouts::scalar) continue;
+                accel::BuildConfig cfg;
+                cfg.bvh.max_leaf_size = 1;
+                cfg.bvh.simd_leaf_floor = 1;  // one triangle per binary leaf: the layouts dominate the peak
+                cfg.layouts = layouts;
+                cfg.compact = compact;
+                CAPTURE(accel::to_string(b.kind));
+                CAPTURE(int(layouts));
+                CAPTURE(compact);
+                const auto build = [&] { return accel::build_bvh_accel(b.kind, m.view(), cfg, b.build); };
+                const std::uint64_t peak = build()->stats().build_peak_bytes;
+                // The peak itself is allowed: the checks refuse nothing that fits.
+                cfg.max_memory = peak;
+                CHECK(build()->stats().build_peak_bytes == peak);
+                // (The compact layout is made from a plan of triangle numbers: its own size is known
+                // only once made, and make_accel's safety net after the build refuses it.)
+                if (compact) continue;
+                // A byte less is refused before the layouts are made (the safety net after the
+                // build says "the build reached"): the scalar one from the tree, the SIMD one from
+                // its plan; one line naming the structure and the limit.
+                cfg.max_memory = peak - 1;
+                const std::string e = limit_error_of([&] { (void)build(); });
+                CAPTURE(e);
+                CHECK(e.rfind(std::string(accel::to_string(b.kind)) + ": ", 0) == 0);
+                CHECK(e.find("max_memory = ") != std::string::npos);
+                CHECK(e.find("(" + std::to_string(peak - 1) + " bytes)") != std::string::npos);
+                if (layouts == accel::Layouts::scalar)
+                    CHECK(e.find("its binary tree and scalar layout need") != std::string::npos);
+                else
+                    CHECK(e.find("-wide SIMD layout needs") != std::string::npos);
+            }
+    // Through make_accel, where the estimate (a bound for the default leaf floor) misses this tree:
+    // with the limit at the estimate, the SIMD layout of one-triangle leaves is refused before it
+    // is made, not after.
+    accel::BuildConfig cfg;
+    cfg.bvh.max_leaf_size = 1;
+    cfg.bvh.simd_leaf_floor = 1;
+    cfg.max_memory = accel::build_memory_estimate(AccelKind::lbvh, m.triangle_count(), cfg);
+    const std::string e = limit_error_of([&] { (void)accel::make_accel(AccelKind::lbvh, m.view(), cfg); });
+    CAPTURE(e);
+    CHECK(e.find("the build reached") == std::string::npos);
+}
+
+TEST_CASE("memory budget: the scalar layout's size worked out from the tree is the size it takes") {
+    for (const engine::Mesh& m : {peeling_chains(10, 40), engine::make_icosphere({0, 0, 0}, 1.0f, 3),
+                                  engine::make_torus({0, 0, 0}, 2.0f, 0.5f, 40, 20)}) {
+        for (std::uint32_t leaf : {1u, 4u, 16u}) {
+            accel::BuildConfig cfg;
+            cfg.bvh.max_leaf_size = leaf;
+            cfg.bvh.simd_leaf_floor = 1;
+            cfg.layouts = accel::Layouts::scalar;
+            const auto a = accel::make_accel(accel::AccelKind::bvh_sah, m.view(), cfg);
+            // A scalar-only BVH's memory is its scalar layout's.
+            const accel::BinaryBvh bvh = accel::build_bvh_sah(accel::make_prim_refs(m.view()), cfg.bvh);
+            CAPTURE(leaf);
+            CHECK(accel::bvh2_layout_bytes(bvh) == a->stats().memory_bytes);
+        }
+    }
 }

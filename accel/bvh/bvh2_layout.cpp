@@ -118,4 +118,17 @@ Bvh2Layout make_bvh2_layout(const BinaryBvh& bvh, const TriangleView& tris) {
     return out;
 }
 
+std::size_t bvh2_layout_bytes(const BinaryBvh& bvh) {
+    // Converter::run's arrays: a node per interior node, a block per tri_block_width triangles and
+    // an id per block slot.
+    std::size_t interior = 0, tris = 0;
+    for (const BvhBuildNode& node : bvh.nodes) {
+        if (node.is_leaf()) tris += node.count;
+        else ++interior;
+    }
+    const std::size_t blocks = (tris + tri_block_width - 1) / tri_block_width;
+    return interior * sizeof(Bvh2Node) + blocks * sizeof(TriBlock4) +
+           blocks * tri_block_width * sizeof(std::uint32_t) + sizeof(Bvh2Layout);
+}
+
 }  // namespace arbor::accel

@@ -69,4 +69,7 @@ struct Bvh2Layout {
 /// deterministic: node and block offsets come from subtree sizes, not from scheduling.
 Bvh2Layout make_bvh2_layout(const BinaryBvh& bvh, const TriangleView& tris);
 
+/// The memory_bytes() of make_bvh2_layout(bvh, ...), from the tree alone, before it is made.
+std::size_t bvh2_layout_bytes(const BinaryBvh& bvh);
+
 }  // namespace arbor::accel

@@ -5,6 +5,7 @@
 #include "accel/bvh/bvh2_traverse.h"
 #include "accel/bvh/bvh2_winding.h"
 #include "accel/core/hit_record.h"
+#include "accel/core/memory_limit.h"
 #include "accel/util/timer.h"
 #include "simd/ray_triangle.h"
 
@@ -12,6 +13,8 @@
 
 #include <algorithm>
 #include <array>
+#include <exception>
+#include <string>
 #include <vector>
 
 namespace arbor::accel {
@@ -22,9 +25,28 @@ BvhAccel::BvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tri
 }
 
 void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms,
-                    const std::function<WideShape()>& make_wide) {
+                    const std::function<WideShape(std::uint64_t max_bytes)>& make_wide) {
     const Timer timer;
     const bool scalar = cfg.layouts != Layouts::simd;
+    // While converting, the binary tree, the layouts and the converter's three words per node live
+    // together (the peak worked out below): with a limit, the layouts are checked before they are
+    // made, the scalar one from the tree alone, the SIMD one from its plan (WideConfig::max_bytes).
+    const std::size_t binary_bytes =
+        bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
+    const std::size_t convert_words = bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+    std::uint64_t wide_max_bytes = 0;
+    if (cfg.max_memory != 0) {
+        const std::string limit = "max_memory = " + mib_text(cfg.max_memory) + " (" + std::to_string(cfg.max_memory) + " bytes)";
+        if (bvh.build_peak_bytes > cfg.max_memory)
+            throw MemoryLimitError(std::string(to_string(kind())) + ": building its binary tree reached " +
+                                   mib_text(bvh.build_peak_bytes) + ", more than " + limit);
+        const std::uint64_t held = binary_bytes + convert_words + (scalar ? bvh2_layout_bytes(bvh) : 0);
+        // (A SIMD layout takes some bytes: with one to make, the limit must leave room.)
+        if (held > cfg.max_memory || (make_wide && held == cfg.max_memory))
+            throw MemoryLimitError(std::string(to_string(kind())) + ": its binary tree and scalar layout need " +
+                                   mib_text(held) + ", more than " + limit);
+        wide_max_bytes = cfg.max_memory - held;
+    }
     BvhTreeStats tree;
     // The layouts and the statistics only read the binary tree: made side by side. The SIMD
     // layout, the biggest, on the calling thread: made on a TBB worker, its arrays came from that
@@ -32,8 +54,20 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     tbb::task_group side;
     side.run([&] { if (scalar) layout_ = make_bvh2_layout(bvh, tris); });
     side.run([&] { tree = bvh_tree_stats(bvh, cfg.bvh.traversal_cost, cfg.bvh.intersection_cost); });
-    if (make_wide) wide_ = make_wide();
+    std::exception_ptr failed;  // (the side tasks end first: they read the tree the caller frees)
+    if (make_wide) {
+        try {
+            wide_ = make_wide(wide_max_bytes);
+        } catch (const MemoryLimitError& e) {
+            failed = std::make_exception_ptr(MemoryLimitError(std::string(to_string(kind())) + ": " + e.what() + " = " +
+                                                              mib_text(cfg.max_memory) + " (" +
+                                                              std::to_string(cfg.max_memory) + " bytes)"));
+        } catch (...) {
+            failed = std::current_exception();
+        }
+    }
     side.wait();
+    if (failed) std::rethrow_exception(failed);
     stats_.triangles = tris.triangle_count();
     stats_.dropped_nonfinite = bvh.dropped_nonfinite;
     stats_.nodes = tree.nodes;
@@ -43,10 +77,7 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     stats_.sah_cost = tree.sah_cost;
     // Both layouts: the scalar reference path and the SIMD paths.
     stats_.memory_bytes = (scalar ? layout_.memory_bytes() : 0) + wide_.memory_bytes;
-    // While converting, the binary tree, the layout and the converter's three words per node live together.
-    const std::size_t binary_bytes = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
-                                     bvh.prim_ids.capacity() * sizeof(std::uint32_t);
-    const std::size_t convert_peak = binary_bytes + stats_.memory_bytes + bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+    const std::size_t convert_peak = binary_bytes + stats_.memory_bytes + convert_words;
     stats_.build_peak_bytes = std::max(bvh.build_peak_bytes, convert_peak);
     stats_.build_ms = build_ms + timer.ms();
     if (scalar) offer_.add(TracePath::scalar);

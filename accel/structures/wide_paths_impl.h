@@ -34,8 +34,10 @@ public:
 
     WideBvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
         : BvhAccel(kind), SimdPaths<WideBvhAccel<N>>(resolve_packets(cfg.packets)) {
-        init(bvh, tris, cfg, build_ms, [&] {
-            layout_ = make_wide_layout<N>(bvh, tris, cfg.wide);
+        init(bvh, tris, cfg, build_ms, [&](std::uint64_t max_bytes) {
+            WideConfig wide = cfg.wide;
+            wide.max_bytes = max_bytes;
+            layout_ = make_wide_layout<N>(bvh, tris, wide);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });
         // (Not for the kd-tree's cell layout, KdCellAccel: on its cells the pass lost, builtin:default

@@ -23,6 +23,10 @@ struct WideConfig {
     /// on the single path when enough of the group hit them (wide_shared_leaves.h); 0 = never.
     /// `arbor-bench paths --shared-leaves`.
     std::uint32_t shared_leaf_triangles = 32;
+    /// Most bytes the layout's arrays may take (0: no limit): make_wide_layout throws
+    /// MemoryLimitError from its plan, before it allocates them. BvhAccel sets it from
+    /// BuildConfig::max_memory, less what the build holds already.
+    std::uint64_t max_bytes = 0;
 };
 
 }  // namespace arbor::accel

@@ -1,6 +1,7 @@
 #include "accel/wide/wide_layout.h"
 #include "accel/wide/wide_order.h"
 
+#include "accel/core/memory_limit.h"
 #include "accel/util/prefault.h"
 #include "accel/util/scratch_array.h"
 
@@ -15,6 +16,7 @@
 #include <cstring>
 #include <functional>
 #include <stdexcept>
+#include <string>
 
 namespace arbor::accel {
 
@@ -54,6 +56,7 @@ public:
         node_cost_ = cfg.node_cost;
         block_cost_ = cfg.block_cost;
         ids_only_ = leaves == WideLeaves::ids;
+        max_bytes_ = cfg.max_bytes;
         const std::size_t n = bvh.nodes.size();
         resize_prefaulted(sub_tris_, n);  // (written in parallel: mapped first, on huge pages where big)
         resize_prefaulted(slots_, n);
@@ -85,12 +88,20 @@ public:
         else collect(0, std::uint32_t(N), kids);
         // A dry run first, so that the node and job arrays are allocated once at their size (no
         // regrowth copies; no page fault per 4 KiB in the serial walk below).
-        std::size_t nodes = 0, leaves = 0;
-        tally(kids, nodes, leaves);
+        std::size_t nodes = 0, leaves = 0, blocks = 0;
+        tally(kids, nodes, leaves, blocks);
+        // The layout's arrays (WideLayout::memory_bytes: nodes, octant orders, blocks or ids), known
+        // from the plan before any is allocated.
+        const std::uint64_t bytes = std::uint64_t(nodes) * (sizeof(WideNode<N>) + 8 * N) +
+                                    std::uint64_t(blocks) * (ids_only_ ? N * sizeof(std::uint32_t) : sizeof(WideBlock<N>)) +
+                                    sizeof(WideLayout<N>);
+        if (max_bytes_ != 0 && bytes > max_bytes_)
+            throw MemoryLimitError("its " + std::to_string(N) + "-wide SIMD layout needs " + mib_text(bytes) +
+                                   ", more than the " + mib_text(max_bytes_) + " left of max_memory");
         resize_prefaulted(out_.nodes, nodes);
         resize_prefaulted(jobs_, leaves);
         build_node(kids, 1);
-        if (next_node_ != nodes || next_job_ != leaves) throw std::logic_error("wide layout: the dry run and the build disagree");
+        if (next_node_ != nodes || next_job_ != leaves || next_block_ != blocks) throw std::logic_error("wide layout: the dry run and the build disagree");
         if (ids_only_)
             resize_prefaulted(out_.ids, std::size_t(next_block_) * N);
         else
@@ -198,19 +209,20 @@ private:
         return kids;
     }
 
-    /// The nodes and leaves build_node(kids) writes: the same walk, nothing written.
-    void tally(const Kids<N>& kids, std::size_t& nodes, std::size_t& leaves) const {
+    /// The nodes, leaves and blocks build_node(kids) writes: the same walk, nothing written.
+    void tally(const Kids<N>& kids, std::size_t& nodes, std::size_t& leaves, std::size_t& blocks) const {
         ++nodes;
         for (std::size_t c = 0; c < kids.size; ++c) {
             const Kid& k = kids.kid[c];
             if (k.whole && !leaf_[k.bin]) {
                 Kids<N> sub;
                 collect(k.bin, std::uint32_t(N), sub);
-                tally(sub, nodes, leaves);
+                tally(sub, nodes, leaves, blocks);
             } else if (k.count > max_leaf_) {
-                tally(chunk(k), nodes, leaves);
+                tally(chunk(k), nodes, leaves, blocks);
             } else {
                 ++leaves;
+                blocks += wide_blocks<N>(k.count);
             }
         }
     }
@@ -304,6 +316,7 @@ private:
     std::uint32_t merge_ = N, max_leaf_ = 65535;
     double node_cost_ = 1.0, block_cost_ = 1.0;
     bool ids_only_ = false;
+    std::uint64_t max_bytes_ = 0;
     UninitVector<std::uint32_t> sub_tris_;  ///< every entry written by count() before it is read
     UninitVector<std::uint8_t> slots_;      ///< min(N, binary leaves in the subtree)
     UninitVector<std::size_t> row_;         ///< first entry of each node's row in cost_ / choice_
