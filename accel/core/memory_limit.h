@@ -1,7 +1,8 @@
 #pragma once
 /// MemoryLimitError: a build that would need more memory than BuildConfig::max_memory. Thrown
-/// before allocating by the factory's estimate (factory/memory_estimate.h), by the BVHs' SIMD
-/// layout from its exact size (WideConfig::max_bytes) and by the kd-tree builder as it grows. One line: the structure, the bytes needed (or reached) and the limit.
+/// before allocating: by the factory's estimate (factory/memory_estimate.h), by the BVHs' layouts
+/// from their exact sizes (BvhAccel::init, WideConfig::max_bytes) and by the kd-tree builder as it
+/// grows. One line: the structure, the bytes needed (or reached) and the limit.
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
