@@ -17,10 +17,12 @@ std::uint64_t build_memory_estimate(AccelKind kind, std::size_t triangles, const
 
 std::uint64_t build_start_bytes(AccelKind kind, std::size_t triangles, const BuildConfig& cfg) {
     const std::uint64_t n = triangles;
+    // 32 bytes per prim, 2 x 64 for the nodes (the chunks and the tree), 4 per id; the lbvh's keys,
+    // sorted references and sort buffers besides.
     switch (kind) {
     case AccelKind::bvh_median:
-    case AccelKind::bvh_sah: return 192 * n + (64u << 10);  // 32 per prim, 2 x 64 for the nodes (chunks and tree), 4 per id
-    case AccelKind::lbvh: return 208 * n + (64u << 10);     // and the keys, the sorted references and the sort's buffers
+    case AccelKind::bvh_sah: return 192 * n + (64u << 10);
+    case AccelKind::lbvh: return 208 * n + (64u << 10);
     default: return build_memory_estimate(kind, triangles, cfg);
     }
 }
@@ -30,8 +32,8 @@ void check_build_memory(AccelKind kind, std::size_t triangles, const BuildConfig
     const std::uint64_t need = build_start_bytes(kind, triangles, cfg);
     if (need > cfg.max_memory)
         throw MemoryLimitError(std::string(to_string(kind)) + ": building over " + std::to_string(triangles) +
-                               " triangles needs about " + mib_text(need) + ", more than max_memory = " + mib_text(cfg.max_memory) +
-                               " (" + std::to_string(cfg.max_memory) + " bytes)");
+                               " triangles needs about " + mib_text(need) + ", more than max_memory = " +
+                               mib_text(cfg.max_memory) + " (" + std::to_string(cfg.max_memory) + " bytes)");
 }
 
 }  // namespace arbor::accel

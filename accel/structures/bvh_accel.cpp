@@ -36,7 +36,8 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     const std::size_t convert_words = bvh.nodes.size() * 3 * sizeof(std::uint32_t);
     std::uint64_t wide_max_bytes = 0;
     if (cfg.max_memory != 0) {
-        const std::string limit = "max_memory = " + mib_text(cfg.max_memory) + " (" + std::to_string(cfg.max_memory) + " bytes)";
+        const std::string limit =
+            "max_memory = " + mib_text(cfg.max_memory) + " (" + std::to_string(cfg.max_memory) + " bytes)";
         if (bvh.build_peak_bytes > cfg.max_memory)
             throw MemoryLimitError(std::string(to_string(kind())) + ": building its binary tree reached " +
                                    mib_text(bvh.build_peak_bytes) + ", more than " + limit);

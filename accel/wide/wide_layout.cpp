@@ -92,16 +92,17 @@ public:
         tally(kids, nodes, leaves, blocks);
         // The layout's arrays (WideLayout::memory_bytes: nodes, octant orders, blocks or ids), known
         // from the plan before any is allocated.
+        const std::uint64_t block_bytes = ids_only_ ? N * sizeof(std::uint32_t) : sizeof(WideBlock<N>);
         const std::uint64_t bytes = std::uint64_t(nodes) * (sizeof(WideNode<N>) + 8 * N) +
-                                    std::uint64_t(blocks) * (ids_only_ ? N * sizeof(std::uint32_t) : sizeof(WideBlock<N>)) +
-                                    sizeof(WideLayout<N>);
+                                    std::uint64_t(blocks) * block_bytes + sizeof(WideLayout<N>);
         if (max_bytes_ != 0 && bytes > max_bytes_)
             throw MemoryLimitError("its " + std::to_string(N) + "-wide SIMD layout needs " + mib_text(bytes) +
                                    ", more than the " + mib_text(max_bytes_) + " left of max_memory");
         resize_prefaulted(out_.nodes, nodes);
         resize_prefaulted(jobs_, leaves);
         build_node(kids, 1);
-        if (next_node_ != nodes || next_job_ != leaves || next_block_ != blocks) throw std::logic_error("wide layout: the dry run and the build disagree");
+        if (next_node_ != nodes || next_job_ != leaves || next_block_ != blocks)
+            throw std::logic_error("wide layout: the dry run and the build disagree");
         if (ids_only_)
             resize_prefaulted(out_.ids, std::size_t(next_block_) * N);
         else
