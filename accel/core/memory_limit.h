@@ -21,4 +21,9 @@ inline std::string mib_text(std::uint64_t bytes) {
     return buf;
 }
 
+/// The limit as the errors name it: "max_memory = 45.0 MiB (47185920 bytes)".
+inline std::string max_memory_text(std::uint64_t max_memory) {
+    return "max_memory = " + mib_text(max_memory) + " (" + std::to_string(max_memory) + " bytes)";
+}
+
 }  // namespace arbor::accel

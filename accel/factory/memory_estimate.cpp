@@ -32,8 +32,8 @@ void check_build_memory(AccelKind kind, std::size_t triangles, const BuildConfig
     const std::uint64_t need = build_start_bytes(kind, triangles, cfg);
     if (need > cfg.max_memory)
         throw MemoryLimitError(std::string(to_string(kind)) + ": building over " + std::to_string(triangles) +
-                               " triangles needs about " + mib_text(need) + ", more than max_memory = " +
-                               mib_text(cfg.max_memory) + " (" + std::to_string(cfg.max_memory) + " bytes)");
+                               " triangles needs about " + mib_text(need) + ", more than " +
+                               max_memory_text(cfg.max_memory));
 }
 
 }  // namespace arbor::accel

@@ -91,7 +91,7 @@ AutoModel AutoModel::parse(std::string_view text) {
     };
     auto read_coefs = [&](Words& ls, std::size_t count) {
         Linear l;
-        for (std::string_view w; !(w = ls.rest()).empty();) {
+        while (!ls.rest().empty()) {
             double v = 0.0;
             if (!ls.number(v)) bad_line(number, "a coefficient is not a number");
             l.coef.push_back(v);

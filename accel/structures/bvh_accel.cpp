@@ -25,7 +25,7 @@ BvhAccel::BvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tri
 }
 
 void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms,
-                    const std::function<WideShape(std::uint64_t max_bytes)>& make_wide) {
+                    const std::function<WideShape(const WideConfig& wide)>& make_wide) {
     const Timer timer;
     const bool scalar = cfg.layouts != Layouts::simd;
     // While converting, the binary tree, the layouts and the converter's three words per node live
@@ -34,10 +34,9 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     const std::size_t binary_bytes =
         bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
     const std::size_t convert_words = bvh.nodes.size() * 3 * sizeof(std::uint32_t);
-    std::uint64_t wide_max_bytes = 0;
+    WideConfig wide = cfg.wide;
+    const std::string limit = cfg.max_memory != 0 ? max_memory_text(cfg.max_memory) : std::string();
     if (cfg.max_memory != 0) {
-        const std::string limit =
-            "max_memory = " + mib_text(cfg.max_memory) + " (" + std::to_string(cfg.max_memory) + " bytes)";
         if (bvh.build_peak_bytes > cfg.max_memory)
             throw MemoryLimitError(std::string(to_string(kind())) + ": building its binary tree reached " +
                                    mib_text(bvh.build_peak_bytes) + ", more than " + limit);
@@ -46,7 +45,7 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
         if (held > cfg.max_memory || (make_wide && held == cfg.max_memory))
             throw MemoryLimitError(std::string(to_string(kind())) + ": its binary tree and scalar layout need " +
                                    mib_text(held) + ", more than " + limit);
-        wide_max_bytes = cfg.max_memory - held;
+        wide.max_bytes = cfg.max_memory - held;
     }
     BvhTreeStats tree;
     // The layouts and the statistics only read the binary tree: made side by side. The SIMD
@@ -58,11 +57,10 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     std::exception_ptr failed;  // (the side tasks end first: they read the tree the caller frees)
     if (make_wide) {
         try {
-            wide_ = make_wide(wide_max_bytes);
+            wide_ = make_wide(wide);
         } catch (const MemoryLimitError& e) {
-            failed = std::make_exception_ptr(MemoryLimitError(std::string(to_string(kind())) + ": " + e.what() + " = " +
-                                                              mib_text(cfg.max_memory) + " (" +
-                                                              std::to_string(cfg.max_memory) + " bytes)"));
+            failed = std::make_exception_ptr(
+                MemoryLimitError(std::string(to_string(kind())) + ": " + e.what() + " of " + limit));
         } catch (...) {
             failed = std::current_exception();
         }

@@ -50,13 +50,13 @@ public:
 protected:
     explicit BvhAccel(AccelKind kind) : Accel(kind) {}
     /// The constructor's work, for WideBvhAccel's constructor too: the scalar layout (when
-    /// cfg.layouts asks for it), `make_wide(max_bytes)` (the SIMD layout, when given, whose arrays
-    /// may take at most max_bytes: WideConfig::max_bytes, 0 for no limit) and the tree's
-    /// statistics are made side by side, all only reading the binary tree. With cfg.max_memory
-    /// set, max_bytes is what the binary tree, the conversion's words and the scalar layout leave
-    /// of it: MemoryLimitError (naming the structure) before a layout that would not fit is made.
+    /// cfg.layouts asks for it), `make_wide(wide)` (the SIMD layout, when given, made with `wide`:
+    /// cfg.wide, its max_bytes set) and the tree's statistics are made side by side, all only
+    /// reading the binary tree. With cfg.max_memory set, wide.max_bytes is what the binary tree,
+    /// the conversion's words and the scalar layout leave of it: MemoryLimitError (naming the
+    /// structure) before a layout that would not fit is made.
     void init(const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms,
-              const std::function<WideShape(std::uint64_t max_bytes)>& make_wide);
+              const std::function<WideShape(const WideConfig& wide)>& make_wide);
 
     /// The scalar path and the counted mode (the scalar loop's counting instantiation).
     void run(std::span<const Ray> rays, std::span<Hit> hits, Query query, TracePath path,

@@ -43,11 +43,9 @@ public:
         BuildConfig only = cfg;
         only.layouts = Layouts::simd;  // (the scalar layout would cost more than the compact one saves)
         std::size_t wide_bytes = 0;
-        init(bvh, tris, only, build_ms, [&](std::uint64_t max_bytes) {
+        init(bvh, tris, only, build_ms, [&](const WideConfig& wide_cfg) {
             // (The compact leaves read their vertices from the mesh: the source needs no blocks.
             // Its plan is checked against the limit; the compact layout made from it, after.)
-            WideConfig wide_cfg = cfg.wide;
-            wide_cfg.max_bytes = max_bytes;
             WideLayout<N> wide = make_wide_layout<N>(bvh, tris, wide_cfg, WideLeaves::ids);
             wide_bytes = wide.memory_bytes();
             layout_ = make_compact_layout<N>(std::move(wide), tris);

@@ -34,9 +34,7 @@ public:
 
     WideBvhAccel(AccelKind kind, const BinaryBvh& bvh, const TriangleView& tris, const BuildConfig& cfg, double build_ms)
         : BvhAccel(kind), SimdPaths<WideBvhAccel<N>>(resolve_packets(cfg.packets)) {
-        init(bvh, tris, cfg, build_ms, [&](std::uint64_t max_bytes) {
-            WideConfig wide = cfg.wide;
-            wide.max_bytes = max_bytes;
+        init(bvh, tris, cfg, build_ms, [&](const WideConfig& wide) {
             layout_ = make_wide_layout<N>(bvh, tris, wide);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });

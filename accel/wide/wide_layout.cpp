@@ -97,7 +97,7 @@ public:
                                     std::uint64_t(blocks) * block_bytes + sizeof(WideLayout<N>);
         if (max_bytes_ != 0 && bytes > max_bytes_)
             throw MemoryLimitError("its " + std::to_string(N) + "-wide SIMD layout needs " + mib_text(bytes) +
-                                   ", more than the " + mib_text(max_bytes_) + " left of max_memory");
+                                   ", more than the " + mib_text(max_bytes_) + " left");
         resize_prefaulted(out_.nodes, nodes);
         resize_prefaulted(jobs_, leaves);
         build_node(kids, 1);
