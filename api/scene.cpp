@@ -179,6 +179,8 @@ void Scene::Impl::build_locked(const BuildOptions& o) {
     answered = 0, answer_ns = 0;
     accel_name = std::string(accel::to_string(pick.kind));
     accel_reason = pick.reason;
+    if (const std::string& why = accel->stats().compact_fallback; !why.empty())
+        accel_reason += (accel_reason.empty() ? "" : "; ") + std::string("compact mode: ") + why;
     // pick.path is not kept: auto weighed its paths on a job it imagined (closest hits of rays it
     // had not seen), so each batch's own rays choose the path (api/queries.cpp, batch_request).
     options = o;

@@ -257,6 +257,28 @@ expect_error "--max-memory" "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WOR
 expect_error "--max-memory" "$ARBOR" info "$WORK/quad.obj" --max-memory 10
 "$ARBOR" trace --scene "$WORK/quad.obj" --rays "$WORK/quad.rays" --accel lbvh --max-memory 1M --json >"$WORK/out" 2>"$WORK/err" \
   || fail "trace --max-memory 1M exited $?: $(cat "$WORK/err")"
+# Under --max-memory, a BVH whose default layout would not fit is built in compact mode when that
+# fits: it says why and answers as --compact does; below compact mode's peak, a one-line error.
+"$ARBOR" rays --scene builtin:default --kind random --count 2000 -o "$WORK/mem.rays" >/dev/null 2>&1
+mem_trace() { "$ARBOR" trace --scene builtin:default --rays "$WORK/mem.rays" --accel bvh-sah --json "$@"; }
+mem_trace >"$WORK/mem-default.json" 2>"$WORK/err" || fail "trace (default layout) exited $?: $(cat "$WORK/err")"
+mem_trace --compact --hits "$WORK/mem-compact.hits" >"$WORK/mem-compact.json" 2>"$WORK/err" || fail "trace --compact exited $?"
+peak() { python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["build_peak_bytes"])' "$1"; }
+limit=$(( $(peak "$WORK/mem-default.json") - 1 ))
+if mem_trace --max-memory "$limit" --hits "$WORK/mem-fallback.hits" >"$WORK/mem-fallback.json" 2>"$WORK/err"; then
+  python3 - "$WORK/mem-fallback.json" "$limit" <<'PY' || fail "compact fallback report wrong: $(cat "$WORK/mem-fallback.json")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["layouts"] == "compact", j["layouts"]
+assert "-wide SIMD layout needs" in j["compact_fallback"], j
+assert j["skipped"][0].startswith("the default SIMD layout, for compact mode"), j["skipped"]
+assert j["build_peak_bytes"] <= int(sys.argv[2]), j["build_peak_bytes"]
+PY
+  cmp -s "$WORK/mem-compact.hits" "$WORK/mem-fallback.hits" || fail "compact fallback hits differ from --compact's"
+else
+  fail "trace --max-memory (default peak - 1) exited $?: $(cat "$WORK/err")"
+fi
+expect_error "--max-memory" mem_trace --max-memory $(( $(peak "$WORK/mem-compact.json") - 1 ))
 
 # The output of a failed run never replaces an existing file.
 echo keep >"$WORK/keep.hits"

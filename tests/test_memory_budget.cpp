@@ -3,6 +3,7 @@
 // huge file, OBJ files larger than the budget).
 #include "accel/bvh/bvh2_layout.h"
 #include "accel/bvh/bvh_build.h"
+#include "accel/bvh/build_prims.h"
 #include "accel/bvh/prim_refs.h"
 #include "accel/factory/make_accel.h"
 #include "accel/lbvh/lbvh_build.h"
@@ -163,7 +164,7 @@ TEST_CASE("memory budget: --max-memory refuses a build before it starts, with on
         accel::check_build_memory(accel::AccelKind::bvh_sah, 1000000000, cfg);
     } catch (const accel::MemoryLimitError& e) {
         CHECK(std::string(e.what()) ==
-              "bvh-sah: building over 1000000000 triangles needs about 183105.5 MiB, more than max_memory = 1024.0 MiB (1073741824 bytes)");
+              "bvh-sah: building over 1000000000 triangles needs about 34332.3 MiB, more than max_memory = 1024.0 MiB (1073741824 bytes)");
     }
     // Through make_accel: just under the start check's bytes throws before the build starts; at
     // those bytes or the measured peak, whichever is more, it builds.
@@ -212,12 +213,10 @@ TEST_CASE("memory budget: a BVH's layouts are checked against the limit before t
                 // The peak itself is allowed: the checks refuse nothing that fits.
                 cfg.max_memory = peak;
                 CHECK(build()->stats().build_peak_bytes == peak);
-                // (The compact layout is made from a plan of triangle numbers: its own size is known
-                // only once made, and make_accel's safety net after the build refuses it.)
-                if (compact) continue;
                 // A byte less is refused before the layouts are made (the safety net after the
                 // build says "the build reached"): the scalar one from the tree, the SIMD one from
-                // its plan; one line naming the structure and the limit.
+                // its plan, the compact one from its sizes; one line naming the structure and the
+                // limit. (With the scalar layout asked for, no compact build replaces the default.)
                 cfg.max_memory = peak - 1;
                 const std::string e = error_of<accel::MemoryLimitError>([&] { (void)build(); });
                 CAPTURE(e);
@@ -226,12 +225,15 @@ TEST_CASE("memory budget: a BVH's layouts are checked against the limit before t
                 CHECK(e.find("(" + std::to_string(peak - 1) + " bytes)") != std::string::npos);
                 if (layouts == accel::Layouts::scalar)
                     CHECK(e.find("its binary tree and scalar layout need") != std::string::npos);
+                else if (compact)
+                    CHECK((e.find("-wide compact layout needs") != std::string::npos ||
+                           e.find("-wide SIMD layout needs") != std::string::npos));
                 else
                     CHECK(e.find("-wide SIMD layout needs") != std::string::npos);
             }
 }
 
-TEST_CASE("memory budget: the start check's bytes are above the binary tree's peak: past them, only a layout is refused") {
+TEST_CASE("memory budget: past the start check, a build is refused before it allocates past the limit") {
     std::vector<engine::Mesh> meshes = budget_meshes();
     meshes.push_back(peeling_chains(50, 60));
     using accel::AccelKind;
@@ -252,9 +254,99 @@ TEST_CASE("memory budget: the start check's bytes are above the binary tree's pe
                         CAPTURE(int(layouts));
                         const std::string e = error_of<accel::MemoryLimitError>([&] { (void)accel::make_accel(kind, m.view(), cfg); });
                         CAPTURE(e);
-                        // Built, or refused before a layout was made; the binary tree always fits.
-                        CHECK((e == "no error" || e.find("layout need") != std::string::npos));
+                        // Built, or refused by the binary tree's count as it grows (bvh-median,
+                        // bvh-sah) or before a layout was made; never by the safety net after the
+                        // build ("the build reached"). The lbvh's start check covers its whole
+                        // binary tree.
+                        const bool tree = e.find("building its binary tree needs more than") != std::string::npos;
+                        CHECK((e == "no error" || tree || e.find("layout need") != std::string::npos));
+                        if (kind == AccelKind::lbvh) CHECK(!tree);
                     }
+}
+
+TEST_CASE("memory budget: the top-down builders count their nodes exactly: at their peak they build, a byte less is refused") {
+    std::vector<engine::Mesh> meshes = budget_meshes();
+    meshes.push_back(peeling_chains(50, 60));
+    for (const auto& m : meshes)
+        for (accel::BvhPrimBuilder builder : {accel::BvhPrimBuilder(accel::build_bvh_sah), accel::BvhPrimBuilder(accel::build_bvh_median)})
+            for (std::uint32_t leaf : {1u, 4u}) {
+                accel::BvhBuildConfig cfg;
+                cfg.max_leaf_size = leaf;
+                cfg.parallel_threshold = 64;  // (chunks and top nodes both, on these small meshes)
+                const std::size_t peak = builder(accel::make_build_prims(m.view()), cfg).build_peak_bytes;
+                CAPTURE(m.triangle_count());
+                CAPTURE(leaf);
+                cfg.max_bytes = peak;
+                const accel::BinaryBvh at = builder(accel::make_build_prims(m.view()), cfg);
+                CHECK(at.build_peak_bytes == peak);
+                cfg.max_bytes = peak - 1;
+                const std::string e = error_of<accel::MemoryLimitError>(
+                    [&] { (void)builder(accel::make_build_prims(m.view()), cfg); });
+                CHECK(e.rfind("building its binary tree needs more than ", 0) == 0);
+                CHECK(e.find("(" + std::to_string(peak - 1) + " bytes)") != std::string::npos);
+            }
+}
+
+TEST_CASE("memory budget: a SIMD-only BVH whose default layout would not fit is built in compact mode when that fits") {
+    const engine::Mesh m = engine::make_torus({0, 0, 0}, 2.0f, 0.5f, 120, 60);
+    const std::vector<accel::Ray> rays = testing::random_rays_inside(m.bounds, 4096, 7);
+    using accel::AccelKind;
+    struct Builder {
+        AccelKind kind;
+        accel::BvhPrimBuilder build;
+    };
+    const Builder builders[] = {{AccelKind::bvh_sah, accel::build_bvh_sah}, {AccelKind::bvh_median, accel::build_bvh_median},
+                                {AccelKind::lbvh, accel::build_lbvh}};
+    for (const auto& [kind, builder] : builders) {
+        CAPTURE(accel::to_string(kind));
+        accel::BuildConfig cfg;
+        cfg.layouts = accel::Layouts::simd;
+        const auto build = [&](const accel::BuildConfig& c) { return accel::build_bvh_accel(kind, m.view(), c, builder); };
+        const std::size_t default_peak = build(cfg)->stats().build_peak_bytes;
+        accel::BuildConfig compact = cfg;
+        compact.compact = true;
+        const auto asked = build(compact);
+        const std::size_t compact_peak = asked->stats().build_peak_bytes;
+        REQUIRE(compact_peak < default_peak);
+        // At the default's peak: the default layout.
+        cfg.max_memory = default_peak;
+        CHECK(build(cfg)->stats().compact_fallback.empty());
+        CHECK(build(cfg)->stats().build_peak_bytes == default_peak);
+        // Below it, down to compact mode's peak: compact mode, saying why, within the limit, and
+        // answering as a compact build asked for.
+        for (std::uint64_t limit : {std::uint64_t(default_peak - 1), std::uint64_t(compact_peak)}) {
+            cfg.max_memory = limit;
+            const auto a = build(cfg);
+            const std::string& why = a->stats().compact_fallback;
+            CAPTURE(why);
+            CHECK(why.rfind(std::string(accel::to_string(kind)) + ": its ", 0) == 0);
+            CHECK(why.find("-wide SIMD layout needs") != std::string::npos);
+            CHECK(a->stats().build_peak_bytes <= limit);
+            CHECK(a->stats().memory_bytes == asked->stats().memory_bytes);
+            CHECK(!a->offer().runs(accel::TracePath::scalar, accel::Query::closest));
+            for (auto query : {accel::Query::closest, accel::Query::any}) {
+                std::vector<accel::Hit> got(rays.size()), want(rays.size());
+                a->trace(rays, got, {query, accel::TracePath::single});
+                asked->trace(rays, want, {query, accel::TracePath::single});
+                CHECK(std::memcmp(got.data(), want.data(), got.size() * sizeof(accel::Hit)) == 0);
+            }
+        }
+        // Below compact mode's peak: refused, by the binary tree (when its build is that peak) or
+        // saying why for both layouts.
+        cfg.max_memory = compact_peak - 1;
+        const std::string e = error_of<accel::MemoryLimitError>([&] { (void)build(cfg); });
+        CAPTURE(e);
+        CHECK(e.rfind(std::string(accel::to_string(kind)) + ": ", 0) == 0);
+        if (e.find("binary tree") == std::string::npos) {
+            CHECK(e.find("-wide SIMD layout needs") != std::string::npos);
+            CHECK(e.find("; in compact mode, its ") != std::string::npos);
+            CHECK(e.find("max_memory") == e.rfind("max_memory"));  // (the limit named once)
+        }
+        // With the scalar layout asked for too: no compact build (it has none).
+        cfg.layouts = accel::Layouts::all;
+        cfg.max_memory = compact_peak;
+        CHECK_THROWS_AS((void)build(cfg), accel::MemoryLimitError);
+    }
 }
 
 TEST_CASE("memory budget: the scalar layout's size worked out from the tree is the size it takes") {

@@ -14,6 +14,12 @@ struct BvhBuildConfig {
     /// then hold more than max_leaf_size). Derived, not set: build_bvh_accel (bvh_accel.h) puts
     /// bvh_leaf_floor() here for the builders, from simd_leaf_floor below.
     std::uint32_t leaf_floor = 0;
+    /// The top-down builders' (bvh-median, bvh-sah) limit on their own peak, in bytes (0: none):
+    /// the build primitives and ids are counted when it starts, the nodes as they are made, and
+    /// the build throws MemoryLimitError as soon as the count passes it, before the tree's
+    /// nodes are placed (bvh_top_down.h). Derived, not set: build_bvh_accel puts
+    /// BuildConfig::max_memory here.
+    std::uint64_t max_bytes = 0;
     /// Builds of the SIMD layouts only (BuildConfig::layouts == simd): the leaf_floor they get. 0 =
     /// the SIMD layout's width N (a leaf of the N-wide layout is a run of N-triangle blocks that the
     /// collapse fills from whole binary subtrees anyway, so splitting below N triangles mostly costs

@@ -1,4 +1,5 @@
 #include "accel/bvh/bvh_top_down.h"
+#include "accel/core/memory_limit.h"
 #include "accel/util/prefault.h"
 
 #include <tbb/blocked_range.h>
@@ -49,7 +50,9 @@ int longest_axis(const Bounds& cbox) {
     return best;
 }
 
-NodeStore::NodeStore(std::size_t max_nodes) : capacity_(max_nodes) {
+NodeStore::NodeStore(std::size_t max_nodes) : NodeStore(max_nodes, Budget{}) {}
+
+NodeStore::NodeStore(std::size_t max_nodes, const Budget& budget) : capacity_(max_nodes), budget_(budget) {
     constexpr std::size_t huge = std::size_t(2) << 20;
     const std::size_t bytes = std::max<std::size_t>(max_nodes, 1) * sizeof(BvhBuildNode);
     const std::size_t align = bytes >= huge ? huge : alignof(std::max_align_t);
@@ -64,6 +67,13 @@ NodeStore::NodeStore(std::size_t max_nodes) : capacity_(max_nodes) {
 void NodeStore::Free::operator()(BvhBuildNode* p) const { std::free(p); }
 
 std::span<const BvhBuildNode> NodeStore::keep(std::span<const BvhBuildNode> nodes) {
+    if (budget_.limit != 0) {
+        const std::uint64_t add = nodes.size() * budget_.per_node + budget_.per_keep;
+        const std::uint64_t total = budget_.fixed + charged_.fetch_add(add, std::memory_order_relaxed) + add;
+        if (total > budget_.limit)
+            throw MemoryLimitError("building its binary tree needs more than " + mib_text(total) +
+                                   " (its primitives, ids and nodes so far), more than " + max_memory_text(budget_.limit));
+    }
     const std::size_t at = used_.fetch_add(nodes.size(), std::memory_order_relaxed);
     if (at + nodes.size() > capacity_) throw std::logic_error("NodeStore: more nodes than a binary tree over the primitives has");
     std::copy(nodes.begin(), nodes.end(), data_.get() + at);

@@ -57,7 +57,16 @@ int longest_axis(const Bounds& cbox);
 /// what assemble() writes from it does not).
 class NodeStore {
 public:
+    /// What a build's peak counts, checked as nodes are kept: `fixed` bytes from the start, then
+    /// `per_node` bytes a node and `per_keep` bytes a keep() call; past `limit` (0: none),
+    /// keep() throws MemoryLimitError before copying.
+    struct Budget {
+        std::uint64_t limit = 0;
+        std::uint64_t fixed = 0;
+        std::size_t per_node = 0, per_keep = 0;
+    };
     explicit NodeStore(std::size_t max_nodes);
+    NodeStore(std::size_t max_nodes, const Budget& budget);
     /// A copy of `nodes` in the store (std::logic_error past max_nodes: no tree needs more).
     std::span<const BvhBuildNode> keep(std::span<const BvhBuildNode> nodes);
     std::size_t bytes_used() const { return used_.load(std::memory_order_relaxed) * sizeof(BvhBuildNode); }
@@ -69,6 +78,8 @@ private:
     std::unique_ptr<BvhBuildNode, Free> data_;
     std::size_t capacity_ = 0;
     std::atomic<std::size_t> used_{0};
+    Budget budget_;
+    std::atomic<std::uint64_t> charged_{0};
 };
 
 /// The tree of subtrees built by the parallel recursion (see build_top_down).
@@ -88,7 +99,8 @@ std::size_t assemble(const Subtree& root, std::vector<BvhBuildNode>& out);
 template <class Splitter> class TopDownBuilder {
 public:
     TopDownBuilder(BuildPrims&& input, const BvhBuildConfig& cfg, const Splitter& split)
-        : in_(std::move(input)), cfg_(cfg), split_(split), prims_(in_.prims), store_(2 * std::max<std::size_t>(prims_.size(), 1) - 1) {}
+        : in_(std::move(input)), cfg_(cfg), split_(split), prims_(in_.prims),
+          store_(2 * std::max<std::size_t>(prims_.size(), 1) - 1, budget(in_, cfg)) {}
 
     BinaryBvh run() {
         BinaryBvh bvh;
@@ -101,7 +113,8 @@ public:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prims_.size(), 65536), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i != r.end(); ++i) bvh.prim_ids[i] = prims_[i].id;
         });
-        // The input, the chunks and the output (PrimRefs a caller made the input from are the caller's).
+        // The input, the chunks and the output (PrimRefs a caller made the input from are the caller's):
+        // what budget() below counts as the build goes.
         bvh.build_peak_bytes = in_.memory_bytes() + chunk_bytes + bvh.nodes.capacity() * sizeof(BvhBuildNode) +
                                bvh.prim_ids.capacity() * sizeof(std::uint32_t);
         return bvh;
@@ -130,6 +143,10 @@ private:
         const BuildTask left{t.begin, cut->mid, t.depth + 1, cut->left_box, cut->left_cbox};
         const BuildTask right{cut->mid, t.end, t.depth + 1, cut->right_box, cut->right_cbox};
         tbb::parallel_invoke([&] { s->child[0] = build(left); }, [&] { s->child[1] = build(right); });
+        // A throw elsewhere in the build (the node budget, an allocation) cancels this branch's
+        // tasks, and a wait on a cancelled task returns without throwing: the exception reaches the
+        // caller through the branch that threw, so this one just stops.
+        if (!s->child[0] || !s->child[1]) return s;
         s->total = 1 + s->child[0]->total + s->child[1]->total;
         return s;
     }
@@ -151,6 +168,13 @@ private:
     }
 
     std::uint32_t parallel_threshold() const { return std::max<std::uint32_t>(cfg_.parallel_threshold, 2); }
+
+    /// The peak run() reports, counted as it grows: the input and the ids from the start; per kept
+    /// node its copy in the store and in the output, per keep() its Subtree record.
+    static NodeStore::Budget budget(const BuildPrims& in, const BvhBuildConfig& cfg) {
+        return {cfg.max_bytes, in.memory_bytes() + in.prims.size() * sizeof(std::uint32_t), 2 * sizeof(BvhBuildNode),
+                sizeof(Subtree)};
+    }
 
     BuildPrims in_;
     const BvhBuildConfig& cfg_;

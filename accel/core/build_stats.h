@@ -2,6 +2,7 @@
 /// Statistics every structure reports after its build (design.md §2).
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace arbor::accel {
 
@@ -16,6 +17,9 @@ struct BuildStats {
     double sah_cost = 0.0;              ///< SAH cost normalized to the root box area
     std::size_t memory_bytes = 0;       ///< bytes of the traversal structure (nodes + leaf data)
     std::size_t build_peak_bytes = 0;   ///< largest temporary memory of the build
+    /// A BVH built in compact mode though not asked for: why, the default layout's refusal under
+    /// BuildConfig::max_memory ("bvh-sah: its 16-wide SIMD layout needs ..."); empty otherwise.
+    std::string compact_fallback;
     double bytes_per_triangle() const { return triangles ? double(memory_bytes) / double(triangles) : 0.0; }
 };
 

@@ -17,11 +17,12 @@ std::uint64_t build_memory_estimate(AccelKind kind, std::size_t triangles, const
 
 std::uint64_t build_start_bytes(AccelKind kind, std::size_t triangles, const BuildConfig& cfg) {
     const std::uint64_t n = triangles;
-    // 32 bytes per prim, 2 x 64 for the nodes (the chunks and the tree), 4 per id; the lbvh's keys,
-    // sorted references and sort buffers besides.
+    // bvh-median, bvh-sah: 32 bytes per prim and 4 per id; their nodes are counted as the build
+    // makes them (BvhBuildConfig::max_bytes). lbvh: its whole binary build, 2 x 64 bytes for the
+    // nodes (the chunks and the tree), the keys, sorted references and sort buffers besides.
     switch (kind) {
     case AccelKind::bvh_median:
-    case AccelKind::bvh_sah: return 192 * n + (64u << 10);
+    case AccelKind::bvh_sah: return 36 * n + (64u << 10);
     case AccelKind::lbvh: return 208 * n + (64u << 10);
     default: return build_memory_estimate(kind, triangles, cfg);
     }

@@ -22,11 +22,13 @@ namespace arbor::accel {
 std::uint64_t build_memory_estimate(AccelKind kind, std::size_t triangles, const BuildConfig& cfg);
 
 /// The bytes check_build_memory compares with max_memory before a build starts. brute and kdtree:
-/// build_memory_estimate. bvh-median, bvh-sah, lbvh: their binary tree's build alone (its prims,
-/// nodes and ids, and the lbvh's keys and sort), 192 and 208 bytes per triangle + 64 KiB, above
-/// its measured peak (at most 164 and 180 bytes per triangle, with one triangle per leaf): the
-/// layouts made from the tree are checked from their exact sizes before they are made
-/// (BvhAccel::init), so a build is refused before it allocates more than the limit, not for
+/// build_memory_estimate. bvh-median, bvh-sah: what their build holds from its start, its
+/// primitives and ids, 36 bytes per triangle + 64 KiB; their nodes are counted as the build makes
+/// them, and the build stops as soon as the count passes the limit (BvhBuildConfig::max_bytes).
+/// lbvh: its binary tree's build alone (its prims, nodes, ids, keys and sort), 208 bytes per
+/// triangle + 64 KiB, above its measured peak (at most 180 bytes per triangle, with one triangle
+/// per leaf). The layouts made from the tree are checked from their exact sizes before they are
+/// made (BvhAccel::init), so a build is refused before it allocates more than the limit, not for
 /// what a worst case could take.
 std::uint64_t build_start_bytes(AccelKind kind, std::size_t triangles, const BuildConfig& cfg);
 

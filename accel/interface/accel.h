@@ -23,6 +23,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace arbor::accel {
 
@@ -43,6 +44,8 @@ public:
 
     AccelKind kind() const { return kind_; }
     const BuildStats& stats() const { return stats_; }
+    /// Records why this compact build replaced the default one (BuildStats::compact_fallback).
+    void note_compact_fallback(std::string why) { stats_.compact_fallback = std::move(why); }
     /// The paths this build offers, the queries each answers, and what the path policy reads.
     const PathOffer& offer() const { return offer_; }
 

@@ -36,12 +36,15 @@ struct BuildConfig {
     Layouts layouts = Layouts::all;
     /// Upper bound on build memory in bytes (0 = no limit); a build that would exceed it throws
     /// MemoryLimitError (factory/memory_estimate.h): checked from the triangle count before building,
-    /// by the kd-tree builder as it grows, and against the measured peak afterwards. `--max-memory`.
+    /// by the top-down BVH and kd-tree builders as they grow, by the BVHs' layouts from their sizes
+    /// before they are made, and against the measured peak afterwards. A BVH built for the SIMD
+    /// paths only (layouts == simd) whose default layout would not fit is built in compact mode
+    /// when that fits (BuildStats::compact_fallback says why). `--max-memory`.
     std::uint64_t max_memory = 0;
     /// Compact mode (BVHs only; the other structures ignore it): the SIMD layout is kept as
-    /// wide/compact_layout.h's quantized nodes and vertex-index leaves, about half the bytes per
-    /// triangle, traced on the `single` path only (packets and the scalar path fall back to it; no
-    /// scalar layout is built). `--compact`.
+    /// wide/compact_layout.h's quantized nodes and leaves of blocks with their own vertex copies,
+    /// about half the bytes per triangle, traced on the `single` and `packet` paths (the scalar
+    /// path falls back to them; no scalar layout is built). `--compact`.
     bool compact = false;
 };
 

@@ -37,9 +37,7 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     WideConfig wide = cfg.wide;
     const std::string limit = cfg.max_memory != 0 ? max_memory_text(cfg.max_memory) : std::string();
     if (cfg.max_memory != 0) {
-        if (bvh.build_peak_bytes > cfg.max_memory)
-            throw MemoryLimitError(std::string(to_string(kind())) + ": building its binary tree reached " +
-                                   mib_text(bvh.build_peak_bytes) + ", more than " + limit);
+        check_binary_peak(kind(), bvh, cfg.max_memory);
         const std::uint64_t held = binary_bytes + convert_words + (scalar ? bvh2_layout_bytes(bvh) : 0);
         // (A SIMD layout takes some bytes: with one to make, the limit must leave room.)
         if (held > cfg.max_memory || (make_wide && held == cfg.max_memory))
@@ -195,6 +193,12 @@ void BvhAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query 
     } else {
         trace_batch<false>(rays, hits);
     }
+}
+
+void check_binary_peak(AccelKind kind, const BinaryBvh& bvh, std::uint64_t max_memory) {
+    if (max_memory != 0 && bvh.build_peak_bytes > max_memory)
+        throw MemoryLimitError(std::string(to_string(kind)) + ": building its binary tree reached " +
+                               mib_text(bvh.build_peak_bytes) + ", more than " + max_memory_text(max_memory));
 }
 
 PathOffer bvh_offer(const BuildConfig& cfg) {

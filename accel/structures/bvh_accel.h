@@ -82,6 +82,10 @@ using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BvhBuildConfig&);
 /// The same builder on build prims it consumes (build_prims.h): what the factory calls.
 using BvhPrimBuilder = BinaryBvh (*)(BuildPrims&&, const BvhBuildConfig&);
 
+/// Throws MemoryLimitError ("bvh-sah: building its binary tree reached ...") when max_memory is set
+/// and the binary tree's build peaked above it (the lbvh's, which is not counted as it grows).
+void check_binary_peak(AccelKind kind, const BinaryBvh& bvh, std::uint64_t max_memory);
+
 /// What a BVH build with `cfg` offers (the paths and queries; the path policy reads it), before
 /// building: the scalar path with the scalar layout, `single` and `packet` with the SIMD layouts.
 PathOffer bvh_offer(const BuildConfig& cfg);

@@ -42,20 +42,29 @@ public:
         : BvhAccel(kind), SimdPaths<CompactBvhAccel<N>>(resolve_packets(cfg.packets)) {
         BuildConfig only = cfg;
         only.layouts = Layouts::simd;  // (the scalar layout would cost more than the compact one saves)
-        std::size_t wide_bytes = 0;
+        std::size_t wide_bytes = 0, scratch_bytes = 0;
         init(bvh, tris, only, build_ms, [&](const WideConfig& wide_cfg) {
-            // (The compact leaves read their vertices from the mesh: the source needs no blocks.
-            // Its plan is checked against the limit; the compact layout made from it, after.)
+            // (The compact leaves read their vertices from the mesh: the source needs no blocks.)
+            // Its plan is checked against the limit, and the compact layout from its sizes, with
+            // the source beside it, before each is allocated.
             WideLayout<N> wide = make_wide_layout<N>(bvh, tris, wide_cfg, WideLeaves::ids);
             wide_bytes = wide.memory_bytes();
-            layout_ = make_compact_layout<N>(std::move(wide), tris);
+            // What is left once the source is made (0 means no limit: none left is asked as 1 byte).
+            const std::uint64_t left = wide_cfg.max_bytes == 0      ? 0
+                                       : wide_bytes >= wide_cfg.max_bytes ? 1
+                                                                          : wide_cfg.max_bytes - wide_bytes;
+            layout_ = make_compact_layout<N>(std::move(wide), tris, left, &scratch_bytes);
             return WideShape{N, layout_.nodes.size(), layout_.leaves, layout_.memory_bytes()};
         });
-        // The conversion holds the binary tree, the wide layout's nodes and triangle numbers and the
-        // compact layout at once (the peak init worked out counts the compact layout only).
-        const std::size_t binary_bytes =
-            bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
-        stats_.build_peak_bytes = std::max(stats_.build_peak_bytes, binary_bytes + wide_bytes + stats_.memory_bytes);
+        // The conversion holds the binary tree, the wide layout, the compact layout (less the
+        // octant orders, moved from the wide one) and the lists that place its leaves at once (the
+        // peak init worked out counts the compact layout only); with the converter's words, as init
+        // counts them, so that the peak is what the limit was checked against.
+        const std::size_t held = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
+                                 bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
+                                 bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+        const std::size_t compact_bytes = stats_.memory_bytes - layout_.orders.capacity();
+        stats_.build_peak_bytes = std::max(stats_.build_peak_bytes, held + wide_bytes + scratch_bytes + compact_bytes);
         offer_.add(TracePath::single);
         offer_.add(TracePath::packet);
         offer_.packets_pay = true;

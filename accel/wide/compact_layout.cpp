@@ -9,12 +9,14 @@
 #include <utility>
 #include <vector>
 
+#include "accel/core/memory_limit.h"
 #include "accel/wide/compact_quantize.h"
 
 namespace arbor::accel {
 
 template <std::size_t N>
-CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris) {
+CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris, std::uint64_t max_bytes,
+                                     std::size_t* scratch_bytes) {
     CompactLayout<N> out;
     out.depth = wide.depth;
     out.leaves = wide.leaves;
@@ -67,6 +69,16 @@ CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& t
         start[leaves[i].first] = std::uint32_t(total);
         total += leaf_words[i];
     }
+    // Known now, before the layout's arrays are allocated: its nodes and words (the orders are the
+    // wide layout's, moved), and the lists above beside them.
+    const std::uint64_t layout_bytes = std::uint64_t(wide.nodes.size()) * sizeof(CompactNode<N>) +
+                                       (std::uint64_t(total) + 8) * sizeof(std::uint32_t) + sizeof(CompactLayout<N>);
+    const std::size_t scratch = leaves.capacity() * sizeof(leaves[0]) + leaf_words.capacity() * sizeof(std::size_t) +
+                                start.capacity() * sizeof(std::uint32_t);
+    if (scratch_bytes) *scratch_bytes = scratch;
+    if (max_bytes != 0 && layout_bytes + scratch > max_bytes)
+        throw MemoryLimitError("its " + std::to_string(N) + "-wide compact layout needs " + mib_text(layout_bytes + scratch) +
+                               ", more than the " + mib_text(max_bytes) + " left");
     out.refs.resize(total + 8);
     std::fill(out.refs.end() - 8, out.refs.end(), 0u);
     tbb::parallel_for(
@@ -128,8 +140,11 @@ CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& t
     return out;
 }
 
-template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&);
-template CompactLayout<8> make_compact_layout<8>(WideLayout<8>&&, const TriangleView&);
-template CompactLayout<16> make_compact_layout<16>(WideLayout<16>&&, const TriangleView&);
+template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&, std::uint64_t,
+                                                     std::size_t*);
+template CompactLayout<8> make_compact_layout<8>(WideLayout<8>&&, const TriangleView&, std::uint64_t,
+                                                     std::size_t*);
+template CompactLayout<16> make_compact_layout<16>(WideLayout<16>&&, const TriangleView&, std::uint64_t,
+                                                     std::size_t*);
 
 }  // namespace arbor::accel

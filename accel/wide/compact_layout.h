@@ -105,12 +105,19 @@ struct CompactLayout {
 };
 
 /// The compact layout of `wide` (built over `tris`): its nodes quantized, its leaves as blocks
-/// with their own copies of their vertices. `wide` is consumed (its orders are moved).
+/// with their own copies of their vertices. `wide` is consumed (its orders are moved). With
+/// max_bytes (0: no limit), the layout and the lists that place its leaves must fit in it: their
+/// sizes are worked out first, and MemoryLimitError is thrown before the layout is allocated.
+/// *scratch_bytes (when given) gets those lists' bytes, for the build's peak.
 template <std::size_t N>
-CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris);
+CompactLayout<N> make_compact_layout(WideLayout<N>&& wide, const TriangleView& tris, std::uint64_t max_bytes = 0,
+                                     std::size_t* scratch_bytes = nullptr);
 
-extern template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&);
-extern template CompactLayout<8> make_compact_layout<8>(WideLayout<8>&&, const TriangleView&);
-extern template CompactLayout<16> make_compact_layout<16>(WideLayout<16>&&, const TriangleView&);
+extern template CompactLayout<4> make_compact_layout<4>(WideLayout<4>&&, const TriangleView&,
+                                                            std::uint64_t, std::size_t*);
+extern template CompactLayout<8> make_compact_layout<8>(WideLayout<8>&&, const TriangleView&,
+                                                            std::uint64_t, std::size_t*);
+extern template CompactLayout<16> make_compact_layout<16>(WideLayout<16>&&, const TriangleView&,
+                                                            std::uint64_t, std::size_t*);
 
 }  // namespace arbor::accel

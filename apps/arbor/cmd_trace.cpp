@@ -106,13 +106,23 @@ int run_trace(const TraceOptions& o) {
     j["threads"] = active_threads();
     j["leaf_size"] = o.build.bvh.max_leaf_size;
     const bool has_layouts = kind != accel::AccelKind::brute;
-    const bool compact = build.compact && (kind == accel::AccelKind::bvh_median || kind == accel::AccelKind::bvh_sah ||
-                                           kind == accel::AccelKind::lbvh);
+    const std::string& fallback = structure->stats().compact_fallback;  // compact mode, since the default did not fit
+    const bool compact = !fallback.empty() || (build.compact && (kind == accel::AccelKind::bvh_median ||
+                                                                 kind == accel::AccelKind::bvh_sah || kind == accel::AccelKind::lbvh));
     j["layouts"] = has_layouts ? (compact                                   ? "compact"
                                   : build.layouts == accel::Layouts::scalar ? "scalar"
                                                                             : "simd")
                                : "none";
-    const std::vector<std::string> skipped = accel::skipped_by_build(kind, build);
+    std::vector<std::string> skipped;
+    if (!fallback.empty()) {
+        accel::BuildConfig as_built = build;
+        as_built.compact = true;
+        skipped = accel::skipped_by_build(kind, as_built);
+        skipped.insert(skipped.begin(), "the default SIMD layout, for compact mode (" + fallback + ")");
+        j["compact_fallback"] = fallback;
+    } else {
+        skipped = accel::skipped_by_build(kind, build);
+    }
     j["skipped"] = skipped;
     put_stats(j, structure->stats());
     if (o.json) {
