@@ -71,8 +71,8 @@ std::span<const BvhBuildNode> NodeStore::keep(std::span<const BvhBuildNode> node
         const std::uint64_t add = nodes.size() * budget_.per_node + budget_.per_keep;
         const std::uint64_t total = budget_.fixed + charged_.fetch_add(add, std::memory_order_relaxed) + add;
         if (total > budget_.limit)
-            throw MemoryLimitError("building its binary tree needs more than " + mib_text(total) +
-                                   " (its primitives, ids and nodes so far), more than " + max_memory_text(budget_.limit));
+            throw MemoryLimitError("building its binary tree went past " + max_memory_text(budget_.limit) +
+                                   ": its primitives, ids and the nodes made so far need " + mib_text(total));
     }
     const std::size_t at = used_.fetch_add(nodes.size(), std::memory_order_relaxed);
     if (at + nodes.size() > capacity_) throw std::logic_error("NodeStore: more nodes than a binary tree over the primitives has");

@@ -1,5 +1,6 @@
 """Scenes: construction, files, meshes with geometry ids, building, properties and errors."""
 import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -148,3 +149,35 @@ def test_compact_build_answers_as_the_default(spot):
     assert np.array_equal(s.occluded(o, d), ref.occluded(o, d))
     with pytest.raises(TypeError, match="compact"):
         s.build("bvh-sah", compact="yes")
+
+
+def test_max_memory_falls_back_to_compact_mode(spot):
+    """Under a limit the default layout does not fit but compact mode does, the build is compact,
+    says why in accel_reason, and answers as compact=True does; below that it is a MemoryError."""
+    s = arbor.Scene.load(spot)
+
+    def builds(limit):
+        try:
+            s.build("bvh-sah", max_memory=limit)
+            return True
+        except MemoryError:
+            return False
+
+    lo, hi = 1, 1 << 30  # lo refused, hi builds
+    assert builds(hi) and "compact mode" not in s.accel_reason
+    assert not builds(lo)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if builds(mid) else (mid, hi)
+    assert builds(hi)  # the least limit that builds: only compact mode fits there
+    assert re.search(r"compact mode: bvh-sah: its (4|8|16)-wide SIMD layout needs", s.accel_reason), s.accel_reason
+    rng = np.random.default_rng(3)
+    lo_box, hi_box = s.bounds
+    o = rng.uniform(lo_box, hi_box, (2000, 3)).astype(np.float32)
+    d = rng.normal(size=(2000, 3)).astype(np.float32)
+    got = s.intersect(o, d)
+    c = arbor.Scene.load(spot)
+    c.build("bvh-sah", compact=True)
+    assert got.tobytes() == c.intersect(o, d).tobytes()
+    with pytest.raises(MemoryError, match="max_memory"):
+        s.build("bvh-sah", max_memory=lo)
