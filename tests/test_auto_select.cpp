@@ -6,6 +6,7 @@
 // the structures offer once built; the engine describes render and converge jobs the same way for
 // the same rays.
 #include "accel/factory/make_accel.h"
+#include "accel/factory/memory_estimate.h"
 #include "accel/structures/brute_accel.h"
 #include "accel/select/auto_model.h"
 #include "accel/select/auto_select.h"
@@ -405,4 +406,41 @@ TEST_CASE("auto: render and converge describe the same rays the same way, so the
     const engine::LightSet none(dark);
     const engine::RenderRays d = engine::render_rays(dark, engine::make_plan(dark, none, set), set);
     for (const auto& g : d.groups) CHECK(g.name != "shadow");
+}
+
+TEST_CASE("auto: under max_memory, structures refused before their build starts are left out, and nothing is probed") {
+    const engine::Mesh mesh = engine::make_icosphere({0, 0, 0}, 1.0f, 4, 0.2f, 3);
+    const auto view = mesh.view();
+    const auto rays = testing::random_rays_into(mesh.bounds, 3000, 9);
+    // lbvh predicted 4x faster: the model's pick without a limit.
+    const auto fast_lbvh = accel::AutoModel::parse(flat_model(50, 200, 0.5, 200, 50));
+    accel::AutoJob job = accel::trace_job(view, rays, 1e9, accel::Query::closest);
+    job.model = &fast_lbvh;
+    CHECK(accel::pick_accel(accel::AccelKind::automatic, job).kind == accel::AccelKind::lbvh);
+    // A byte under the lbvh's start check: bvh-sah, saying what was left out; and it builds there.
+    const std::uint64_t lbvh_start = accel::build_start_bytes(accel::AccelKind::lbvh, mesh.triangle_count(), {});
+    REQUIRE(accel::build_start_bytes(accel::AccelKind::bvh_sah, mesh.triangle_count(), {}) < lbvh_start);
+    job.build.max_memory = lbvh_start - 1;
+    const auto p = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(p.reason);
+    CHECK(p.kind == accel::AccelKind::bvh_sah);
+    CHECK(p.reason.find("left out under max_memory, needing more before their build starts: lbvh ") != std::string::npos);
+    CHECK(std::none_of(p.candidates.begin(), p.candidates.end(), [](const accel::AutoCandidate& c) { return c.kind == accel::AccelKind::lbvh; }));
+    CHECK(accel::make_accel(p.kind, view, job.build)->stats().build_peak_bytes <= job.build.max_memory);
+    // A job the model cannot decide is not probed under a limit (the probe holds its builds at once).
+    const auto even = accel::AutoModel::parse(flat_model(200, 200, 0.5));
+    job.model = &even;
+    job.build.max_memory = 1ull << 30;
+    const auto q = accel::pick_accel(accel::AccelKind::automatic, job);
+    CAPTURE(q.reason);
+    CHECK_FALSE(q.probed);
+    CHECK(q.reason.find("no probe under max_memory") != std::string::npos);
+    CHECK(q.reason.find("left out") == std::string::npos);
+    // When every structure would be refused, none is left out: the pick's build says why.
+    job.model = &fast_lbvh;
+    job.build.max_memory = 1000;
+    const auto r = accel::pick_accel(accel::AccelKind::automatic, job);
+    CHECK(r.kind == accel::AccelKind::lbvh);
+    CHECK(r.reason.find("left out") == std::string::npos);
+    CHECK_THROWS_AS((void)accel::make_accel(r.kind, view, job.build), accel::MemoryLimitError);
 }

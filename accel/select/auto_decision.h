@@ -5,6 +5,7 @@
 #include "accel/select/auto_select.h"
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace arbor::accel {
@@ -25,6 +26,9 @@ struct ModelDecision {
     std::vector<std::size_t> contenders;  ///< within the margin of all[0], then the other paths of their structures
     std::size_t within_margin = 0;        ///< how many of contenders are within the margin
     double rays = 0.0;                    ///< the job's rays, all groups
+    /// Structures left out under BuildConfig::max_memory: what each would need before its build
+    /// starts is more (factory/memory_estimate.h, build_start_bytes), in words ("lbvh 496.0 MiB").
+    std::vector<std::string> left_out;
 };
 
 /// What a probe of the contenders would cost, against its two caps.

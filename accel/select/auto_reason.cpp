@@ -68,12 +68,22 @@ std::string no_probe_words(const ProbePlan& plan, const AutoJob& job) {
            (plan.structures.size() == 1 ? "the trace" : "the job") + ")";
 }
 
+namespace {
+/// "; left out under max_memory, ...: lbvh 496.0 MiB", or nothing.
+std::string left_out_words(const ModelDecision& d) {
+    if (d.left_out.empty()) return {};
+    std::string r = "; left out under max_memory, needing more before their build starts: ";
+    for (std::size_t i = 0; i < d.left_out.size(); ++i) r += (i ? ", " : "") + d.left_out[i];
+    return r;
+}
+}  // namespace
+
 std::string model_reason(const ModelDecision& d, const std::string& why, double auto_ms) {
     const AutoCandidate& lead = d.all[d.lead].c;
     const std::string preferred =
         d.lead != 0 ? ", preferred within " + percent(d.prefer) + " of the best prediction" : std::string();
     return pick_words(lead) + " model: predicted " + describe(lead, d.rays) + job_words(d) + preferred +
-           next_after(d, d.lead) + why + "; auto " + ms_words(auto_ms);
+           next_after(d, d.lead) + why + left_out_words(d) + "; auto " + ms_words(auto_ms);
 }
 
 std::string probe_reason(const ModelDecision& d, const std::vector<AutoCandidate>& measured, std::size_t sample_rays,

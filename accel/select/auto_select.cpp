@@ -5,6 +5,7 @@
 #include "accel/select/auto_reason.h"
 #include "accel/select/auto_probe.h"
 #include "accel/factory/make_accel.h"
+#include "accel/factory/memory_estimate.h"
 #include "accel/interface/path_policy.h"
 #include "accel/util/splitmix64.h"
 #include "accel/util/timer.h"
@@ -152,6 +153,22 @@ ModelDecision decide_by_model(const AutoModel& model, const SceneShape& scene, c
     for (const RayGroup& g : groups) d.rays += g.shape.rays;
     d.all = predict_all(model, scene, groups, build, threads);
     if (d.all.empty()) throw std::invalid_argument("auto: no structure of the cost model can run this job with these build settings");
+    // Under a memory limit, the structures whose build would be refused before it starts are left
+    // out (when every one would be, none is: the pick's build then says why).
+    if (build.max_memory != 0) {
+        std::vector<Weighed> fit;
+        for (const Weighed& w : d.all) {
+            const std::uint64_t need = build_start_bytes(w.c.kind, scene.triangles, build);
+            if (need <= build.max_memory) {
+                fit.push_back(w);
+                continue;
+            }
+            const std::string words = std::string(to_string(w.c.kind)) + " " + mib_text(need);
+            if (std::find(d.left_out.begin(), d.left_out.end(), words) == d.left_out.end()) d.left_out.push_back(words);
+        }
+        if (fit.empty()) d.left_out.clear();
+        else d.all = std::move(fit);
+    }
     const Weighed& first = d.all.front();
     d.margin = model.margin();
     for (std::size_t i = 0; i < d.all.size(); ++i)
@@ -295,6 +312,8 @@ AccelPick pick_accel(AccelKind kind, const AutoJob& job) {
     };
     if (d.within_margin == 1) return finish_model(outside_margin_words(d));
     if (!job.allow_probe) return finish_model(within_margin_words(d) + ", probe not allowed");
+    // (The probe holds its contenders' builds at once: under a limit meant for one build, no probe.)
+    if (job.build.max_memory != 0) return finish_model(within_margin_words(d) + ", no probe under max_memory");
 
     std::vector<std::vector<Ray>> stores;
     const std::vector<ProbeGroup> probe_groups = probe_samples(groups, stores);
