@@ -297,7 +297,9 @@ TEST_CASE("memory budget: a SIMD-only BVH whose default layout would not fit is 
     };
     const Builder builders[] = {{AccelKind::bvh_sah, accel::build_bvh_sah}, {AccelKind::bvh_median, accel::build_bvh_median},
                                 {AccelKind::lbvh, accel::build_lbvh}};
-    for (const auto& [kind, builder] : builders) {
+    for (const Builder& b : builders) {
+        const AccelKind kind = b.kind;
+        const accel::BvhPrimBuilder builder = b.build;  // (copies: clang 14 captures no structured bindings)
         CAPTURE(accel::to_string(kind));
         accel::BuildConfig cfg;
         cfg.layouts = accel::Layouts::simd;
