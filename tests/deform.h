@@ -2,6 +2,8 @@
 /// A deforming mesh for the refit tests: a model's rest positions displaced by travelling sine
 /// waves, one pose per step (each pose from the rest positions, so poses do not drift).
 #include "engine/mesh.h"
+#include "engine/obj_loader.h"
+#include "testing.h"
 
 #include <cmath>
 #include <vector>
@@ -23,6 +25,18 @@ inline void deform(const engine::Mesh& rest, engine::Mesh& out, int step, float 
         out.z[i] = rest.z[i] + a * std::cos(4.0f * pi * rest.x[i] / diag + 0.6f * float(step));
     }
     out.compute_bounds();
+}
+
+/// The model the deformation tests move: the Stanford bunny (69,451 triangles); in the sanitized
+/// builds, which run ~10x slower, spot (5,856): the bunny's builds and refits made the two
+/// deforming-model tests 216 s of the ASan phase's 470 s on two cores.
+inline engine::Mesh deforming_model() {
+    engine::Warnings w;
+#if defined(ARBOR_SANITIZED_BUILD)
+    return engine::load_obj(shared_scenes_dir() + "/models/spot.obj", w);
+#else
+    return engine::load_obj(shared_scenes_dir() + "/models/stanford-bunny.obj", w);
+#endif
 }
 
 /// The packed x, y, z of `m`'s vertices (the form Scene::update_vertices and add_mesh take).

@@ -1,6 +1,6 @@
 // Accel::refit of every structure that has one (the binary BVHs on their scalar and SIMD layouts at
 // every width, brute), against fresh builds over the new positions: every path and every query bit
-// for bit over the steps of a deforming bunny; the refitted boxes contain what they should; the
+// for bit over the steps of a deforming model (testing::deforming_model); the refitted boxes contain what they should; the
 // result is the same on 1 and 2 threads; the kd-tree says why it has no refit. Scene::
 // update_vertices is tested in test_update_vertices.cpp.
 #include "accel/bvh/bvh_build.h"
@@ -22,11 +22,6 @@ using namespace arbor;
 using namespace arbor::testing;
 
 namespace {
-
-engine::Mesh load_bunny() {
-    engine::Warnings w;
-    return engine::load_obj(shared_scenes_dir() + "/models/stanford-bunny.obj", w);
-}
 
 struct Refittable {
     std::string name;
@@ -117,8 +112,8 @@ std::string check_bvh2_boxes(const accel::Bvh2Layout& l) {
 
 }  // namespace
 
-TEST_CASE("refit: a deforming bunny, every BVH layout, width and path, bit for bit as fresh builds") {
-    const engine::Mesh rest = load_bunny();
+TEST_CASE("refit: a deforming model, every BVH layout, width and path, bit for bit as fresh builds") {
+    const engine::Mesh rest = testing::deforming_model();
     engine::Mesh mesh;
     deform(rest, mesh, 0);
     std::vector<Refittable> built = refittable(mesh.view());
@@ -144,7 +139,7 @@ TEST_CASE("refit: a deforming bunny, every BVH layout, width and path, bit for b
 }
 
 TEST_CASE("refit: positions unchanged keep the tree's SAH cost, a deformation raises it") {
-    const engine::Mesh rest = load_bunny();
+    const engine::Mesh rest = testing::deforming_model();
     engine::Mesh mesh;
     for (const accel::AccelKind kind : {accel::AccelKind::bvh_sah, accel::AccelKind::lbvh}) {
         CAPTURE(accel::to_string(kind));
@@ -166,7 +161,7 @@ TEST_CASE("refit: positions unchanged keep the tree's SAH cost, a deformation ra
 }
 
 TEST_CASE("refit: the same layouts on 1 and 2 threads") {
-    const engine::Mesh rest = load_bunny();
+    const engine::Mesh rest = testing::deforming_model();
     engine::Mesh mesh;
     deform(rest, mesh, 0);
     accel::BvhBuildConfig bcfg;

@@ -1,4 +1,4 @@
-// Scene::update_vertices: after each step of a deforming bunny, every query (closest hit, any hit,
+// Scene::update_vertices: after each step of a deforming model, every query (closest hit, any hit,
 // all hits, closest point, inside, normals) answers bit for bit as a scene built fresh from the
 // new positions, on every structure and with every mode (auto, refit, rebuild); the action and
 // reason say what was done; another mesh of the scene keeps its place and ids.
@@ -18,11 +18,6 @@
 using namespace arbor;
 
 namespace {
-
-engine::Mesh load_bunny() {
-    engine::Warnings w;
-    return engine::load_obj(testing::shared_scenes_dir() + "/models/stanford-bunny.obj", w);
-}
 
 std::vector<Ray> public_rays(const std::vector<accel::Ray>& in) {
     std::vector<Ray> out(in.size());
@@ -79,8 +74,8 @@ std::vector<float> grid_points(const engine::Mesh& m, int n) {
 
 }  // namespace
 
-TEST_CASE("update_vertices: a deforming bunny, every structure and mode, bit for bit as a fresh scene") {
-    const engine::Mesh rest = load_bunny();
+TEST_CASE("update_vertices: a deforming model, every structure and mode, bit for bit as a fresh scene") {
+    const engine::Mesh rest = testing::deforming_model();
     engine::Mesh pose;
     testing::deform(rest, pose, 0);
     struct Mode {
@@ -180,7 +175,7 @@ TEST_CASE("update_vertices: one mesh of two moves, the other keeps its ids and a
 }
 
 TEST_CASE("update_vertices: before the first build, the first query builds over the new positions") {
-    const engine::Mesh rest = load_bunny();
+    const engine::Mesh rest = testing::deforming_model();
     engine::Mesh pose;
     testing::deform(rest, pose, 0);
     Scene scene;
