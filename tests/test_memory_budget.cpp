@@ -52,6 +52,15 @@ engine::Mesh peeling_chains(int chains, int per_chain) {
         }
     return m;
 }
+/// The three BVH builders, each with the structure it builds.
+struct BvhBuilder {
+    accel::AccelKind kind;
+    accel::BvhPrimBuilder build;
+};
+const BvhBuilder bvh_builders[] = {{accel::AccelKind::lbvh, accel::build_lbvh},
+                                   {accel::AccelKind::bvh_sah, accel::build_bvh_sah},
+                                   {accel::AccelKind::bvh_median, accel::build_bvh_median}};
+
 /// Meshes of every shape the build estimates are checked on: subdivided, with a hole, a single
 /// triangle and a shared model.
 std::vector<engine::Mesh> budget_meshes() {
@@ -187,16 +196,9 @@ TEST_CASE("memory budget: --max-memory refuses a build before it starts, with on
 
 TEST_CASE("memory budget: a BVH's layouts are checked against the limit before they are made, from their exact sizes") {
     const engine::Mesh m = peeling_chains(50, 60);
-    using accel::AccelKind;
-    struct Builder {
-        AccelKind kind;
-        accel::BvhPrimBuilder build;
-    };
     // Past the estimate's check (make_accel): the BVH builds themselves, whose layouts are checked
     // against what the binary tree leaves of the limit.
-    const Builder builders[] = {{AccelKind::lbvh, accel::build_lbvh}, {AccelKind::bvh_sah, accel::build_bvh_sah},
-                                {AccelKind::bvh_median, accel::build_bvh_median}};
-    for (const Builder& b : builders)
+    for (const BvhBuilder& b : bvh_builders)
         for (accel::Layouts layouts : {accel::Layouts::all, accel::Layouts::scalar})
             for (bool compact : {false, true}) {
                 if (compact && layouts == accel::Layouts::scalar) continue;
@@ -290,20 +292,12 @@ TEST_CASE("memory budget: the top-down builders count their nodes exactly: at th
 TEST_CASE("memory budget: a SIMD-only BVH whose default layout would not fit is built in compact mode when that fits") {
     const engine::Mesh m = engine::make_torus({0, 0, 0}, 2.0f, 0.5f, 120, 60);
     const std::vector<accel::Ray> rays = testing::random_rays_inside(m.bounds, 4096, 7);
-    using accel::AccelKind;
-    struct Builder {
-        AccelKind kind;
-        accel::BvhPrimBuilder build;
-    };
-    const Builder builders[] = {{AccelKind::bvh_sah, accel::build_bvh_sah}, {AccelKind::bvh_median, accel::build_bvh_median},
-                                {AccelKind::lbvh, accel::build_lbvh}};
-    for (const Builder& b : builders) {
-        const AccelKind kind = b.kind;
-        const accel::BvhPrimBuilder builder = b.build;  // (copies: clang 14 captures no structured bindings)
+    for (const BvhBuilder& b : bvh_builders) {
+        const accel::AccelKind kind = b.kind;
         CAPTURE(accel::to_string(kind));
         accel::BuildConfig cfg;
         cfg.layouts = accel::Layouts::simd;
-        const auto build = [&](const accel::BuildConfig& c) { return accel::build_bvh_accel(kind, m.view(), c, builder); };
+        const auto build = [&](const accel::BuildConfig& c) { return accel::build_bvh_accel(kind, m.view(), c, b.build); };
         const std::size_t default_peak = build(cfg)->stats().build_peak_bytes;
         accel::BuildConfig compact = cfg;
         compact.compact = true;

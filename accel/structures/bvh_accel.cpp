@@ -31,14 +31,12 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     // While converting, the binary tree, the layouts and the converter's three words per node live
     // together (the peak worked out below): with a limit, the layouts are checked before they are
     // made, the scalar one from the tree alone, the SIMD one from its plan (WideConfig::max_bytes).
-    const std::size_t binary_bytes =
-        bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t);
-    const std::size_t convert_words = bvh.nodes.size() * 3 * sizeof(std::uint32_t);
+    const std::size_t tree_bytes = conversion_held_bytes(bvh);
     WideConfig wide = cfg.wide;
     const std::string limit = cfg.max_memory != 0 ? max_memory_text(cfg.max_memory) : std::string();
     if (cfg.max_memory != 0) {
         check_binary_peak(kind(), bvh, cfg.max_memory);
-        const std::uint64_t held = binary_bytes + convert_words + (scalar ? bvh2_layout_bytes(bvh) : 0);
+        const std::uint64_t held = tree_bytes + (scalar ? bvh2_layout_bytes(bvh) : 0);
         // (A SIMD layout takes some bytes: with one to make, the limit must leave room.)
         if (held > cfg.max_memory || (make_wide && held == cfg.max_memory))
             throw MemoryLimitError(std::string(to_string(kind())) + ": its binary tree and scalar layout need " +
@@ -74,7 +72,7 @@ void BvhAccel::init(const BinaryBvh& bvh, const TriangleView& tris, const BuildC
     stats_.sah_cost = tree.sah_cost;
     // Both layouts: the scalar reference path and the SIMD paths.
     stats_.memory_bytes = (scalar ? layout_.memory_bytes() : 0) + wide_.memory_bytes;
-    const std::size_t convert_peak = binary_bytes + stats_.memory_bytes + convert_words;
+    const std::size_t convert_peak = tree_bytes + stats_.memory_bytes;
     stats_.build_peak_bytes = std::max(bvh.build_peak_bytes, convert_peak);
     stats_.build_ms = build_ms + timer.ms();
     if (scalar) offer_.add(TracePath::scalar);
@@ -193,6 +191,11 @@ void BvhAccel::run_scalar(std::span<const Ray> rays, std::span<Hit> hits, Query 
     } else {
         trace_batch<false>(rays, hits);
     }
+}
+
+std::size_t conversion_held_bytes(const BinaryBvh& bvh) {
+    return bvh.nodes.capacity() * sizeof(BvhBuildNode) + bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
+           bvh.nodes.size() * 3 * sizeof(std::uint32_t);
 }
 
 void check_binary_peak(AccelKind kind, const BinaryBvh& bvh, std::uint64_t max_memory) {

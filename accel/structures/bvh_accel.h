@@ -82,6 +82,11 @@ using BvhBuilder = BinaryBvh (*)(const PrimRefs&, const BvhBuildConfig&);
 /// The same builder on build prims it consumes (build_prims.h): what the factory calls.
 using BvhPrimBuilder = BinaryBvh (*)(BuildPrims&&, const BvhBuildConfig&);
 
+/// What a conversion of `bvh` into layouts holds besides the layouts themselves: the binary tree
+/// (its nodes and ids) and the converter's three words per node. BvhAccel::init checks the
+/// layouts against the limit, and counts the conversion's peak, with these bytes.
+std::size_t conversion_held_bytes(const BinaryBvh& bvh);
+
 /// Throws MemoryLimitError ("bvh-sah: building its binary tree reached ...") when max_memory is set
 /// and the binary tree's build peaked above it (the lbvh's, which is not counted as it grows).
 void check_binary_peak(AccelKind kind, const BinaryBvh& bvh, std::uint64_t max_memory);

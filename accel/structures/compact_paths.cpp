@@ -60,11 +60,9 @@ public:
         // octant orders, moved from the wide one) and the lists that place its leaves at once (the
         // peak init worked out counts the compact layout only); with the converter's words, as init
         // counts them, so that the peak is what the limit was checked against.
-        const std::size_t held = bvh.nodes.capacity() * sizeof(BvhBuildNode) +
-                                 bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
-                                 bvh.nodes.size() * 3 * sizeof(std::uint32_t);
         const std::size_t compact_bytes = stats_.memory_bytes - layout_.orders.capacity();
-        stats_.build_peak_bytes = std::max(stats_.build_peak_bytes, held + wide_bytes + scratch_bytes + compact_bytes);
+        stats_.build_peak_bytes = std::max(stats_.build_peak_bytes,
+                                           conversion_held_bytes(bvh) + wide_bytes + scratch_bytes + compact_bytes);
         offer_.add(TracePath::single);
         offer_.add(TracePath::packet);
         offer_.packets_pay = true;
